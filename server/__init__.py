@@ -1,0 +1,1 @@
+"""The control center service: machine TCP server, REST API, dashboard, MQTT bridge."""

@@ -1,0 +1,60 @@
+#!/usr/bin/env python3
+"""The project's two entry points, on a fresh machine with only Python 3.11 and pip.
+
+    python3 tasks.py demo   # create .venv, install the project, run the demo
+    python3 tasks.py test   # create .venv, install the project, run ruff, mypy and pytest
+
+Extra arguments after ``test`` go to pytest; after ``demo`` to ``ednc demo``.
+The virtual environment is rebuilt only when ``pyproject.toml`` changes.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import os
+import subprocess
+import sys
+import venv
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent
+VENV = ROOT / ".venv"
+BIN = VENV / "bin"
+
+
+def run(*cmd: str | os.PathLike[str]) -> None:
+    print("+", " ".join(str(c) for c in cmd), flush=True)
+    code = subprocess.call([str(c) for c in cmd], cwd=ROOT)
+    if code != 0:
+        sys.exit(code)
+
+
+def ensure_env() -> None:
+    if sys.version_info < (3, 11):  # noqa: UP036 - tasks.py runs under any python3
+        sys.exit(f"Python 3.11 or newer is needed, this is {sys.version.split()[0]}")
+    stamp = VENV / ".installed"
+    want = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
+    if stamp.exists() and stamp.read_text() == want and (BIN / "ednc").exists():
+        return
+    if not (BIN / "python").exists():
+        print(f"creating {VENV}", flush=True)
+        venv.create(VENV, with_pip=True)
+    run(BIN / "python", "-m", "pip", "install", "--quiet", "--upgrade", "pip")
+    run(BIN / "python", "-m", "pip", "install", "--quiet", "-e", ".[dev]")
+    stamp.write_text(want)
+
+
+def main(argv: list[str]) -> None:
+    if not argv or argv[0] not in {"demo", "test"}:
+        sys.exit(__doc__)
+    ensure_env()
+    if argv[0] == "demo":
+        run(BIN / "ednc", "demo", *argv[1:])
+    else:
+        run(BIN / "ruff", "check", ".")
+        run(BIN / "mypy")
+        run(BIN / "python", "-m", "pytest", *(argv[1:] or ["-q"]))
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
