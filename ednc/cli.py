@@ -24,6 +24,11 @@ app = typer.Typer(
 )
 
 
+@app.callback()
+def _root() -> None:
+    """EDNC control center: model, identify and compensate machine tools."""
+
+
 class UserError(Exception):
     """An error in the user's input: printed as one line, exit code 2."""
 
