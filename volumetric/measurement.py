@@ -1,0 +1,535 @@
+"""The measurement CSV of ``shared/spec/formats.md`` section 2: reader, writer and container.
+
+One row is one reading: commanded machine coordinates, the direction each axis last moved,
+the sensing direction ``u`` and the reading ``value`` (µm for a displacement, µrad for an
+angle), plus any number of ``T_<sensor>_C`` temperature columns and free extra columns.
+
+Choices this module makes where the format leaves room (all documented on the functions):
+
+- Required columns: ``test run time_s x_mm y_mm z_mm dir_x dir_y dir_z tool_mm quantity
+  ux uy uz value``. Optional: ``a_deg b_deg c_deg`` (absent = 0.0), ``spindle``,
+  ``T_<sensor>_C``, anything else (kept in :attr:`Measurements.extra`).
+- ``u`` must be a unit vector within ``U_NORM_TOL`` (| |u| - 1 | <= 1e-3): loose enough for
+  vectors written with four decimals (1/sqrt(3) as 0.5774 is 8e-5 off), tight enough to catch a
+  vector in the wrong unit or a missing component. ``u`` is stored as read, not renormalised,
+  so a file round-trips bit for bit.
+- ``run`` must hold integers (``3`` or ``3.0``); ``dir_*`` must be -1, 0 or +1.
+- Temperatures and every required numeric column must be finite (``nan``/``inf`` rejected).
+  Extra columns are not judged: a column whose every cell parses as a float is kept as
+  float64 (``nan`` included), any other as strings.
+- A blank line is an error unless only blank lines follow it (a trailing newline or two is a
+  common editor artefact, not a reading). A header without readings is an error.
+
+Reading takes a fast path (:func:`numpy.loadtxt`, C speed) and, when that path fails or its
+row count disagrees with the file's lines, the careful path: the :mod:`csv` module cell by
+cell, which finds and names the line and column of the problem. Both paths end in the same
+validation, so they cannot disagree on what a file means.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import re
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, TextIO
+
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = [
+    "OPTIONAL_ROTARY",
+    "REQUIRED_COLUMNS",
+    "U_NORM_TOL",
+    "MeasurementFormatError",
+    "Measurements",
+    "read_measurements",
+    "write_measurements",
+]
+
+REQUIRED_COLUMNS: tuple[str, ...] = (
+    "test", "run", "time_s", "x_mm", "y_mm", "z_mm", "dir_x", "dir_y", "dir_z",
+    "tool_mm", "quantity", "ux", "uy", "uz", "value",
+)  # fmt: skip
+OPTIONAL_ROTARY: tuple[str, str, str] = ("a_deg", "b_deg", "c_deg")
+U_NORM_TOL = 1e-3
+"""Largest accepted | |u| - 1 | of a row's sensing direction."""
+
+_TEXT_COLUMNS = frozenset({"test", "quantity", "spindle"})
+_NUMERIC_REQUIRED = tuple(c for c in REQUIRED_COLUMNS if c not in _TEXT_COLUMNS)
+_TEMPERATURE = re.compile(r"^T_(.+)_C$")
+_QUANTITIES = ("displacement", "angle")
+
+
+class MeasurementFormatError(ValueError):
+    """A measurement file that does not follow the format; names the line and column.
+
+    Attributes
+    ----------
+    line : int or None
+        1-based line number in the file (the header is line 1), when one line is at fault.
+    column : str or None
+        The column name, when one column is at fault.
+    """
+
+    def __init__(self, source: str, message: str, *, line: int | None = None,
+                 column: str | None = None) -> None:
+        where = source
+        if line is not None:
+            where += f", line {line}"
+        if column is not None:
+            where += f", column {column!r}"
+        super().__init__(f"{where}: {message}")
+        self.line = line
+        self.column = column
+
+
+FloatArray = NDArray[np.float64]
+
+
+@dataclass(frozen=True, eq=False, slots=True)
+class Measurements:
+    """Readings of a measurement campaign, column-wise; every array has length N.
+
+    Attributes
+    ----------
+    test : ndarray of str, shape (N,)
+        Test label, e.g. ``X-positioning`` or ``diag-PPP``.
+    run : ndarray of int64, shape (N,)
+        Run (cycle) number within the test.
+    time_s : ndarray of float64, shape (N,)
+        Seconds since the campaign started.
+    q : ndarray of float64, shape (N, 6)
+        Commanded x, y, z (mm) and a, b, c (degrees); rotary columns absent from the file
+        are 0.0.
+    direction : ndarray of int8, shape (N, 3)
+        ``dir_x, dir_y, dir_z``: -1, 0 or +1, the direction each linear axis last moved.
+    tool_mm : ndarray of float64, shape (N,)
+        Tool length (mm).
+    is_angle : ndarray of bool, shape (N,)
+        True where ``quantity`` is ``angle`` (value in µrad), False for ``displacement`` (µm).
+    u : ndarray of float64, shape (N, 3)
+        Sensing direction (displacement) or rotation axis (angle), unit length within
+        :data:`U_NORM_TOL`, stored as given.
+    value : ndarray of float64, shape (N,)
+        The reading: µm for a displacement, µrad for an angle.
+    has_rotary : tuple of 3 bool
+        Whether ``a_deg``, ``b_deg``, ``c_deg`` were present.
+    temperatures : dict of str to ndarray of float64, shape (N,)
+        °C, keyed by the *sensor name*: column ``T_t1_C`` is sensor ``t1``.
+    temperature_columns : dict of str to str
+        Sensor name to its column name (``"t1" -> "T_t1_C"``), in file order. Reports that
+        name "the temperature column" (the ``sensor`` key of ``ednc diagnose``) can use
+        either; this mapping makes both available.
+    spindle : ndarray of str, shape (N,), or None
+        Which tool tip, on a multi-spindle machine; None when the column is absent.
+    extra : dict of str to ndarray, shape (N,)
+        Every other column: float64 when all its cells are numbers, str otherwise.
+    """
+
+    test: NDArray[np.str_]
+    run: NDArray[np.int64]
+    time_s: FloatArray
+    q: FloatArray
+    direction: NDArray[np.int8]
+    tool_mm: FloatArray
+    is_angle: NDArray[np.bool_]
+    u: FloatArray
+    value: FloatArray
+    has_rotary: tuple[bool, bool, bool] = (False, False, False)
+    temperatures: dict[str, FloatArray] = field(default_factory=dict)
+    temperature_columns: dict[str, str] = field(default_factory=dict)
+    spindle: NDArray[np.str_] | None = None
+    extra: dict[str, NDArray[Any]] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        n = self.test.shape[0]
+        shapes: dict[str, tuple[int, ...]] = {
+            "test": (n,), "run": (n,), "time_s": (n,), "q": (n, 6), "direction": (n, 3),
+            "tool_mm": (n,), "is_angle": (n,), "u": (n, 3), "value": (n,),
+        }  # fmt: skip
+        for name, shape in shapes.items():
+            got = getattr(self, name).shape
+            if got != shape:
+                raise ValueError(f"Measurements.{name} has shape {got}, expected {shape}")
+        columns: list[tuple[str, str, NDArray[Any]]] = [
+            ("temperatures", k, v) for k, v in self.temperatures.items()]
+        columns += [("extra", k, v) for k, v in self.extra.items()]
+        if self.spindle is not None:
+            columns.append(("spindle", "", self.spindle))
+        for group, key, arr in columns:
+            if arr.shape != (n,):
+                raise ValueError(f"Measurements.{group}[{key!r}] has shape {arr.shape}, "
+                                 f"expected {(n,)}")
+        if set(self.temperature_columns) != set(self.temperatures):
+            raise ValueError("Measurements.temperature_columns must name exactly the sensors "
+                             "of Measurements.temperatures")
+
+    def __len__(self) -> int:
+        return int(self.test.shape[0])
+
+    @property
+    def xyz(self) -> FloatArray:
+        """Commanded linear coordinates (mm), shape (N, 3): a view of ``q[:, :3]``."""
+        return self.q[:, :3]
+
+    def select(self, rows: NDArray[np.bool_] | NDArray[np.integer[Any]] | Sequence[int]
+               ) -> Measurements:
+        """The readings picked by a boolean mask of shape (N,) or by integer indices.
+
+        Raises
+        ------
+        ValueError
+            A boolean mask whose length is not N.
+        """
+        idx = np.asarray(rows)
+        if idx.dtype == np.bool_ and idx.shape != (len(self),):
+            raise ValueError(f"mask has shape {idx.shape}, expected {(len(self),)}")
+        if idx.dtype != np.bool_ and idx.size == 0:
+            idx = idx.astype(np.intp)  # an empty list would otherwise index as float
+        return Measurements(
+            test=self.test[idx], run=self.run[idx], time_s=self.time_s[idx], q=self.q[idx],
+            direction=self.direction[idx], tool_mm=self.tool_mm[idx],
+            is_angle=self.is_angle[idx], u=self.u[idx], value=self.value[idx],
+            has_rotary=self.has_rotary,
+            temperatures={k: v[idx] for k, v in self.temperatures.items()},
+            temperature_columns=dict(self.temperature_columns),
+            spindle=None if self.spindle is None else self.spindle[idx],
+            extra={k: v[idx] for k, v in self.extra.items()},
+        )
+
+    @staticmethod
+    def concat(parts: Sequence[Measurements]) -> Measurements:
+        """Readings of several campaigns one after the other.
+
+        All parts must carry the same temperature sensors, the same extra columns (of the
+        same kind, numeric or text) and either all or none a ``spindle`` column; a rotary
+        column present in any part is kept (its 0.0 stands for the parts without it).
+
+        Raises
+        ------
+        ValueError
+            No parts, or parts whose optional columns differ.
+        """
+        if not parts:
+            raise ValueError("Measurements.concat needs at least one part")
+        first = parts[0]
+        for k, p in enumerate(parts[1:], start=1):
+            if p.temperature_columns != first.temperature_columns:
+                raise ValueError(f"part {k} has temperature columns "
+                                 f"{sorted(p.temperature_columns.values())}, part 0 has "
+                                 f"{sorted(first.temperature_columns.values())}")
+            if set(p.extra) != set(first.extra) or any(
+                    (p.extra[c].dtype.kind == "f") != (first.extra[c].dtype.kind == "f")
+                    for c in first.extra):
+                raise ValueError(f"part {k} has extra columns {sorted(p.extra)} that differ "
+                                 f"from part 0's {sorted(first.extra)} (or in kind)")
+            if (p.spindle is None) != (first.spindle is None):
+                raise ValueError(f"part {k} and part 0 differ in having a spindle column")
+
+        def cat(get: Any) -> Any:
+            return np.concatenate([get(p) for p in parts])
+
+        rotary = tuple(any(p.has_rotary[j] for p in parts) for j in range(3))
+        return Measurements(
+            test=cat(lambda p: p.test), run=cat(lambda p: p.run),
+            time_s=cat(lambda p: p.time_s), q=cat(lambda p: p.q),
+            direction=cat(lambda p: p.direction), tool_mm=cat(lambda p: p.tool_mm),
+            is_angle=cat(lambda p: p.is_angle), u=cat(lambda p: p.u),
+            value=cat(lambda p: p.value),
+            has_rotary=(rotary[0], rotary[1], rotary[2]),
+            temperatures={s: cat(lambda p, s=s: p.temperatures[s]) for s in first.temperatures},
+            temperature_columns=dict(first.temperature_columns),
+            spindle=None if first.spindle is None else cat(lambda p: p.spindle),
+            extra={c: cat(lambda p, c=c: p.extra[c]) for c in first.extra},
+        )
+
+
+# --------------------------------------------------------------------------- reading
+
+
+def read_measurements(source: str | Path | TextIO) -> Measurements:
+    """Read a measurement CSV (formats.md section 2).
+
+    Parameters
+    ----------
+    source : str, Path or text stream
+        A file path, or an open text stream positioned at the header line.
+
+    Returns
+    -------
+    Measurements
+        One entry per data row, in file order.
+
+    Raises
+    ------
+    MeasurementFormatError
+        Anything that does not follow the format, naming the line and column: empty file, a
+        missing, duplicate or unnamed column, a row with the wrong number of cells, a blank
+        line between readings, a non-numeric or non-finite number, a ``run`` that is not an
+        integer, a direction not in {-1, 0, +1}, a ``quantity`` other than ``displacement``
+        or ``angle``, a ``u`` that is not a unit vector.
+    OSError
+        The file cannot be read.
+    """
+    if isinstance(source, (str, Path)):
+        name = str(source)
+        text = Path(source).read_text(encoding="utf-8-sig")
+    else:
+        name = getattr(source, "name", "<stream>")
+        name = name if isinstance(name, str) else "<stream>"
+        text = source.read().removeprefix("\ufeff")
+    header, body, body_line = _split_header(name, text)
+    _check_header(name, header)
+    columns: dict[str, NDArray[Any]] | None = _fast_columns(header, body)
+    lines: NDArray[np.int64] | None = None
+    if columns is None:
+        columns, lines = _careful_columns(name, header, body, body_line)
+    return _build(name, header, columns, lines)
+
+
+def _split_header(name: str, text: str) -> tuple[list[str], str, int]:
+    """Header cells, the text after the header line, and the body's first line number."""
+    stripped = text.lstrip("\r\n")
+    if not stripped.strip():
+        raise MeasurementFormatError(name, "empty file: no header line")
+    skipped = text[: len(text) - len(stripped)].count("\n")
+    if skipped:
+        raise MeasurementFormatError(name, "blank line before the header", line=1)
+    first, _, body = text.partition("\n")
+    header = [c.strip() for c in next(csv.reader([first]))]
+    return header, body, 2
+
+
+def _check_header(name: str, header: list[str]) -> None:
+    seen: set[str] = set()
+    for k, col in enumerate(header, start=1):
+        if not col:
+            raise MeasurementFormatError(name, f"header cell {k} is empty", line=1)
+        if col in seen:
+            raise MeasurementFormatError(name, "duplicate column", line=1, column=col)
+        seen.add(col)
+    for col in REQUIRED_COLUMNS:
+        if col not in seen:
+            raise MeasurementFormatError(name, "required column is missing", line=1,
+                                         column=col)
+
+
+def _fast_columns(header: list[str], body: str) -> dict[str, NDArray[Any]] | None:
+    """All columns through :func:`numpy.loadtxt`, or None when the careful path must decide.
+
+    Quoted files go the careful way (loadtxt and csv might split them differently), as does
+    any file loadtxt rejects or whose row count differs from its non-blank line count
+    (loadtxt skips blank lines, which this format does not allow between readings).
+    """
+    if '"' in body:
+        return None
+    trimmed = body.rstrip()
+    if not trimmed:
+        return None
+    dtype = np.dtype([(f"c{k}", object if c in _TEXT_COLUMNS else np.float64)
+                      for k, c in enumerate(header)])
+    try:
+        table = np.loadtxt(io.StringIO(trimmed), delimiter=",", dtype=dtype, comments=None,
+                           ndmin=1, encoding=None)
+    except ValueError:
+        return None
+    if table.shape[0] != trimmed.count("\n") + 1:
+        return None
+    return {c: table[f"c{k}"] for k, c in enumerate(header)}
+
+
+def _careful_columns(name: str, header: list[str], body: str, body_line: int
+                     ) -> tuple[dict[str, NDArray[Any]], NDArray[np.int64]]:
+    """All columns cell by cell; raises at the first cell that is wrong."""
+    reader = csv.reader(io.StringIO(body))
+    rows: list[list[str]] = []
+    lines: list[int] = []
+    blank: int | None = None
+    width = len(header)
+    for row in reader:
+        line = reader.line_num + body_line - 1
+        if not row or (len(row) == 1 and not row[0].strip()):
+            blank = line if blank is None else blank
+            continue
+        if blank is not None:
+            raise MeasurementFormatError(name, "blank line between readings", line=blank)
+        if len(row) != width:
+            raise MeasurementFormatError(name, f"row has {len(row)} cells, the header has "
+                                         f"{width}", line=line)
+        rows.append(row)
+        lines.append(line)
+    if not rows:
+        raise MeasurementFormatError(name, "the file has a header but no readings",
+                                     line=body_line)
+    line_arr = np.asarray(lines, dtype=np.int64)
+    columns: dict[str, NDArray[Any]] = {}
+    for k, col in enumerate(header):
+        cells = [r[k] for r in rows]
+        if col in _TEXT_COLUMNS:
+            columns[col] = np.asarray(cells, dtype=object)
+            continue
+        try:
+            columns[col] = np.asarray([float(c) for c in cells], dtype=np.float64)
+        except ValueError:
+            bad = next(i for i, c in enumerate(cells) if not _is_float(c))
+            if col in REQUIRED_COLUMNS or _TEMPERATURE.match(col) or col in OPTIONAL_ROTARY:
+                raise MeasurementFormatError(name, f"not a number: {cells[bad]!r}",
+                                             line=int(line_arr[bad]), column=col) from None
+            columns[col] = np.asarray(cells, dtype=object)  # a free text column
+    return columns, line_arr
+
+
+def _is_float(cell: str) -> bool:
+    try:
+        float(cell)
+    except ValueError:
+        return False
+    return True
+
+
+def _build(name: str, header: list[str], columns: dict[str, NDArray[Any]],
+           lines: NDArray[np.int64] | None) -> Measurements:
+    """Validate parsed columns and assemble the container."""
+    n = columns["test"].shape[0]
+
+    def line_of(i: int) -> int:
+        return int(lines[i]) if lines is not None else i + 2
+
+    def fail_at(mask: NDArray[np.bool_], col: str, what: str) -> None:
+        bad = np.flatnonzero(mask)
+        if bad.size:
+            i = int(bad[0])
+            cell = columns[col][i]
+            raise MeasurementFormatError(name, f"{what} (got {cell!r})", line=line_of(i),
+                                         column=col)
+
+    temperature_columns: dict[str, str] = {}
+    for col in header:
+        match = _TEMPERATURE.match(col)
+        if match:
+            temperature_columns[match.group(1)] = col
+    finite_required = [*_NUMERIC_REQUIRED, *temperature_columns.values(),
+                       *(c for c in OPTIONAL_ROTARY if c in columns)]
+    for col in finite_required:
+        arr = columns[col]
+        if arr.dtype != np.float64:  # only the careful path can leave text here
+            raise MeasurementFormatError(name, "not a number", line=line_of(0), column=col)
+        fail_at(~np.isfinite(arr), col, "not a finite number")
+
+    run = columns["run"]
+    fail_at(run != np.round(run), "run", "run must be an integer")
+    fail_at(np.abs(run) > 2**53, "run", "run is out of range")
+    for col in ("dir_x", "dir_y", "dir_z"):
+        d = columns[col]
+        fail_at((d != -1) & (d != 0) & (d != 1), col, "direction must be -1, 0 or +1")
+
+    test = np.char.strip(columns["test"].astype(str))
+    fail_at(test == "", "test", "the test label is empty")
+    quantity = np.char.strip(columns["quantity"].astype(str))
+    is_angle = quantity == "angle"
+    fail_at(~is_angle & (quantity != "displacement"), "quantity",
+            "quantity must be 'displacement' or 'angle'")
+
+    u = np.column_stack([columns["ux"], columns["uy"], columns["uz"]])
+    norm = np.sqrt(np.einsum("ij,ij->i", u, u))
+    bad_u = np.flatnonzero(np.abs(norm - 1.0) > U_NORM_TOL)
+    if bad_u.size:
+        i = int(bad_u[0])
+        raise MeasurementFormatError(
+            name, f"u = ({u[i, 0]!r}, {u[i, 1]!r}, {u[i, 2]!r}) is not a unit vector "
+            f"(|u| = {norm[i]:.6g}, tolerance {U_NORM_TOL:g})", line=line_of(i),
+            column="ux, uy, uz")
+
+    q = np.zeros((n, 6), dtype=np.float64)
+    for j, col in enumerate(("x_mm", "y_mm", "z_mm", *OPTIONAL_ROTARY)):
+        if col in columns:
+            q[:, j] = columns[col]
+    has = tuple(c in columns for c in OPTIONAL_ROTARY)
+
+    known = {*REQUIRED_COLUMNS, *OPTIONAL_ROTARY, "spindle", *temperature_columns.values()}
+    extra: dict[str, NDArray[Any]] = {}
+    for col in header:
+        if col not in known:
+            arr = columns[col]
+            extra[col] = arr if arr.dtype == np.float64 else arr.astype(str)
+    return Measurements(
+        test=test,
+        run=run.astype(np.int64),
+        time_s=columns["time_s"],
+        q=q,
+        direction=np.column_stack([columns["dir_x"], columns["dir_y"], columns["dir_z"]]
+                                  ).astype(np.int8),
+        tool_mm=columns["tool_mm"],
+        is_angle=is_angle,
+        u=u,
+        value=columns["value"],
+        has_rotary=(has[0], has[1], has[2]),
+        temperatures={s: columns[c] for s, c in temperature_columns.items()},
+        temperature_columns=temperature_columns,
+        spindle=columns["spindle"].astype(str) if "spindle" in columns else None,
+        extra=extra,
+    )
+
+
+# --------------------------------------------------------------------------- writing
+
+
+def write_measurements(target: str | Path | TextIO, m: Measurements) -> None:
+    """Write readings as a measurement CSV that :func:`read_measurements` reads back equal.
+
+    Columns come in the order of formats.md section 2 (rotary columns only where
+    ``has_rotary`` says so), then ``spindle``, the extra columns, the temperature columns.
+    Floats are written with :func:`repr` (the shortest text that reads back bit for bit).
+
+    Parameters
+    ----------
+    target : str, Path or text stream
+        File path (overwritten) or an open text stream.
+    m : Measurements
+        The readings.
+    """
+    header: list[str] = ["test", "run", "time_s", "x_mm", "y_mm", "z_mm"]
+    cols: list[list[str]] = [m.test.tolist(), _ints(m.run), _floats(m.time_s)]
+    cols += [_floats(m.q[:, j]) for j in range(3)]
+    for j, col in enumerate(OPTIONAL_ROTARY):
+        if m.has_rotary[j]:
+            header.append(col)
+            cols.append(_floats(m.q[:, 3 + j]))
+    header += ["dir_x", "dir_y", "dir_z", "tool_mm", "quantity", "ux", "uy", "uz", "value"]
+    cols += [_ints(m.direction[:, j]) for j in range(3)]
+    cols += [_floats(m.tool_mm),
+             np.where(m.is_angle, "angle", "displacement").tolist()]
+    cols += [_floats(m.u[:, j]) for j in range(3)]
+    cols.append(_floats(m.value))
+    if m.spindle is not None:
+        header.append("spindle")
+        cols.append(m.spindle.tolist())
+    for col, arr in m.extra.items():
+        header.append(col)
+        cols.append(_floats(arr) if arr.dtype == np.float64 else [str(v) for v in arr])
+    for sensor, col in m.temperature_columns.items():
+        header.append(col)
+        cols.append(_floats(m.temperatures[sensor]))
+    if isinstance(target, (str, Path)):
+        with Path(target).open("w", encoding="utf-8", newline="") as fh:
+            _write_rows(fh, header, cols)
+    else:
+        _write_rows(target, header, cols)
+
+
+def _floats(arr: NDArray[Any]) -> list[str]:
+    return [repr(v) for v in np.asarray(arr, dtype=np.float64).tolist()]
+
+
+def _ints(arr: NDArray[Any]) -> list[str]:
+    return [str(v) for v in np.asarray(arr).tolist()]
+
+
+def _write_rows(fh: TextIO, header: list[str], cols: list[list[str]]) -> None:
+    writer = csv.writer(fh, lineterminator="\n")
+    writer.writerow(header)
+    writer.writerows(zip(*cols, strict=True))
+
