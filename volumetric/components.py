@@ -145,7 +145,99 @@ class Table:
         return {"type": "table", "positions": list(self.positions), "values": list(self.values)}
 
 
-Component = Polynomial | Table
+@dataclass(frozen=True)
+class Sinusoid:
+    """A cyclic component error: ``a·sin(2π q / period + phase)``.
+
+    Attributes
+    ----------
+    amplitude : float
+        µm or µrad.
+    period : float
+        mm or degrees.
+    phase : float
+        rad.
+    """
+
+    amplitude: float
+    period: float
+    phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not all(math.isfinite(v) for v in (self.amplitude, self.period, self.phase)):
+            raise ComponentErrorSpecError(f"sinusoid parameters must be finite: {self}")
+        if self.period <= 0:
+            raise ComponentErrorSpecError(f"sinusoid period must be positive: {self}")
+
+    def __call__(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        qa = np.asarray(q, dtype=float)
+        phase = 2 * np.pi * qa / self.period + self.phase
+        out: NDArray[np.float64] = self.amplitude * np.sin(phase)
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "sinusoid", "amplitude": self.amplitude, "period": self.period,
+                "phase": self.phase}
+
+
+@dataclass(frozen=True)
+class Sum:
+    """The sum of several component functions (a base fit plus model extensions)."""
+
+    terms: tuple[Polynomial | Table | Sinusoid, ...]
+
+    def __call__(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        out = np.zeros(np.shape(q))
+        for t in self.terms:
+            out = out + t(q)
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "sum", "terms": [t.to_json() for t in self.terms]}
+
+
+Component = Polynomial | Table | Sinusoid | Sum
+
+
+def add_components(a: Component | None, b: Component) -> Component:
+    """``a + b`` as one component (``b`` when ``a`` is None)."""
+    if a is None:
+        return b
+    left = a.terms if isinstance(a, Sum) else (a,)
+    right = b.terms if isinstance(b, Sum) else (b,)
+    return Sum((*left, *right))
+
+
+def component_from_json(spec: Any) -> Component:
+    """One component function from its JSON form (see the ``to_json`` methods)."""
+    if not isinstance(spec, Mapping):
+        raise ComponentErrorSpecError("expected an object with a 'type'")
+    kind = spec.get("type", "polynomial")
+    if kind == "polynomial":
+        return Polynomial(
+            tuple(float(c) for c in spec["coefficients"]),
+            float(spec.get("origin", 0.0)),
+            float(spec.get("scale", 1.0)),
+        )
+    if kind == "table":
+        return Table(
+            tuple(float(c) for c in spec["positions"]),
+            tuple(float(c) for c in spec["values"]),
+        )
+    if kind == "sinusoid":
+        return Sinusoid(float(spec["amplitude"]), float(spec["period"]),
+                        float(spec.get("phase", 0.0)))
+    if kind == "sum":
+        terms = []
+        for t in spec["terms"]:
+            c = component_from_json(t)
+            if isinstance(c, Sum):
+                raise ComponentErrorSpecError("a sum cannot contain a sum")
+            terms.append(c)
+        return Sum(tuple(terms))
+    raise ComponentErrorSpecError(
+        f"type {kind!r} is not 'polynomial', 'table', 'sinusoid' or 'sum'"
+    )
 
 
 @dataclass(frozen=True)
@@ -297,25 +389,8 @@ class GeometricErrors:
         comps: dict[str, Component] = {}
         for name, spec in dict(data.get("components", {})).items():
             parse_name(name)
-            if not isinstance(spec, Mapping):
-                raise ComponentErrorSpecError(f"components.{name}: expected an object")
-            kind = spec.get("type", "polynomial")
             try:
-                if kind == "polynomial":
-                    comps[name] = Polynomial(
-                        tuple(float(c) for c in spec["coefficients"]),
-                        float(spec.get("origin", 0.0)),
-                        float(spec.get("scale", 1.0)),
-                    )
-                elif kind == "table":
-                    comps[name] = Table(
-                        tuple(float(c) for c in spec["positions"]),
-                        tuple(float(c) for c in spec["values"]),
-                    )
-                else:
-                    raise ComponentErrorSpecError(
-                        f"components.{name}: type {kind!r} is not 'polynomial' or 'table'"
-                    )
+                comps[name] = component_from_json(spec)
             except KeyError as exc:
                 raise ComponentErrorSpecError(f"components.{name}: missing {exc}") from None
             except ComponentErrorSpecError as exc:
