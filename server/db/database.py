@@ -1,0 +1,108 @@
+"""The database handle: one engine, sessions, and the bridge from async code to it.
+
+Why a synchronous engine driven through :func:`asyncio.to_thread` rather than SQLAlchemy's
+async engine: SQLite is the embedded default and its async driver (aiosqlite) is not a
+dependency; the same synchronous code then runs unchanged on SQLite and on PostgreSQL
+(psycopg 3), repository functions stay plain functions that tests and the CLI can call
+directly, and the load is small (a handful of writes per machine per push period), so a
+thread per call costs nothing that matters while keeping the event loop free.
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import AsyncIterator, Callable, Iterator
+from contextlib import asynccontextmanager, contextmanager
+from typing import Any, Concatenate, ParamSpec, TypeVar
+
+from sqlalchemy import Engine, create_engine, event
+from sqlalchemy.engine import make_url
+from sqlalchemy.orm import Session, sessionmaker
+from sqlalchemy.pool import StaticPool
+
+from server.db.tables import Base
+
+P = ParamSpec("P")
+T = TypeVar("T")
+
+
+def make_engine(url: str) -> Engine:
+    """Create the engine for a SQLite or PostgreSQL URL (see :mod:`server.settings`)."""
+    parsed = make_url(url)
+    if parsed.get_backend_name() != "sqlite":
+        # pre_ping: a PostgreSQL restart must not turn the next request into a 500.
+        return create_engine(url, pool_pre_ping=True)
+    memory = parsed.database in (None, "", ":memory:")
+    engine = create_engine(
+        url,
+        # Sessions run on worker threads (asyncio.to_thread); each connection is used by one
+        # thread at a time, which is what check_same_thread guards against.
+        connect_args={"check_same_thread": False, "timeout": 15.0},
+        # An in-memory database exists per connection: share one or it vanishes.
+        poolclass=StaticPool if memory else None,
+    )
+
+    @event.listens_for(engine, "connect")
+    def _sqlite_pragmas(dbapi_connection: Any, _record: Any) -> None:
+        cursor = dbapi_connection.cursor()
+        # SQLite ignores foreign keys (and so ON DELETE CASCADE) unless asked per connection.
+        cursor.execute("PRAGMA foreign_keys=ON")
+        if not memory:
+            # WAL lets the dashboard read while a push writes.
+            cursor.execute("PRAGMA journal_mode=WAL")
+        cursor.close()
+
+    return engine
+
+
+class Database:
+    """An engine plus a session factory; the one object the service holds for persistence.
+
+    Use :meth:`open` from the lifespan. Repository functions (``server.db.machines`` etc.)
+    take a :class:`~sqlalchemy.orm.Session` first; async code calls them through
+    :meth:`run`, which gives each call its own transaction on a worker thread.
+    """
+
+    def __init__(self, engine: Engine) -> None:
+        self.engine = engine
+        # expire_on_commit=False: rows returned from a committed transaction stay readable
+        # after the session is gone (they are handed to the API layer on another thread).
+        self._sessions = sessionmaker(engine, expire_on_commit=False)
+
+    @classmethod
+    @asynccontextmanager
+    async def open(cls, url: str) -> AsyncIterator[Database]:
+        """Connect, create missing tables, and dispose of the pool on exit."""
+        db = cls(make_engine(url))
+        try:
+            await asyncio.to_thread(db.create_schema)
+            yield db
+        finally:
+            await asyncio.to_thread(db.engine.dispose)
+
+    def create_schema(self) -> None:
+        """Create the tables that do not exist yet (existing data is kept)."""
+        Base.metadata.create_all(self.engine)
+
+    @contextmanager
+    def session(self) -> Iterator[Session]:
+        """A session inside one transaction: committed on success, rolled back on error."""
+        with self._sessions.begin() as session:
+            yield session
+
+    def call(
+        self, fn: Callable[Concatenate[Session, P], T], *args: P.args, **kwargs: P.kwargs
+    ) -> T:
+        """Run ``fn(session, *args, **kwargs)`` in its own transaction (blocking)."""
+        with self.session() as session:
+            return fn(session, *args, **kwargs)
+
+    async def run(
+        self, fn: Callable[Concatenate[Session, P], T], *args: P.args, **kwargs: P.kwargs
+    ) -> T:
+        """Run ``fn(session, *args, **kwargs)`` in its own transaction on a worker thread."""
+
+        def job() -> T:
+            return self.call(fn, *args, **kwargs)
+
+        return await asyncio.to_thread(job)

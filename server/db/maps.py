@@ -1,0 +1,103 @@
+"""Repository: the ``map_versions`` and ``applied`` tables (error maps and their delivery)."""
+
+from __future__ import annotations
+
+import datetime as dt
+import hashlib
+from typing import Any
+
+from sqlalchemy import func, select
+from sqlalchemy.exc import IntegrityError
+from sqlalchemy.orm import Session
+
+from server.db.errors import DuplicateError
+from server.db.tables import AppliedRow, MapVersionRow, utcnow
+
+
+def add_map_version(
+    session: Session, machine_id: int, *, payload: bytes, model_version: int | None,
+    temperatures: dict[str, Any] | None = None,
+) -> MapVersionRow:
+    """Store an encoded map as the machine's next version (sha256 and size computed here)."""
+    latest = session.scalar(
+        select(func.max(MapVersionRow.version)).where(MapVersionRow.machine_id == machine_id)
+    )
+    row = MapVersionRow(
+        machine_id=machine_id,
+        version=(latest or 0) + 1,
+        model_version=model_version,
+        payload=payload,
+        sha256=hashlib.sha256(payload).hexdigest(),
+        size_bytes=len(payload),
+        temperatures=dict(temperatures or {}),
+    )
+    session.add(row)
+    try:
+        session.flush()
+    except IntegrityError:
+        raise DuplicateError("map", "version", str(row.version)) from None
+    return row
+
+
+def list_map_versions(session: Session, machine_id: int) -> list[MapVersionRow]:
+    """A machine's maps, newest first."""
+    query = select(MapVersionRow).where(MapVersionRow.machine_id == machine_id)
+    return list(session.scalars(query.order_by(MapVersionRow.version.desc())))
+
+
+def get_map_version(
+    session: Session, machine_id: int, version: int | None = None
+) -> MapVersionRow | None:
+    """One map version, or the latest when ``version`` is None; None when absent."""
+    query = select(MapVersionRow).where(MapVersionRow.machine_id == machine_id)
+    if version is not None:
+        return session.scalar(query.where(MapVersionRow.version == version))
+    return session.scalar(query.order_by(MapVersionRow.version.desc()).limit(1))
+
+
+def record_sent(
+    session: Session, machine_id: int, version: int, at: dt.datetime | None = None
+) -> AppliedRow | None:
+    """Note that map ``version`` was sent to the machine (pending its answer).
+
+    None when the machine has no such map version.
+    """
+    map_row = get_map_version(session, machine_id, version)
+    if map_row is None:
+        return None
+    row = AppliedRow(machine_id=machine_id, map_id=map_row.id, map_version=version,
+                     applied_at=at or utcnow())
+    session.add(row)
+    session.flush()
+    return row
+
+
+def record_answer(
+    session: Session, applied_id: int, *, acked: bool, reject_reason: str | None = None
+) -> AppliedRow | None:
+    """Record the machine's answer to a delivery: applied (``acked``) or rejected."""
+    row = session.get(AppliedRow, applied_id)
+    if row is None:
+        return None
+    row.acked = acked
+    row.reject_reason = None if acked else (reject_reason or "rejected")
+    session.flush()
+    return row
+
+
+def list_applied(session: Session, machine_id: int, limit: int = 100) -> list[AppliedRow]:
+    """A machine's deliveries, newest first."""
+    query = select(AppliedRow).where(AppliedRow.machine_id == machine_id)
+    return list(session.scalars(query.order_by(AppliedRow.id.desc()).limit(limit)))
+
+
+def latest_sent(session: Session, machine_id: int) -> AppliedRow | None:
+    """The machine's most recent delivery, whatever its answer."""
+    query = select(AppliedRow).where(AppliedRow.machine_id == machine_id)
+    return session.scalar(query.order_by(AppliedRow.id.desc()).limit(1))
+
+
+def latest_acked(session: Session, machine_id: int) -> AppliedRow | None:
+    """The machine's most recent delivery that it acknowledged as applied."""
+    query = select(AppliedRow).where(AppliedRow.machine_id == machine_id, AppliedRow.acked)
+    return session.scalar(query.order_by(AppliedRow.id.desc()).limit(1))

@@ -1,0 +1,181 @@
+"""The service's tables (SQLAlchemy 2 declarative mapping), the same on SQLite and PostgreSQL.
+
+Rows are plain mapped classes without relationships: the repository modules load exactly
+what a caller needs, and a row handed to another thread after its session closed never
+triggers a lazy load.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+from typing import Any, ClassVar
+
+from sqlalchemy import (
+    JSON,
+    DateTime,
+    ForeignKey,
+    Index,
+    Integer,
+    LargeBinary,
+    String,
+    Text,
+    TypeDecorator,
+    UniqueConstraint,
+)
+from sqlalchemy.engine import Dialect
+from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
+
+
+def utcnow() -> dt.datetime:
+    return dt.datetime.now(dt.UTC)
+
+
+class UTCDateTime(TypeDecorator[dt.datetime]):
+    """A timezone-aware UTC timestamp on every backend.
+
+    SQLite has no time zones and hands back naive datetimes; without this the API would
+    show PostgreSQL rows with ``+00:00`` and SQLite rows without.
+    """
+
+    impl = DateTime(timezone=True)
+    cache_ok = True
+
+    def process_bind_param(self, value: dt.datetime | None, dialect: Dialect) -> dt.datetime | None:
+        if value is None:
+            return None
+        if value.tzinfo is None:
+            raise ValueError(f"naive datetime {value!r}: timestamps must carry a time zone")
+        return value.astimezone(dt.UTC)
+
+    def process_result_value(
+        self, value: dt.datetime | None, dialect: Dialect
+    ) -> dt.datetime | None:
+        if value is None:
+            return None
+        if value.tzinfo is None:
+            return value.replace(tzinfo=dt.UTC)
+        return value.astimezone(dt.UTC)
+
+
+class Base(DeclarativeBase):
+    type_annotation_map: ClassVar[dict[Any, Any]] = {
+        dt.datetime: UTCDateTime, dict[str, Any]: JSON
+    }
+
+
+def _machine_fk() -> ForeignKey:
+    # A ForeignKey object belongs to one column: make one per table.
+    return ForeignKey("machines.id", ondelete="CASCADE")
+
+
+class MachineRow(Base):
+    """A machine the center knows: identity, description (formats.md §1) and its secret.
+
+    ``secret`` is kept in clear because the center must compute HMAC responses with it; the
+    API never returns it.
+    """
+
+    __tablename__ = "machines"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    name: Mapped[str] = mapped_column(String(64), unique=True)
+    ip: Mapped[str] = mapped_column(String(45), unique=True)
+    controller: Mapped[str] = mapped_column(String(16))
+    description: Mapped[dict[str, Any]]
+    secret: Mapped[str] = mapped_column(String(256))
+    created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+    updated_at: Mapped[dt.datetime] = mapped_column(default=utcnow, onupdate=utcnow)
+
+
+class ModelRow(Base):
+    """One version of a machine's error model (JSON body defined by the numeric core)."""
+
+    __tablename__ = "models"
+    __table_args__ = (UniqueConstraint("machine_id", "version"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), index=True)
+    version: Mapped[int] = mapped_column(Integer)
+    source: Mapped[str] = mapped_column(String(16))
+    body: Mapped[dict[str, Any]]
+    created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+
+
+class MeasurementSetRow(Base):
+    """A measurement CSV (formats.md §2) as uploaded, byte for byte (decoded as UTF-8)."""
+
+    __tablename__ = "measurement_sets"
+    __table_args__ = (UniqueConstraint("machine_id", "name"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), index=True)
+    name: Mapped[str] = mapped_column(String(128))
+    csv_text: Mapped[str] = mapped_column(Text)
+    row_count: Mapped[int] = mapped_column(Integer)
+    created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+
+
+class MapVersionRow(Base):
+    """An encoded error map as pushed to the machine, with what it was built from."""
+
+    __tablename__ = "map_versions"
+    __table_args__ = (UniqueConstraint("machine_id", "version"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), index=True)
+    version: Mapped[int] = mapped_column(Integer)
+    model_version: Mapped[int | None] = mapped_column(Integer)
+    payload: Mapped[bytes] = mapped_column(LargeBinary)
+    sha256: Mapped[str] = mapped_column(String(64))
+    size_bytes: Mapped[int] = mapped_column(Integer)
+    temperatures: Mapped[dict[str, Any]]
+    created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+
+
+class AppliedRow(Base):
+    """One delivery of a map version to its machine: sent at ``applied_at``, then acked or
+    rejected (``reject_reason``) by the machine; neither while the answer is pending."""
+
+    __tablename__ = "applied"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), index=True)
+    map_id: Mapped[int] = mapped_column(ForeignKey("map_versions.id", ondelete="CASCADE"))
+    map_version: Mapped[int] = mapped_column(Integer)
+    applied_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+    acked: Mapped[bool] = mapped_column(default=False)
+    reject_reason: Mapped[str | None] = mapped_column(Text)
+
+
+class DiagnosisRow(Base):
+    """A JSON result about a machine: a diagnosis (formats.md §3, ``kind="diagnosis"``) or an
+    ISO 230-6 verification report (``kind="verification"``).
+
+    One table for both: they share every column and every query (per machine, newest first),
+    and a second table would only duplicate the code.
+    """
+
+    __tablename__ = "diagnoses"
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), index=True)
+    kind: Mapped[str] = mapped_column(String(16))
+    result: Mapped[dict[str, Any]]
+    created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+
+
+class EventRow(Base):
+    """Something that happened on the machine link (the dashboard's refusal list and log).
+
+    ``machine`` is the machine's name when known, else the peer address: refusals come from
+    peers that are, by definition, not known machines, so there is no foreign key.
+    """
+
+    __tablename__ = "events"
+    __table_args__ = (Index("ix_events_kind_id", "kind", "id"),)
+
+    id: Mapped[int] = mapped_column(primary_key=True)
+    time: Mapped[dt.datetime] = mapped_column(default=utcnow, index=True)
+    machine: Mapped[str] = mapped_column(String(128), index=True)
+    kind: Mapped[str] = mapped_column(String(32))
+    detail: Mapped[str] = mapped_column(Text, default="")

@@ -1,0 +1,24 @@
+"""The kinds of event the service records (the ``events`` table, ``GET /api/events``)."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+
+
+class EventKind(StrEnum):
+    """What happened on a machine link."""
+
+    REFUSED = "refused"
+    """A peer was refused: unknown address, failed challenge, second session, bad frame."""
+    CONNECTED = "connected"
+    """A known machine opened a session."""
+    DISCONNECTED = "disconnected"
+    """A machine's session ended."""
+    PUSHED = "pushed"
+    """An error map was sent to a machine."""
+    APPLIED = "applied"
+    """A machine acknowledged that it applied a map."""
+    REJECTED = "rejected"
+    """A machine rejected a map (the detail says why)."""
+    ERROR = "error"
+    """Something failed on the center's side for this machine."""

@@ -1,0 +1,181 @@
+"""The service's settings: environment variables prefixed ``EDNC_``, or an env file.
+
+Every field is validated when the service starts (:func:`load_settings`), so a typo in a
+port or a database URL stops start-up with one line per problem instead of failing later
+inside a request or a push.
+
+==============================  =========================  ===============================
+variable                        default                    meaning
+==============================  =========================  ===============================
+``EDNC_DATABASE_URL``           ``sqlite:///./ednc.db``    SQLite file or PostgreSQL URL
+``EDNC_API_KEY``                unset (read-only API)      key for writes, ``X-API-Key``
+``EDNC_HTTP_HOST/PORT``         ``127.0.0.1`` / 8080       REST API and dashboard
+``EDNC_MACHINE_HOST/PORT``      ``0.0.0.0`` / 7878         machine TCP server
+``EDNC_MQTT_HOST/PORT``         unset (MQTT off) / 1883    MQTT broker
+``EDNC_MQTT_TOPIC_PREFIX``      ``ednc``                   first topic level
+``EDNC_PUSH_PERIOD_S``          60                         error-map push period, s
+``EDNC_HEARTBEAT_S``            10                         machine heartbeat period, s
+``EDNC_NODE_ID``                ``<host>-<pid>``           this process, for leases
+==============================  =========================  ===============================
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import socket
+from pathlib import Path
+from typing import Annotated, Any
+
+from pydantic import Field, SecretStr, ValidationError, field_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+from sqlalchemy.engine import make_url
+from sqlalchemy.exc import ArgumentError
+
+ENV_PREFIX = "EDNC_"
+
+Port = Annotated[int, Field(ge=0, le=65535)]
+_HOST = re.compile(r"^[A-Za-z0-9.:\-\[\]]+$")
+_NODE_ID = re.compile(r"^[A-Za-z0-9._:\-]{1,64}$")
+_TOPIC_LEVEL = re.compile(r"^[^+#/\x00]+$")
+
+
+class SettingsError(ValueError):
+    """Settings that cannot work; the message has one line per problem, naming the variable."""
+
+
+def _default_node_id() -> str:
+    host = re.sub(r"[^A-Za-z0-9.\-]", "-", socket.gethostname())[:40] or "node"
+    return f"{host}-{os.getpid()}"
+
+
+def normalize_database_url(url: str) -> str:
+    """Check a database URL and pick the driver this project installs.
+
+    ``postgresql://`` alone would make SQLAlchemy look for psycopg2, which is not a
+    dependency; it becomes ``postgresql+psycopg://`` (psycopg 3).
+
+    Raises
+    ------
+    ValueError
+        When the URL does not parse or names a backend other than SQLite or PostgreSQL.
+    """
+    try:
+        parsed = make_url(url)
+    except ArgumentError:
+        raise ValueError(
+            f"{url!r} is not a database URL; expected e.g. 'sqlite:///./ednc.db' "
+            "or 'postgresql+psycopg://user@127.0.0.1:5432/ednc'"
+        ) from None
+    backend, _, driver = parsed.drivername.partition("+")
+    if backend == "sqlite" and driver in ("", "pysqlite"):
+        return url
+    if backend in ("postgresql", "postgres") and driver in ("", "psycopg"):
+        return parsed.set(drivername="postgresql+psycopg").render_as_string(hide_password=False)
+    raise ValueError(
+        f"unsupported database {parsed.drivername!r}: use 'sqlite:///<file>' "
+        "or 'postgresql+psycopg://...'"
+    )
+
+
+class Settings(BaseSettings):
+    """The control center's configuration (see the module docstring for the variables)."""
+
+    model_config = SettingsConfigDict(
+        env_prefix=ENV_PREFIX,
+        env_file=None,
+        env_file_encoding="utf-8",
+        extra="ignore",
+        frozen=True,
+    )
+
+    database_url: str = "sqlite:///./ednc.db"
+    api_key: SecretStr | None = Field(
+        default=None,
+        description="Key that write requests carry in the X-API-Key header; unset = read-only.",
+    )
+    http_host: str = "127.0.0.1"
+    http_port: Port = 8080
+    machine_host: str = "0.0.0.0"
+    machine_port: Port = 7878
+    mqtt_host: str | None = None
+    mqtt_port: Port = 1883
+    mqtt_topic_prefix: str = "ednc"
+    push_period_s: float = Field(default=60.0, gt=0.0, le=86400.0)
+    heartbeat_s: float = Field(default=10.0, gt=0.0, le=3600.0)
+    node_id: str = Field(default_factory=_default_node_id)
+
+    @field_validator("database_url")
+    @classmethod
+    def _database_url(cls, value: str) -> str:
+        return normalize_database_url(value.strip())
+
+    @field_validator("api_key")
+    @classmethod
+    def _api_key(cls, value: SecretStr | None) -> SecretStr | None:
+        if value is None or value.get_secret_value() == "":
+            return None  # an empty variable means "unset", i.e. read-only
+        if len(value.get_secret_value()) < 8:
+            raise ValueError("must be at least 8 characters (or unset for a read-only API)")
+        return value
+
+    @field_validator("http_host", "machine_host")
+    @classmethod
+    def _host(cls, value: str) -> str:
+        if not _HOST.match(value):
+            raise ValueError(f"{value!r} is not a host name or address")
+        return value
+
+    @field_validator("mqtt_host")
+    @classmethod
+    def _mqtt_host(cls, value: str | None) -> str | None:
+        if value is None or value.strip() == "":
+            return None  # empty = MQTT off
+        if not _HOST.match(value):
+            raise ValueError(f"{value!r} is not a host name or address")
+        return value
+
+    @field_validator("mqtt_topic_prefix")
+    @classmethod
+    def _topic_prefix(cls, value: str) -> str:
+        levels = value.split("/")
+        if not all(_TOPIC_LEVEL.match(level) for level in levels):
+            raise ValueError(
+                f"{value!r}: topic levels must be non-empty and free of '+', '#' and NUL"
+            )
+        return value
+
+    @field_validator("node_id")
+    @classmethod
+    def _node_id(cls, value: str) -> str:
+        if not _NODE_ID.match(value):
+            raise ValueError(f"{value!r}: use 1-64 letters, digits, '.', '_', ':' or '-'")
+        return value
+
+    @property
+    def mqtt_enabled(self) -> bool:
+        return self.mqtt_host is not None
+
+    @property
+    def writes_enabled(self) -> bool:
+        return self.api_key is not None
+
+
+def load_settings(env_file: str | Path | None = None, **overrides: Any) -> Settings:
+    """Read and validate the settings, turning pydantic's report into :class:`SettingsError`.
+
+    Parameters
+    ----------
+    env_file
+        Optional ``KEY=value`` file read before the environment (the environment wins).
+    **overrides
+        Field values that win over both (used by tests and the ``serve`` command).
+    """
+    try:
+        return Settings(_env_file=env_file, **overrides)
+    except ValidationError as exc:
+        lines = []
+        for err in exc.errors(include_url=False, include_input=False):
+            field = ".".join(str(p) for p in err["loc"]) or "settings"
+            lines.append(f"{ENV_PREFIX}{field.upper()}: {err['msg']}")
+        raise SettingsError("invalid settings:\n  " + "\n  ".join(lines)) from None
