@@ -36,7 +36,7 @@ from numpy.typing import NDArray
 
 from volumetric.measurement import U_NORM_TOL, Measurements
 
-__all__ = ["PositioningResult", "PositioningTestError", "evaluate_positioning"]
+__all__ = ["PositioningResult", "PositioningTestError", "cluster_targets", "evaluate_positioning"]
 
 AXES = ("x", "y", "z", "a", "b", "c")
 FloatArray = NDArray[np.float64]
@@ -164,7 +164,7 @@ def evaluate_positioning(m: Measurements, *, target_tol_mm: float = 1e-3
             f"every reading approaches its target in the {side} direction (dir_{name}); "
             "the bidirectional evaluation needs both")
 
-    targets, which = _cluster_targets(pos, target_tol_mm, name)
+    targets, which = cluster_targets(pos, target_tol_mm, name)
     if targets.size < 2:
         raise PositioningTestError(f"only one target position ({name} = {targets[0]:g} mm)")
     stats = {+1: _side_stats(deviation, which, approach, m.run, +1, targets, name),
@@ -226,9 +226,31 @@ def _check_sensing_direction(m: Measurements, axis: int, pos: FloatArray) -> Non
             f"u = {tuple(m.u[i].tolist())}, not along the {AXES[axis]} axis")
 
 
-def _cluster_targets(pos: FloatArray, tol: float, name: str
+def cluster_targets(pos: FloatArray, tol: float, name: str
                      ) -> tuple[FloatArray, NDArray[np.intp]]:
-    """Distinct commanded positions (ascending, mm) and each reading's target index."""
+    """Distinct commanded positions and each reading's target index.
+
+    Parameters
+    ----------
+    pos : ndarray, shape (N,)
+        Commanded positions (mm).
+    tol : float
+        Positions closer than this (mm) are one target.
+    name : str
+        What the positions are, for error messages (``x``, ``s along diag-PPP``).
+
+    Returns
+    -------
+    targets : ndarray, shape (m,)
+        Mean commanded position of each target (mm), ascending.
+    which : ndarray of intp, shape (N,)
+        Index into ``targets`` of each reading.
+
+    Raises
+    ------
+    PositioningTestError
+        Positions chained closer than ``tol`` that spread wider than ``tol``.
+    """
     order = np.argsort(pos, kind="stable")
     ordered = pos[order]
     cluster = np.concatenate([[0], np.cumsum(np.diff(ordered) > tol)])
