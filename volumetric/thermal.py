@@ -1,0 +1,730 @@
+"""Dynamic thermal-drift regressors and their automated selection.
+
+A machine's thermal drift is not a single-valued function of its temperatures: heat takes
+time to travel from where a sensor sits to the structure that moves the tool, so the drift
+follows the temperatures through lags, and a static model ``y = a + Σ b_i T_i`` misses the
+overshoot after cooling. This module builds physically motivated regressors from the
+temperatures (and time, and optional heat inputs such as ``spindle_rpm``), each a column of
+one linear least-squares problem, and selects a few of them from training data alone.
+
+Regressors (:func:`thermal_regressors`), all of shape (N,) per column:
+
+- level ``T``: the temperature itself (°C);
+- first-order lag ``L_τ[T]`` (°C): the response of ``τ dy/dt = T - y`` to the temperature,
+  the transfer function of a body heated through a thermal resistance (one time constant
+  ``τ``). Computed exactly for irregular sampling (:func:`first_order_lag`);
+- rate ``(T - L_τ[T]) / τ`` (K/h): a smoothed dT/dt, the derivative of ``L_τ[T]``;
+- gradient ``T_i - T_j`` (K) between two sensors;
+- time drift ``(t - t_0)`` (h): a slow drift of the set-up;
+- the same lags of extra inputs (e.g. spindle speed as a heat source), when given.
+
+Note that a rate and a gradient are linear combinations of levels and lags, so a fit that
+holds both ``T`` and ``L_τ[T]`` already spans ``dT/dt`` smoothed with ``τ``.
+
+Selection procedure (:func:`fit_thermal_drift`), deterministic and using the training rows
+only:
+
+1. Candidates: for every signal (temperatures, then extra inputs) its level and its lags on
+   a logarithmic grid of time constants (default 300 s · 2^k up to 43 h, clipped to half the
+   median sampling interval below and to the training span above), plus the time drift.
+   All columns are computed over the whole series (they use only the inputs, never ``y``),
+   so held-out rows keep the lag state built up before them.
+2. Score: blocked cross-validation. The training rows, in time order, are cut into
+   ``n_blocks`` (default 5) contiguous blocks of equal row count; each block is predicted by
+   an ordinary least-squares fit (intercept + selected columns) on the other blocks.
+   Contiguous blocks keep the strong autocorrelation of drift residuals from leaking
+   between fit and check (a random K-fold split would reward overfitting).
+3. Greedy forward selection: at each step the candidate with the lowest summed held-out
+   squared error joins; if it is a lag, its time constant is then refined continuously
+   by golden-section search on log τ within a factor 2 of the grid value, so the result
+   does not depend on the grid.
+4. Stopping, two conditions, both on the held-out errors:
+
+   a. the paired one-standard-error rule (Breiman et al. 1984; Hastie, Tibshirani &
+      Friedman, *Elements of Statistical Learning*, 2nd ed., sec. 7.10) on the per-block
+      gains: the mean over the blocks of the candidate's reduction of the held-out squared
+      error must exceed the standard error of that mean. A term that helps in one block and
+      hurts in others (the signature of fitting one cycle's particulars) stays out;
+   b. the total reduction must exceed ``ln(n)`` times the held-out mean squared error,
+      Schwarz's (BIC) price of one parameter: with white-noise residuals the best of a
+      hundred useless candidates often passes (a) by chance, never (b).
+
+   At most ``max_terms`` terms.
+5. Final fit: ordinary least squares on all training rows. Standard uncertainties of the
+   coefficients are block-jackknife estimates over the same blocks, which, unlike the OLS
+   formula, do not assume independent residuals. The time constants are treated as fixed
+   (their own uncertainty is not propagated).
+
+Sixteen correlated sensors with ten time constants each invite overfitting; the rule above
+is what keeps the model to a handful of terms. ``benchmarks/thermal_fl_study.py`` prints
+what the alternatives (static fit, all lags, ridge, minimum-CV stopping, other block counts)
+do on a real 46 h spindle test.
+
+The regressor builder is separate from the fit so that thermal columns can join a larger
+least-squares problem (geometric model plus thermal terms): build them with
+:func:`thermal_regressors` or :meth:`ThermalTerm.column` and append them to the design
+matrix.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = [
+    "DEFAULT_TAUS_S",
+    "SelectionStep",
+    "ThermalDriftModel",
+    "ThermalTerm",
+    "first_order_lag",
+    "fit_thermal_drift",
+    "thermal_regressors",
+]
+
+F64 = NDArray[np.float64]
+
+DEFAULT_TAUS_S: tuple[float, ...] = tuple(300.0 * 2.0**k for k in range(10))
+"""Grid of lag time constants (s): 300 s .. 153 600 s (43 h), a factor 2 apart. Machine-tool
+structures have thermal time constants from minutes (spindle nose, coolant) to a day (bed,
+foundation); a factor 2 is fine enough once each chosen τ is refined continuously."""
+
+_CHUNK_TAUS = 50.0
+"""Largest span, in time constants, of one vectorised chunk of :func:`first_order_lag`.
+Within a chunk the decay factors ``exp(-(t - t_s)/τ)`` stay above e^-50 ≈ 2e-22, far from
+underflow, and the cumulative sum it divides by grows only where its terms dominate, so the
+closed form keeps full relative precision."""
+
+_GOLDEN_ITERATIONS = 14
+"""Golden-section steps refining log τ over a bracket of ln 4: 0.618^14 · 1.39 ≈ 0.001, i.e.
+τ to about 0.1 %, far below what the data can tell apart."""
+
+_RCOND = 1e-12
+"""Relative singular-value cut-off of the small normal-equation solves. Columns are
+standardised first, so only genuinely collinear candidates (e.g. a lag identical to another)
+fall below it; they then add nothing and are not selected."""
+
+TermKind = Literal["level", "lag", "time"]
+
+
+def _as_time(t_s: ArrayLike, what: str = "t_s") -> F64:
+    t = np.asarray(t_s, dtype=np.float64)
+    if t.ndim != 1:
+        raise ValueError(f"{what} must be one-dimensional, got shape {t.shape}")
+    if t.size == 0:
+        raise ValueError(f"{what} is empty")
+    bad = np.flatnonzero(~np.isfinite(t))
+    if bad.size:
+        raise ValueError(f"{what} is not finite at row {int(bad[0])}")
+    back = np.flatnonzero(np.diff(t) < 0)
+    if back.size:
+        k = int(back[0]) + 1
+        raise ValueError(
+            f"{what} must be sorted by time (non-decreasing): row {k} ({t[k]} s) comes after "
+            f"row {k - 1} ({t[k - 1]} s); sort the readings by time first")
+    return t
+
+
+def first_order_lag(t_s: ArrayLike, x: ArrayLike, tau_s: float,
+                    x0: float | ArrayLike | None = None) -> F64:
+    """Response of the first-order lag ``τ dy/dt = x(t) - y`` sampled at the times ``t_s``.
+
+    The input is taken as piecewise linear between samples (first-order hold), for which
+    the recursion is exact at any spacing, so irregular sampling and gaps need nothing
+    special: across a gap the input is interpolated linearly and the lag relaxes towards
+    it. With ``a = exp(-Δt/τ)`` and ``b = 1 - (τ/Δt)(1 - a)``::
+
+        y_k = a y_{k-1} + (1 - a - b) x_{k-1} + b x_k
+
+    (for a constant input this is ``y_k = y_{k-1} + (1 - a)(x - y_{k-1})``). Repeated
+    times (``Δt = 0``) leave ``y`` unchanged.
+
+    Parameters
+    ----------
+    t_s : array_like, shape (N,)
+        Sample times (s), non-decreasing.
+    x : array_like, shape (N,) or (N, k)
+        Input (any unit, e.g. °C); a 2-D input is filtered column by column.
+    tau_s : float
+        Time constant (s), > 0.
+    x0 : float or array_like of shape (k,), optional
+        Output at ``t_s[0]``. Default ``x[0]``: the system at rest (steady state) when
+        the record starts.
+
+    Returns
+    -------
+    ndarray, same shape as ``x``
+        The lagged signal, in the unit of ``x``.
+
+    Raises
+    ------
+    ValueError
+        If ``t_s`` is not sorted, shapes disagree, a value is not finite or ``tau_s <= 0``.
+    """
+    t = _as_time(t_s)
+    xa = np.asarray(x, dtype=np.float64)
+    if xa.ndim not in (1, 2) or xa.shape[0] != t.shape[0]:
+        raise ValueError(f"x must have shape ({t.shape[0]},) or ({t.shape[0]}, k) to match "
+                         f"t_s, got {xa.shape}")
+    bad = np.argwhere(~np.isfinite(xa))
+    if bad.size:
+        raise ValueError(f"x is not finite at row {int(bad[0][0])}")
+    tau = float(tau_s)
+    if not (np.isfinite(tau) and tau > 0.0):
+        raise ValueError(f"tau_s must be a finite positive number of seconds, got {tau_s!r}")
+    y = np.empty_like(xa)
+    if x0 is None:
+        y[0] = xa[0]
+    else:
+        start = np.asarray(x0, dtype=np.float64)
+        if start.shape not in ((), xa.shape[1:]):
+            raise ValueError(f"x0 must be a scalar or have shape {xa.shape[1:]}, "
+                             f"got {start.shape}")
+        if not np.all(np.isfinite(start)):
+            raise ValueError("x0 is not finite")
+        y[0] = start
+    n = t.shape[0]
+    if n == 1:
+        return y
+    dt = np.diff(t)
+    h = dt / tau
+    a = np.exp(-h)
+    # b = 1 - (1 - a)/h, written with expm1 so that small steps keep their precision;
+    # Δt = 0 gives h = 0 and b = 0 (no step), handled without dividing by zero.
+    safe_h = np.where(h > 0.0, h, 1.0)
+    b = np.where(h > 0.0, 1.0 + np.expm1(-h) / safe_h, 0.0)
+    if xa.ndim == 2:
+        a_c, b_c = a[:, None], b[:, None]
+    else:
+        a_c, b_c = a, b
+    u = (1.0 - a_c - b_c) * xa[:-1] + b_c * xa[1:]
+    # y_k = a_k y_{k-1} + u_k, solved chunk by chunk in closed form:
+    # y_k = E_k (y_s + Σ_{j=s+1..k} u_j / E_j) with E_k = exp(-(t_k - t_s)/τ).
+    s = 0
+    while s < n - 1:
+        e = int(np.searchsorted(t, t[s] + _CHUNK_TAUS * tau, side="right")) - 1
+        if e <= s + 1:
+            y[s + 1] = a_c[s] * y[s] + u[s]
+            s += 1
+            continue
+        decay = np.exp(-(t[s + 1:e + 1] - t[s]) / tau)
+        if xa.ndim == 2:
+            decay = decay[:, None]
+        y[s + 1:e + 1] = decay * (y[s] + np.cumsum(u[s:e] / decay, axis=0))
+        s = e
+    return y
+
+
+@dataclass(frozen=True, slots=True)
+class ThermalTerm:
+    """One regressor column, defined by what it is computed from.
+
+    Attributes
+    ----------
+    kind : {"level", "lag", "time"}
+        ``level``: the signal itself; ``lag``: its first-order lag with ``tau_s``;
+        ``time``: the time drift ``(t - t0_s)`` in hours (``source`` is empty).
+    source : str
+        Name of the temperature (or extra input) the column is built from.
+    tau_s : float
+        Lag time constant (s); 0 for ``level`` and ``time``.
+    """
+
+    kind: TermKind
+    source: str = ""
+    tau_s: float = 0.0
+
+    @property
+    def name(self) -> str:
+        """Human-readable column name, e.g. ``"T_t3_C lag 3600 s"``."""
+        if self.kind == "time":
+            return "time drift h"
+        if self.kind == "level":
+            return self.source
+        return f"{self.source} lag {self.tau_s:.0f} s"
+
+    def column(self, t_s: ArrayLike, signals: Mapping[str, ArrayLike],
+               t0_s: float = 0.0) -> F64:
+        """The column over a time series.
+
+        Parameters
+        ----------
+        t_s : array_like, shape (N,)
+            Sample times (s), non-decreasing.
+        signals : mapping of str to array_like, shape (N,)
+            Temperatures (°C) and extra inputs by name; must hold ``source``.
+        t0_s : float
+            Time origin (s) of the time drift.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+            °C for a temperature level or lag, the input's unit for an extra input, hours
+            for the time drift.
+        """
+        t = _as_time(t_s)
+        if self.kind == "time":
+            return (t - t0_s) / 3600.0
+        if self.source not in signals:
+            raise ValueError(f"signal {self.source!r} is missing: the term {self.name!r} "
+                             f"needs it (have {sorted(signals)})")
+        x = _signal(self.source, signals[self.source], t.shape[0])
+        if self.kind == "level":
+            return x
+        return first_order_lag(t, x, self.tau_s)
+
+
+def _signal(name: str, values: ArrayLike, n: int) -> F64:
+    x = np.asarray(values, dtype=np.float64)
+    if x.shape != (n,):
+        raise ValueError(f"signal {name!r} has shape {x.shape}, expected ({n},) like t_s")
+    bad = np.flatnonzero(~np.isfinite(x))
+    if bad.size:
+        raise ValueError(f"signal {name!r} is not finite at row {int(bad[0])}")
+    return x
+
+
+def thermal_regressors(
+    t_s: ArrayLike,
+    temps: Mapping[str, ArrayLike],
+    taus_s: Sequence[float] = DEFAULT_TAUS_S,
+    *,
+    levels: bool = True,
+    rate_taus_s: Sequence[float] = (),
+    gradients: Sequence[tuple[str, str]] = (),
+    time_drift: bool = False,
+    inputs: Mapping[str, ArrayLike] | None = None,
+) -> tuple[F64, list[str]]:
+    """Dynamic thermal regressors as columns of a design matrix.
+
+    Parameters
+    ----------
+    t_s : array_like, shape (N,)
+        Sample times (s), non-decreasing (sort the readings by time first). Irregular
+        spacing and gaps are handled exactly (see :func:`first_order_lag`).
+    temps : mapping of str to array_like, shape (N,)
+        Temperatures (°C) by column name, e.g. ``{"T_t3_C": ...}``.
+    taus_s : sequence of float
+        Lag time constants (s); each temperature gets one lag column per value.
+    levels : bool
+        Include the temperatures themselves.
+    rate_taus_s : sequence of float
+        For each value τ, a smoothed rate ``(T - L_τ[T]) / τ`` per temperature, in K/h.
+    gradients : sequence of (str, str)
+        Sensor pairs ``(a, b)`` giving the column ``T_a - T_b`` (K).
+    time_drift : bool
+        Include ``(t - t_s[0])`` in hours.
+    inputs : mapping of str to array_like, shape (N,), optional
+        Extra inputs (e.g. ``spindle_rpm``), given a level and the same lags as the
+        temperatures. Optional by design: the temperatures alone are enough.
+
+    Returns
+    -------
+    X : ndarray, shape (N, p)
+        The columns, in the order of ``names``.
+    names : list of str
+        One name per column: ``"T_t3_C"``, ``"T_t3_C lag 3600 s"``, ``"T_t3_C rate 900 s"``
+        (K/h), ``"T_t1_C - T_t2_C"``, ``"time drift h"``, ``"spindle_rpm lag 7200 s"``.
+
+    Raises
+    ------
+    ValueError
+        If no column is requested, a signal is missing, mis-shaped or not finite, a
+        gradient names an unknown sensor, or ``t_s`` is not sorted.
+    """
+    t = _as_time(t_s)
+    n = t.shape[0]
+    temp = {k: _signal(k, v, n) for k, v in temps.items()}
+    extra = {k: _signal(k, v, n) for k, v in (inputs or {}).items()}
+    clash = set(temp) & set(extra)
+    if clash:
+        raise ValueError(f"names used both as temperature and as input: {sorted(clash)}")
+    cols: list[F64] = []
+    names: list[str] = []
+    for group in (temp, extra):
+        if not group:
+            continue
+        keys = list(group)
+        block = np.column_stack([group[k] for k in keys])
+        if levels:
+            cols.extend(block.T)
+            names.extend(keys)
+        for tau in taus_s:
+            lagged = first_order_lag(t, block, tau)
+            cols.extend(lagged.T)
+            names.extend(ThermalTerm("lag", k, float(tau)).name for k in keys)
+        if group is temp:
+            for tau in rate_taus_s:
+                rate = (block - first_order_lag(t, block, tau)) * (3600.0 / float(tau))
+                cols.extend(rate.T)
+                names.extend(f"{k} rate {float(tau):.0f} s" for k in keys)
+    for a, b in gradients:
+        for k in (a, b):
+            if k not in temp:
+                raise ValueError(f"gradient ({a!r}, {b!r}): unknown temperature {k!r} "
+                                 f"(have {sorted(temp)})")
+        cols.append(temp[a] - temp[b])
+        names.append(f"{a} - {b}")
+    if time_drift:
+        cols.append((t - t[0]) / 3600.0)
+        names.append("time drift h")
+    if not cols:
+        raise ValueError("no regressor requested: give temperatures (or inputs) with levels "
+                         "or lags, gradients, or time_drift")
+    return np.column_stack(cols), names
+
+
+@dataclass(frozen=True, slots=True)
+class SelectionStep:
+    """One step of the forward selection.
+
+    Attributes
+    ----------
+    term : ThermalTerm
+        The best candidate of this step (with its refined τ).
+    cv_rms_um : float
+        Blocked-CV RMS (µm) of the model with this candidate added.
+    gain_mean_um2 : float
+        Mean over blocks of the reduction of held-out squared error per row (µm²).
+    gain_se_um2 : float
+        Standard error of that mean (µm²).
+    accepted : bool
+        Whether the one-standard-error rule let it join (the last step of a selection is
+        the first rejected candidate, unless ``max_terms`` stopped it).
+    """
+
+    term: ThermalTerm
+    cv_rms_um: float
+    gain_mean_um2: float
+    gain_se_um2: float
+    accepted: bool
+
+
+@dataclass(frozen=True, eq=False, slots=True)
+class ThermalDriftModel:
+    """A fitted drift model ``y = intercept + Σ coef_j · column_j``.
+
+    Attributes
+    ----------
+    terms : tuple of ThermalTerm, length p
+        The selected columns.
+    intercept_um : float
+        Constant term (µm).
+    coef : ndarray, shape (p,)
+        Coefficients: µm/K for temperature levels and lags, µm/h for the time drift,
+        µm per unit for extra inputs.
+    intercept_u_um : float
+        Standard uncertainty (block jackknife) of the intercept (µm).
+    coef_u : ndarray, shape (p,)
+        Standard uncertainties (block jackknife) of ``coef``, same units.
+    t0_s : float
+        Time origin (s) of the time drift term.
+    train_rms_um : float
+        RMS residual on the training rows (µm).
+    cv_rms_um : float
+        Blocked-CV RMS of the selected model on the training rows (µm).
+    baseline_cv_rms_um : float
+        Blocked-CV RMS of the intercept-only model (µm): what selection started from.
+    n_train : int
+        Number of training rows.
+    n_blocks : int
+        Number of contiguous CV blocks.
+    steps : tuple of SelectionStep
+        The selection path, for reports.
+    """
+
+    terms: tuple[ThermalTerm, ...]
+    intercept_um: float
+    coef: F64
+    intercept_u_um: float
+    coef_u: F64
+    t0_s: float
+    train_rms_um: float
+    cv_rms_um: float
+    baseline_cv_rms_um: float
+    n_train: int
+    n_blocks: int
+    steps: tuple[SelectionStep, ...]
+
+    @property
+    def names(self) -> list[str]:
+        """Column names of the selected terms."""
+        return [term.name for term in self.terms]
+
+    def design(self, t_s: ArrayLike, temps: Mapping[str, ArrayLike],
+               inputs: Mapping[str, ArrayLike] | None = None) -> F64:
+        """The selected columns over a time series, shape (N, p).
+
+        Lags start at rest at ``t_s[0]``, so pass the history that precedes the rows of
+        interest (the same series the model was fitted on, extended), not a lone excerpt.
+        """
+        signals = _merge_signals(temps, inputs)
+        t = _as_time(t_s)
+        if not self.terms:
+            return np.zeros((t.shape[0], 0))
+        return np.column_stack([term.column(t, signals, self.t0_s) for term in self.terms])
+
+    def predict(self, t_s: ArrayLike, temps: Mapping[str, ArrayLike],
+                inputs: Mapping[str, ArrayLike] | None = None) -> F64:
+        """Predicted drift (µm), shape (N,), over the series ``t_s`` (s) with temperatures
+        ``temps`` (°C, each shape (N,)) and the extra ``inputs`` the model uses, if any."""
+        return self.intercept_um + self.design(t_s, temps, inputs) @ self.coef
+
+
+def _merge_signals(temps: Mapping[str, ArrayLike],
+                   inputs: Mapping[str, ArrayLike] | None) -> dict[str, ArrayLike]:
+    merged: dict[str, ArrayLike] = dict(temps)
+    for k, v in (inputs or {}).items():
+        if k in merged:
+            raise ValueError(f"name {k!r} used both as temperature and as input")
+        merged[k] = v
+    return merged
+
+
+class _BlockedCV:
+    """Leave-one-block-out least squares from per-block Gram matrices.
+
+    Every fit has an intercept; columns are standardised on the training rows so that the
+    small normal equations are well scaled (the CV error does not depend on the scaling).
+    """
+
+    def __init__(self, y: F64, blocks: NDArray[np.intp]) -> None:
+        self.y = y
+        self.n = y.shape[0]
+        self.masks = [blocks == b for b in np.unique(blocks)]
+        self.sy = np.array([y[m] @ y[m] for m in self.masks])
+
+    def block_sse(self, cols: Sequence[F64]) -> F64:
+        """Held-out squared error of each block (µm²), shape (n_blocks,)."""
+        design = np.column_stack([np.ones(self.n), *cols])
+        scale = design.std(axis=0)
+        scale[0] = 1.0
+        scale[scale == 0.0] = 1.0
+        design = design / scale
+        grams = [design[m].T @ design[m] for m in self.masks]
+        rhs = [design[m].T @ self.y[m] for m in self.masks]
+        g_all = sum(grams[1:], grams[0])
+        r_all = sum(rhs[1:], rhs[0])
+        out = np.empty(len(self.masks))
+        for k, (g_k, r_k) in enumerate(zip(grams, rhs, strict=True)):
+            c = np.linalg.lstsq(g_all - g_k, r_all - r_k, rcond=_RCOND)[0]
+            out[k] = self.sy[k] - 2.0 * c @ r_k + c @ g_k @ c
+        return out
+
+
+def _golden_min(f: Callable[[float], float], lo: float, hi: float) -> tuple[float, float]:
+    """Minimum of ``f`` on ``[lo, hi]`` by golden-section search: (argmin, min)."""
+    ratio = (np.sqrt(5.0) - 1.0) / 2.0
+    a, b = lo, hi
+    c, d = b - ratio * (b - a), a + ratio * (b - a)
+    fc, fd = f(c), f(d)
+    for _ in range(_GOLDEN_ITERATIONS):
+        if fc < fd:
+            b, d, fd = d, c, fc
+            c = b - ratio * (b - a)
+            fc = f(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + ratio * (b - a)
+            fd = f(d)
+    return (c, fc) if fc < fd else (d, fd)
+
+
+def _blocks(n_train: int, n_blocks: int) -> NDArray[np.intp]:
+    """Block index of each training row: contiguous, equal row counts (±1)."""
+    return (np.arange(n_train) * n_blocks) // n_train
+
+
+def fit_thermal_drift(
+    t_s: ArrayLike,
+    temps: Mapping[str, ArrayLike],
+    y: ArrayLike,
+    train_mask: ArrayLike | None = None,
+    *,
+    inputs: Mapping[str, ArrayLike] | None = None,
+    taus_s: Sequence[float] = DEFAULT_TAUS_S,
+    n_blocks: int = 5,
+    max_terms: int = 8,
+    time_drift: bool = True,
+) -> ThermalDriftModel:
+    """Select and fit a dynamic thermal-drift model on the training rows.
+
+    The procedure (candidates, blocked CV, forward selection with continuous τ
+    refinement, one-standard-error stopping, jackknife uncertainties) is described in the
+    module docstring. It is deterministic and looks only at the training rows of ``y``.
+
+    Parameters
+    ----------
+    t_s : array_like, shape (N,)
+        Sample times (s), non-decreasing; irregular and gappy sampling is fine.
+    temps : mapping of str to array_like, shape (N,)
+        Temperatures (°C) by column name.
+    y : array_like, shape (N,)
+        Measured drift (µm). Rows outside ``train_mask`` are not read (they may be NaN).
+    train_mask : array_like of bool, shape (N,), optional
+        Rows to fit on; default all. Lags are computed over all N rows.
+    inputs : mapping of str to array_like, shape (N,), optional
+        Extra candidate signals (e.g. ``spindle_rpm``), used only if selection picks them.
+    taus_s : sequence of float
+        Grid of candidate time constants (s); values below half the median positive
+        sampling interval or above the training span are dropped.
+    n_blocks : int
+        Number of contiguous CV blocks (>= 3).
+    max_terms : int
+        Largest number of selected columns.
+    time_drift : bool
+        Offer the time drift ``(t - t_s[0])`` in hours as a candidate.
+
+    Returns
+    -------
+    ThermalDriftModel
+        With no terms (intercept only) when no candidate passes the rule.
+
+    Raises
+    ------
+    ValueError
+        Bad shapes, non-finite values, unsorted times, no temperatures, too few training
+        rows (fewer than 4 per block), or a bad ``n_blocks``/``max_terms``.
+    """
+    t = _as_time(t_s)
+    n = t.shape[0]
+    if not temps:
+        raise ValueError("no temperatures given: a thermal model needs at least one")
+    signals = {k: _signal(k, v, n) for k, v in _merge_signals(temps, inputs).items()}
+    y_all = np.asarray(y, dtype=np.float64)
+    if y_all.shape != (n,):
+        raise ValueError(f"y has shape {y_all.shape}, expected ({n},) like t_s")
+    if train_mask is None:
+        train = np.ones(n, dtype=bool)
+    else:
+        train = np.asarray(train_mask)
+        if train.shape != (n,) or train.dtype != np.bool_:
+            raise ValueError(f"train_mask must be a boolean array of shape ({n},), "
+                             f"got {train.dtype} {train.shape}")
+    bad = np.flatnonzero(train & ~np.isfinite(y_all))
+    if bad.size:
+        raise ValueError(f"y is not finite at training row {int(bad[0])}")
+    if n_blocks < 3:
+        raise ValueError(f"n_blocks must be at least 3 (the stopping rule needs a spread "
+                         f"of block gains), got {n_blocks}")
+    if max_terms < 0:
+        raise ValueError(f"max_terms must be >= 0, got {max_terms}")
+    n_train = int(train.sum())
+    if n_train < 4 * n_blocks:
+        raise ValueError(f"{n_train} training rows are too few for {n_blocks} CV blocks "
+                         f"(need at least {4 * n_blocks})")
+    y_tr = y_all[train]
+    t_tr = t[train]
+    t0 = float(t[0])
+    grid = _usable_taus(t_tr, taus_s)
+    cv = _BlockedCV(y_tr, _blocks(n_train, n_blocks))
+
+    keys = list(signals)
+    stacked = np.column_stack([signals[k] for k in keys])
+    candidates: list[tuple[ThermalTerm, F64]] = [
+        (ThermalTerm("level", k), stacked[train, j]) for j, k in enumerate(keys)]
+    for tau in grid:
+        lagged = first_order_lag(t, stacked, tau)[train]
+        candidates += [(ThermalTerm("lag", k, tau), lagged[:, j]) for j, k in enumerate(keys)]
+    if time_drift:
+        candidates.append((ThermalTerm("time"), (t_tr - t0) / 3600.0))
+
+    chosen: list[ThermalTerm] = []
+    cols: list[F64] = []
+    current = cv.block_sse(cols)
+    baseline = float(np.sqrt(current.sum() / n_train))
+    steps: list[SelectionStep] = []
+    while len(chosen) < max_terms:
+        best: tuple[float, int] | None = None
+        for i, (term, col) in enumerate(candidates):
+            if term in chosen:
+                continue
+            total = float(cv.block_sse([*cols, col]).sum())
+            if best is None or total < best[0]:
+                best = (total, i)
+        if best is None:
+            break
+        term, col = candidates[best[1]]
+        if term.kind == "lag":
+            term, col = _refine_tau(cv, cols, term, t, signals[term.source], train,
+                                    (grid[0], grid[-1]))
+        block = cv.block_sse([*cols, col])
+        gains = (current - block) / n_train
+        mean = float(gains.mean())
+        se = float(gains.std(ddof=1) / np.sqrt(gains.shape[0]))
+        # One-standard-error rule on the block gains (consistency), and a Schwarz (BIC)
+        # price of ln(n) residual variances for the extra parameter, which stops the best
+        # of many useless candidates from slipping through on white-noise data.
+        bic_price = np.log(n_train) * float(block.sum()) / n_train
+        accepted = mean > se and mean * n_train > bic_price
+        steps.append(SelectionStep(term, float(np.sqrt(block.sum() / n_train)),
+                                   mean, se, accepted))
+        if not accepted:
+            break
+        chosen.append(term)
+        cols.append(col)
+        current = block
+
+    return _final_fit(chosen, cols, y_tr, n_blocks, t0,
+                      cv_rms=float(np.sqrt(current.sum() / n_train)),
+                      baseline=baseline, steps=tuple(steps))
+
+
+def _usable_taus(t_train: F64, taus_s: Sequence[float]) -> list[float]:
+    """The grid without time constants the training data cannot tell from a level (below
+    half the median sampling interval) or from a straight line (above the training span)."""
+    grid = [float(v) for v in taus_s]
+    for v in grid:
+        if not (np.isfinite(v) and v > 0.0):
+            raise ValueError(f"time constants must be finite and positive, got {v!r}")
+    steps = np.diff(t_train)
+    steps = steps[steps > 0.0]
+    if steps.size == 0:
+        return []
+    lo = 0.5 * float(np.median(steps))
+    hi = float(t_train[-1] - t_train[0])
+    return sorted({v for v in grid if lo <= v <= hi})
+
+
+def _refine_tau(cv: _BlockedCV, cols: list[F64], term: ThermalTerm, t: F64, x: F64,
+                train: NDArray[np.bool_], limits: tuple[float, float]
+                ) -> tuple[ThermalTerm, F64]:
+    """Golden-section refinement of a lag's τ within a factor 2 of its grid value, kept
+    inside ``limits`` (s), the usable span of the grid."""
+
+    def score(log_tau: float) -> float:
+        col = first_order_lag(t, x, float(np.exp(log_tau)))[train]
+        return float(cv.block_sse([*cols, col]).sum())
+
+    center = float(np.log(term.tau_s))
+    lo = max(center - np.log(2.0), float(np.log(limits[0])))
+    hi = min(center + np.log(2.0), float(np.log(limits[1])))
+    log_tau, value = _golden_min(score, lo, hi)
+    if value < score(center):
+        refined = ThermalTerm("lag", term.source, float(np.exp(log_tau)))
+    else:
+        refined = term
+    return refined, first_order_lag(t, x, refined.tau_s)[train]
+
+
+def _final_fit(terms: list[ThermalTerm], cols: list[F64], y: F64, n_blocks: int, t0: float,
+               *, cv_rms: float, baseline: float,
+               steps: tuple[SelectionStep, ...]) -> ThermalDriftModel:
+    """OLS on all training rows, with block-jackknife standard uncertainties."""
+    n = y.shape[0]
+    design = np.column_stack([np.ones(n), *cols])
+    coef = np.asarray(np.linalg.lstsq(design, y, rcond=None)[0], dtype=np.float64)
+    residual = y - design @ coef
+    blocks = _blocks(n, n_blocks)
+    leave_out = np.array([np.linalg.lstsq(design[blocks != b], y[blocks != b], rcond=None)[0]
+                          for b in range(n_blocks)])
+    spread = leave_out - leave_out.mean(axis=0)
+    u = np.sqrt((n_blocks - 1) / n_blocks * np.sum(spread**2, axis=0))
+    return ThermalDriftModel(
+        terms=tuple(terms), intercept_um=float(coef[0]), coef=coef[1:],
+        intercept_u_um=float(u[0]), coef_u=u[1:], t0_s=t0,
+        train_rms_um=float(np.sqrt(np.mean(residual**2))), cv_rms_um=cv_rms,
+        baseline_cv_rms_um=baseline, n_train=n, n_blocks=n_blocks, steps=steps)
