@@ -10,6 +10,7 @@ import statistics
 import subprocess
 import sys
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -140,11 +141,8 @@ def test_angle_rows_are_refused() -> None:
     m = build(good_readings())
     is_angle = m.is_angle.copy()
     is_angle[3] = True
-    bad = Measurements(test=m.test, run=m.run, time_s=m.time_s, q=m.q,
-                       direction=m.direction, tool_mm=m.tool_mm, is_angle=is_angle,
-                       u=m.u, value=m.value)
     with pytest.raises(PositioningTestError, match="1 angle reading"):
-        evaluate_positioning(bad)
+        evaluate_positioning(replace(m, is_angle=is_angle))
 
 
 def test_one_approach_direction_is_refused() -> None:
@@ -176,11 +174,9 @@ def test_more_than_one_moving_axis_is_refused() -> None:
     m = build(good_readings())
     q = m.q.copy()
     q[:, 2] = np.linspace(0, 5, len(m))
-    bad = Measurements(test=m.test, run=m.run, time_s=m.time_s, q=q, direction=m.direction,
-                       tool_mm=m.tool_mm, is_angle=m.is_angle, u=m.u, value=m.value)
     with pytest.raises(PositioningTestError,
                        match=r"more than one axis moves \(x by 10, z by 5\)"):
-        evaluate_positioning(bad)
+        evaluate_positioning(replace(m, q=q))
 
 
 def test_no_moving_axis_and_rotary_axis_are_refused() -> None:
@@ -190,11 +186,8 @@ def test_no_moving_axis_and_rotary_axis_are_refused() -> None:
     m = build(at_rest)
     q = m.q.copy()
     q[:, 5] = np.arange(len(m)) * 10.0
-    rotary = Measurements(test=m.test, run=m.run, time_s=m.time_s, q=q,
-                          direction=m.direction, tool_mm=m.tool_mm, is_angle=m.is_angle,
-                          u=m.u, value=m.value, has_rotary=(False, False, True))
     with pytest.raises(PositioningTestError, match="rotary axis c"):
-        evaluate_positioning(rotary)
+        evaluate_positioning(replace(m, q=q, has_rotary=(False, False, True)))
 
 
 def test_zero_direction_and_sideways_sensing_are_refused() -> None:
@@ -202,15 +195,11 @@ def test_zero_direction_and_sideways_sensing_are_refused() -> None:
     direction = m.direction.copy()
     direction[1, 0] = 0  # run 1, x = 10 mm
     with pytest.raises(PositioningTestError, match=r"dir_x is 0 at x = 10 mm \(run 1\)"):
-        evaluate_positioning(Measurements(
-            test=m.test, run=m.run, time_s=m.time_s, q=m.q, direction=direction,
-            tool_mm=m.tool_mm, is_angle=m.is_angle, u=m.u, value=m.value))
+        evaluate_positioning(replace(m, direction=direction))
     u = m.u.copy()
     u[2] = [0.0, 1.0, 0.0]
     with pytest.raises(PositioningTestError, match="not along the x axis"):
-        evaluate_positioning(Measurements(
-            test=m.test, run=m.run, time_s=m.time_s, q=m.q, direction=m.direction,
-            tool_mm=m.tool_mm, is_angle=m.is_angle, u=u, value=m.value))
+        evaluate_positioning(replace(m, u=u))
 
 
 def test_several_tests_and_no_readings_are_refused() -> None:

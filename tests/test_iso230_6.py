@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -110,10 +111,7 @@ def test_ranges_from_hand_built_readings() -> None:
 def test_ranges_survive_the_csv_and_ignore_other_tests(tmp_path: Path) -> None:
     diag = diagonal_readings(known_error)
     other = diag.select(np.flatnonzero(diag.test == "diag-PPP")[:4])
-    other = Measurements(test=np.array(["X-positioning"] * 4), run=other.run,
-                         time_s=other.time_s, q=other.q, direction=other.direction,
-                         tool_mm=other.tool_mm, is_angle=other.is_angle, u=other.u,
-                         value=other.value + 1000.0)
+    other = replace(other, test=np.array(["X-positioning"] * 4), value=other.value + 1000.0)
     path = tmp_path / "diag.csv"
     write_measurements(path, Measurements.concat([other, diag]))
     assert diagonal_ranges(read_measurements(path)) == pytest.approx(diagonal_ranges(diag))
@@ -143,12 +141,6 @@ def test_improvement_refuses_what_it_cannot_compare() -> None:
         improvement({"diag-PPP": 0.0}, {"diag-PPP": 1.0})
     with pytest.raises(DiagonalTestError, match="no diagonals"):
         improvement({}, {})
-
-
-def replace(m: Measurements, **fields: object) -> Measurements:
-    base = {name: getattr(m, name) for name in (
-        "test", "run", "time_s", "q", "direction", "tool_mm", "is_angle", "u", "value")}
-    return Measurements(**{**base, **fields})  # type: ignore[arg-type]
 
 
 def test_readings_that_are_not_a_diagonal_test() -> None:
