@@ -1,0 +1,24 @@
+"""All API routers under ``/api`` (``/metrics`` stays at the root, where scrapers look)."""
+
+from __future__ import annotations
+
+from fastapi import APIRouter
+
+from server.api.routes import (
+    diagnoses,
+    events,
+    machines,
+    maps,
+    measurements,
+    metrics,
+    models,
+    status,
+    verifications,
+)
+
+api_router = APIRouter(prefix="/api")
+for module in (machines, status, models, measurements, maps, diagnoses, verifications, events):
+    api_router.include_router(module.router)
+
+root_router = APIRouter()
+root_router.include_router(metrics.router)

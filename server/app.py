@@ -1,0 +1,101 @@
+"""The FastAPI application of the control center: :func:`create_app`.
+
+The lifespan is the one place where long-lived services start and stop, in an
+:class:`~contextlib.AsyncExitStack` (last started, first stopped):
+
+1. the database (tables created if missing),
+2. the :class:`~server.center.Center` stored as ``app.state.center``,
+3. each service factory in ``services``, called with the Center; the machine TCP server,
+   the push scheduler and the MQTT bridge plug in here as async context managers.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from collections.abc import AsyncIterator, Callable, Sequence
+from contextlib import AbstractAsyncContextManager, AsyncExitStack, asynccontextmanager
+from typing import Any
+
+from fastapi import FastAPI, Request
+from fastapi.encoders import jsonable_encoder
+from fastapi.exceptions import RequestValidationError
+from fastapi.responses import JSONResponse
+
+from ednc import __version__
+from server.api.main import api_router, root_router
+from server.center import Center
+from server.db import Database
+from server.settings import Settings, load_settings
+
+log = logging.getLogger(__name__)
+
+ServiceFactory = Callable[[Center], AbstractAsyncContextManager[object]]
+"""Builds one long-lived service around the Center; entered in the lifespan, in order."""
+
+
+def _scrub(error: dict[str, Any]) -> dict[str, Any]:
+    """One validation error without what could leak a secret or be unserializable.
+
+    Pydantic echoes the offending ``input``; for a whole-body error that is the whole body,
+    secret included. Keep ``input`` only for a scalar outside any secret field.
+    """
+    out = {k: v for k, v in error.items() if k not in ("input", "ctx", "url")}
+    value = error.get("input")
+    secret = any("secret" in str(part).lower() for part in error.get("loc", ()))
+    scalar = isinstance(value, str | int | bool) or (
+        isinstance(value, float) and math.isfinite(value)  # NaN would make the reply invalid
+    )
+    if scalar and not secret and len(str(value)) <= 200:
+        out["input"] = value
+    return out
+
+
+async def _validation_error(request: Request, exc: Exception) -> JSONResponse:
+    assert isinstance(exc, RequestValidationError)
+    errors = [_scrub(dict(e)) for e in exc.errors()]
+    return JSONResponse(status_code=422, content=jsonable_encoder({"detail": errors}))
+
+
+def create_app(
+    settings: Settings | None = None, *, services: Sequence[ServiceFactory] = ()
+) -> FastAPI:
+    """Build the control center's ASGI app.
+
+    Parameters
+    ----------
+    settings
+        The configuration; None reads and validates the environment
+        (raises :class:`~server.settings.SettingsError` with one line per problem).
+    services
+        Factories of the long-lived services to run with the app (see the module docstring).
+    """
+    settings = settings if settings is not None else load_settings()
+
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        async with AsyncExitStack() as stack:
+            db = await stack.enter_async_context(Database.open(settings.database_url))
+            center = Center(settings=settings, db=db)
+            app.state.center = center
+            stack.callback(delattr, app.state, "center")
+            for factory in services:
+                await stack.enter_async_context(factory(center))
+            if not settings.writes_enabled:
+                log.warning("EDNC_API_KEY is not set: the REST API is read-only")
+            yield
+
+    app = FastAPI(
+        title="EDNC control center",
+        version=__version__,
+        summary="Machines, error models, measurements, error maps and their delivery.",
+        description=(
+            "Reads are open. Requests that change data need the service's API key in the "
+            "`X-API-Key` header (401 without it, 403 when the service runs read-only)."
+        ),
+        lifespan=lifespan,
+    )
+    app.add_exception_handler(RequestValidationError, _validation_error)
+    app.include_router(api_router)
+    app.include_router(root_router)
+    return app

@@ -1,0 +1,55 @@
+"""Diagnoses (formats.md §3) and verification reports."""
+
+from __future__ import annotations
+
+import datetime as dt
+from typing import Annotated, Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_validator
+
+from server.schemas.common import check_json_object
+
+EffectName = Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9_]{0,63}$")]
+FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+Rms = Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
+
+
+class _Open(BaseModel):
+    # The format may gain keys; keep them, as long as they are JSON.
+    model_config = ConfigDict(extra="allow", allow_inf_nan=False)
+
+    @model_validator(mode="after")
+    def _extras_are_json(self) -> _Open:
+        check_json_object(dict(self.model_extra or {}))
+        return self
+
+
+class Candidate(_Open):
+    """One effect the diagnosis tried."""
+
+    effect: EffectName
+    axis: Literal["x", "y", "z"] | None = None
+    rms_after_um: Rms | None = None
+
+
+class DiagnosisCreate(_Open):
+    """The JSON that ``ednc diagnose --json`` prints (formats.md §3)."""
+
+    effect: EffectName = Field(examples=["backlash"])
+    axis: Literal["x", "y", "z"] | None = None
+    sensor: Annotated[str, StringConstraints(pattern=r"^[^\x00]{1,128}$")] | None = None
+    estimate: dict[Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9_]{0,63}$")],
+                   FiniteFloat] = Field(default_factory=dict, examples=[{"reversal_um": 9.8}])
+    rms_before_um: Rms
+    rms_after_um: Rms
+    candidates: Annotated[list[Candidate], Field(max_length=1000)] = Field(default_factory=list)
+
+
+class ReportPublic(BaseModel):
+    """A stored diagnosis or verification report."""
+
+    id: int
+    machine: str
+    kind: Literal["diagnosis", "verification"]
+    result: dict[str, Any]
+    created_at: dt.datetime

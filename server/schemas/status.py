@@ -1,0 +1,38 @@
+"""Live status of the machines and of the service."""
+
+from __future__ import annotations
+
+import datetime as dt
+from typing import Any
+
+from pydantic import BaseModel, Field
+
+
+class MachineStatus(BaseModel):
+    """One machine: its link (live, in memory) and its maps (from the database)."""
+
+    name: str
+    connected: bool
+    address: str | None = Field(description="Peer address of the current or last session.")
+    connected_since: dt.datetime | None
+    last_seen: dt.datetime | None
+    telemetry: dict[str, Any] = Field(description="The machine's last telemetry, as sent.")
+    map_version_latest: int | None = Field(description="Newest map built for the machine.")
+    map_version_sent: int | None = Field(description="Newest map sent to the machine.")
+    map_version_applied: int | None = Field(description="Newest map the machine applied.")
+    last_reject_reason: str | None = Field(
+        description="Why the machine rejected the newest map sent, if it did."
+    )
+
+
+class ServiceStatus(BaseModel):
+    """The service as a whole."""
+
+    version: str
+    node_id: str
+    started_at: dt.datetime
+    writes_enabled: bool
+    mqtt_enabled: bool
+    machines: int
+    connected: int
+    machine_status: list[MachineStatus]
