@@ -1,31 +1,22 @@
-"""Where the service calls the numeric core (:mod:`volumetric`), in one place.
+"""Where the service's edge calls the numeric core's validators, in one place.
 
-The core's validators are the authority on what a machine description or a measurement CSV
-may hold; the service uses them at its edge so that the API rejects exactly what the
-offline commands reject. They are looked up at call time and used when present, so the
-service also runs (with its own, lighter checks) while the core is being written.
+The core (:mod:`volumetric`) is the authority on what a machine description or a
+measurement CSV may hold; the API uses the same readers as the offline commands, so it
+rejects exactly what they reject, with the same messages.
 """
 
 from __future__ import annotations
 
-import csv
-import importlib
 import io
-from types import ModuleType
 from typing import Any
+
+from volumetric.errors import MachineSpecError
+from volumetric.machine import parse_machine
+from volumetric.measurement import MeasurementFormatError, read_measurements
 
 
 class MeasurementError(ValueError):
     """A measurement CSV the core refuses; the message names the line and column."""
-
-
-def _core(module: str) -> ModuleType | None:
-    try:
-        return importlib.import_module(module)
-    except ModuleNotFoundError as exc:
-        if exc.name != module:  # the module exists but is broken: do not hide that
-            raise
-        return None
 
 
 def check_machine_description(spec: dict[str, Any]) -> None:
@@ -35,13 +26,9 @@ def check_machine_description(spec: dict[str, Any]) -> None:
     pydantic schema; this adds the core's kinematic checks (chain syntax, a travel for
     every linear axis, unit spindle directions, ...).
     """
-    core = _core("volumetric.machine")
-    if core is None:
-        return
-    spec_error: type[Exception] = core.MachineSpecError
     try:
-        core.parse_machine(spec)
-    except spec_error as exc:
+        parse_machine(spec)
+    except MachineSpecError as exc:
         raise ValueError(str(exc)) from None
 
 
@@ -60,22 +47,9 @@ def count_measurement_rows(text: str, source: str) -> int:
     MeasurementError
         With the core's message naming the line and column.
     """
-    core = _core("volumetric.measurement")
-    if core is not None:
-        stream = io.StringIO(text)
-        stream.name = source  # read_measurements names its errors by the stream's name
-        format_error: type[Exception] = core.MeasurementFormatError
-        try:
-            return len(core.read_measurements(stream))
-        except format_error as exc:
-            raise MeasurementError(str(exc)) from None
-    # Without the core: at least a header and one reading of the same width.
-    rows = [row for row in csv.reader(io.StringIO(text)) if row]
-    if len(rows) < 2:
-        raise MeasurementError(f"{source}: needs a header line and at least one reading")
-    for i, row in enumerate(rows[1:], start=2):
-        if len(row) != len(rows[0]):
-            raise MeasurementError(
-                f"{source}, line {i}: row has {len(row)} cells, the header has {len(rows[0])}"
-            )
-    return len(rows) - 1
+    stream = io.StringIO(text)
+    stream.name = source  # read_measurements names its errors by the stream's name
+    try:
+        return len(read_measurements(stream))
+    except MeasurementFormatError as exc:
+        raise MeasurementError(str(exc)) from None
