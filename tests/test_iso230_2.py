@@ -15,6 +15,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from volumetric.iso230_2 import PositioningTestError, evaluate_positioning
 from volumetric.measurement import Measurements, write_measurements
@@ -346,3 +348,35 @@ def test_cli_selects_a_test_and_reports_errors_in_one_line(tmp_path: Path) -> No
     broken = tmp_path / "broken.csv"
     broken.write_text(data.read_text().replace("displacement", "torque", 1))
     assert "line 2, column 'quantity'" in fails("--data", str(broken), "--json")
+
+
+# ------------------------------------------------------------------ invariants of the definitions
+
+deviations = st.floats(min_value=-500.0, max_value=500.0, allow_nan=False)
+
+
+@st.composite
+def positioning_tests(draw: st.DrawFn) -> list[Reading]:
+    m = draw(st.integers(min_value=2, max_value=6))
+    n = draw(st.integers(min_value=2, max_value=5))
+    targets = [10.0 * k for k in range(m)]
+    values = draw(st.lists(deviations, min_size=2 * m * n, max_size=2 * m * n))
+    up = {p: values[k * n:(k + 1) * n] for k, p in enumerate(targets)}
+    down = {p: values[(m + k) * n:(m + k + 1) * n] for k, p in enumerate(targets)}
+    return bidirectional(targets, n, up, down)
+
+
+@given(positioning_tests(), deviations)
+@settings(max_examples=60, deadline=None)
+def test_axis_values_obey_the_definitions(readings: list[Reading], offset: float) -> None:
+    r = evaluate_positioning(build(readings))
+    slack = 1e-9 * (1.0 + max(abs(v) for *_, v in readings))
+    assert r.E_um >= max(r.E_up_um, r.E_down_um) - slack  # E spans both directions
+    assert r.B_um <= r.E_um + slack and r.M_um <= r.E_um + slack
+    assert r.A_um >= max(r.A_up_um, r.A_down_um, r.E_um) - slack
+    assert r.R_um >= max(r.R_up_um, r.R_down_um) - slack
+    # A common offset moves every mean and no range; the order of the rows is irrelevant.
+    shifted = evaluate_positioning(build([(j, p, d, v + offset) for j, p, d, v in readings]))
+    shuffled = evaluate_positioning(build(list(reversed(readings))))
+    for other in (shifted, shuffled):
+        assert other.summary() == pytest.approx(r.summary(), abs=1e-6)
