@@ -339,3 +339,15 @@ def test_positions_with_wrong_shape_or_nan_are_refused() -> None:
         volumetric_error(m, GeometricErrors(), np.zeros((5, 4)))
     with pytest.raises(ValueError, match="NaN"):
         volumetric_error(m, GeometricErrors(), np.full((1, 3), np.nan))
+
+
+def test_tool_pose_of_the_nominal_gantry_is_command_minus_tool_length() -> None:
+    from volumetric.kinematics import tool_pose
+
+    m = machine("w b Y X Z t")
+    q = random_q(m, np.random.default_rng(9), 10)
+    p, r = tool_pose(m, q)
+    xyz = q[:, [m.axis_names.index(a) for a in "XYZ"]]
+    np.testing.assert_allclose(p, xyz - [0.0, 0.0, 100.0], atol=1e-12)
+    assert r is not None
+    np.testing.assert_allclose(r, np.broadcast_to(np.eye(3), r.shape), atol=1e-15)

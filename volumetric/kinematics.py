@@ -37,7 +37,6 @@ from volumetric.rigid import (
     frame_from_z,
     rotate,
     rotation_matrix,
-    rotation_vector,
 )
 
 F64 = NDArray[np.float64]
@@ -294,16 +293,22 @@ def volumetric_error(
     -------
     VolumetricError
     """
-    p_act, r_act = tool_pose(
-        machine, q, errors, spindle=spindle, tool_mm=tool_mm, orientation=orientation
-    )
-    p_nom, r_nom = tool_pose(
-        machine, q, None, spindle=spindle, tool_mm=tool_mm, orientation=orientation
-    )
-    dp = (p_act - p_nom) * 1e3
-    dw = None
-    if r_act is not None and r_nom is not None:
-        dw = rotation_vector(r_act @ np.swapaxes(r_nom, 1, 2)) * 1e6
+    from volumetric.exact import BLOCK, error_block, plan_links
+
+    qa = _positions(machine, q)
+    errors.check(machine)
+    branch = machine.branch(spindle)
+    links = branch_links(machine, branch)
+    tool = _tool_vector(branch, tool_mm, qa.shape[0])
+    plans = plan_links(links, errors)
+    dp = np.empty((qa.shape[0], 3))
+    dw = np.empty((qa.shape[0], 3)) if orientation else None
+    for start in range(0, qa.shape[0], BLOCK):
+        sl = slice(start, start + BLOCK)
+        p, w = error_block(links, plans, errors, qa[sl], tool[sl], orientation)
+        dp[sl] = p
+        if dw is not None and w is not None:
+            dw[sl] = w
     return VolumetricError(dp, dw)
 
 
