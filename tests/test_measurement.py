@@ -9,6 +9,8 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from volumetric.measurement import (
     MeasurementFormatError,
@@ -282,3 +284,36 @@ def test_error_names_the_file(tmp_path: Path) -> None:
     path.write_text(text(replace_cell(ROWS[0], "value", "x")))
     with pytest.raises(MeasurementFormatError, match=r"bad\.csv, line 2, column 'value'"):
         read_measurements(path)
+
+
+CSV_CHARS = st.sampled_from([*',"\n\r -+.0123456789eE', "nan", "inf", "angle",
+                             "displacement", "X", "\t"])
+
+
+@given(st.lists(CSV_CHARS, max_size=200).map("".join), st.booleans())
+@settings(max_examples=300, deadline=None)
+def test_any_text_is_read_or_refused_never_crashes(tail: str, with_header: bool) -> None:
+    content = (HEADER + "\n" + tail) if with_header else tail
+    try:
+        m = read_text(content)
+    except MeasurementFormatError as exc:
+        assert str(exc).startswith("<stream>")
+    else:
+        assert len(m) >= 1 and np.isfinite(m.value).all()
+
+
+@given(st.lists(st.tuples(st.integers(min_value=0, max_value=10_000), CSV_CHARS,
+                          st.integers(min_value=0, max_value=2)), min_size=1, max_size=6))
+@settings(max_examples=400, deadline=None)
+def test_a_damaged_file_is_read_or_refused_never_crashes(
+        edits: list[tuple[int, str, int]]) -> None:
+    content = text(*ROWS)
+    for at, chars, drop in edits:  # replace `drop` characters at `at` with `chars`
+        k = at % (len(content) + 1)
+        content = content[:k] + chars + content[k + drop:]
+    try:
+        m = read_text(content)
+    except MeasurementFormatError as exc:
+        assert exc.line is None or exc.line >= 1
+    else:
+        assert np.isfinite(m.value).all() and set(np.unique(m.direction)) <= {-1, 0, 1}

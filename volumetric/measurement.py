@@ -282,6 +282,9 @@ def read_measurements(source: str | Path | TextIO) -> Measurements:
         name = getattr(source, "name", "<stream>")
         name = name if isinstance(name, str) else "<stream>"
         text = source.read().removeprefix("\ufeff")
+    # One line break, whatever the stream's newline mode (a path is read with universal
+    # newlines already): the line numbers and both parsing paths rely on it.
+    text = text.replace("\r\n", "\n").replace("\r", "\n")
     header, body, body_line = _split_header(name, text)
     _check_header(name, header)
     columns: dict[str, NDArray[Any]] | None = _fast_columns(header, body)
@@ -300,7 +303,10 @@ def _split_header(name: str, text: str) -> tuple[list[str], str, int]:
     if skipped:
         raise MeasurementFormatError(name, "blank line before the header", line=1)
     first, _, body = text.partition("\n")
-    header = [c.strip() for c in next(csv.reader([first]))]
+    try:
+        header = [c.strip() for c in next(csv.reader([first]))]
+    except csv.Error as exc:
+        raise MeasurementFormatError(name, f"unreadable header: {exc}", line=1) from None
     return header, body, 2
 
 
@@ -365,7 +371,14 @@ def _careful_columns(name: str, header: list[str], body: str, body_line: int
     lines: list[int] = []
     blank: int | None = None
     width = len(header)
-    for row in reader:
+    while True:
+        try:
+            row = next(reader)
+        except StopIteration:
+            break
+        except csv.Error as exc:
+            raise MeasurementFormatError(name, f"unreadable CSV: {exc}",
+                                         line=reader.line_num + body_line - 1) from None
         line = reader.line_num + body_line - 1
         if not row or (len(row) == 1 and not row[0].strip()):
             blank = line if blank is None else blank
