@@ -3,6 +3,8 @@ conversation fed to each role whole and one byte at a time."""
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from protocol import (
@@ -130,3 +132,11 @@ def test_conversation_stream(role: Role, bytewise: bool) -> None:
     assert conn.next_event() is NEED_DATA
     conn.receive_data(b"")
     assert conn.next_event() is CONNECTION_CLOSED
+
+
+def test_readme_worked_example_is_the_real_frame() -> None:
+    readme = (Path(__file__).resolve().parents[1] / "protocol" / "README.md").read_text()
+    section = readme.split("## 10.")[1].split("| bytes |")[0]
+    dump = [line.split()[1:] for line in section.splitlines()
+            if line.startswith("    00")]
+    assert bytes.fromhex("".join(b for row in dump for b in row)) == HELLO_FRAME
