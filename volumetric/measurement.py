@@ -284,7 +284,8 @@ def read_measurements(source: str | Path | TextIO) -> Measurements:
         text = source.read().removeprefix("\ufeff")
     # One line break, whatever the stream's newline mode (a path is read with universal
     # newlines already): the line numbers and both parsing paths rely on it.
-    text = text.replace("\r\n", "\n").replace("\r", "\n")
+    if "\r" in text:
+        text = text.replace("\r\n", "\n").replace("\r", "\n")
     header, body, body_line = _split_header(name, text)
     _check_header(name, header)
     columns: dict[str, NDArray[Any]] | None = _fast_columns(header, body)
