@@ -380,3 +380,16 @@ def test_axis_values_obey_the_definitions(readings: list[Reading], offset: float
     shuffled = evaluate_positioning(build(list(reversed(readings))))
     for other in (shifted, shuffled):
         assert other.summary() == pytest.approx(r.summary(), abs=1e-6)
+
+
+@given(st.lists(st.tuples(st.integers(0, 3), st.sampled_from([0.0, 10.0, 20.0, 10.0005]),
+                          st.integers(-1, 1), deviations), max_size=30),
+       st.integers(0, 2))
+@settings(max_examples=300, deadline=None)
+def test_any_reading_set_is_evaluated_or_refused_never_crashes(
+        readings: list[Reading], axis: int) -> None:
+    try:
+        r = evaluate_positioning(build(readings, axis=axis))
+    except PositioningTestError:
+        return
+    assert r.axis == "xyz"[axis] and min(r.n_up.min(), r.n_down.min()) >= 2
