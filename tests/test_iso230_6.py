@@ -54,6 +54,7 @@ def test_unit_vectors_point_from_start_to_end() -> None:
     ({**TRAVEL, "y": (0.0, float("nan"))}, {}, "travel of y must be"),
     (TRAVEL, {"margin_mm": 150.0}, "leaves nothing inside a margin of 150"),
     (TRAVEL, {"margin_mm": -1.0}, "must not be negative"),
+    (TRAVEL, {"margin_mm": float("nan")}, "must not be negative"),
     (TRAVEL, {"n_points": 1}, "at least 2 points"),
 ])
 def test_bad_travel(travel: dict[str, tuple[float, float]], kwargs: dict[str, float],

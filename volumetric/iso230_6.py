@@ -59,6 +59,8 @@ class DiagonalTestError(ValueError):
 def _corners(travel: Mapping[str, tuple[float, float]], margin_mm: float
              ) -> dict[str, tuple[FloatArray, FloatArray]]:
     """Start and end corner (mm, shape (3,)) of each diagonal."""
+    if not margin_mm >= 0:  # also refuses NaN
+        raise DiagonalTestError(f"margin_mm must not be negative, got {margin_mm:g}")
     lo = np.empty(3)
     hi = np.empty(3)
     for j, axis in enumerate("xyz"):
@@ -106,8 +108,6 @@ def diagonal_targets(travel: Mapping[str, tuple[float, float]], n_points: int = 
     """
     if n_points < 2:
         raise DiagonalTestError(f"a diagonal needs at least 2 points, got {n_points}")
-    if margin_mm < 0:
-        raise DiagonalTestError(f"margin_mm must not be negative, got {margin_mm:g}")
     t = np.linspace(0.0, 1.0, n_points)[:, None]
     return {label: start + t * (end - start)
             for label, (start, end) in _corners(travel, margin_mm).items()}
@@ -119,8 +119,6 @@ def diagonal_unit_vectors(travel: Mapping[str, tuple[float, float]], margin_mm: 
 
     Same parameters and errors as :func:`diagonal_targets`.
     """
-    if margin_mm < 0:
-        raise DiagonalTestError(f"margin_mm must not be negative, got {margin_mm:g}")
     out: dict[str, FloatArray] = {}
     for label, (start, end) in _corners(travel, margin_mm).items():
         d = end - start
