@@ -27,6 +27,7 @@ from protocol import (
     MapBegin,
     MapChunk,
     MapEnd,
+    MapReject,
     Message,
     Reject,
     ReleaseCompensation,
@@ -131,6 +132,11 @@ def pump(center: Center, machine: Machine, bytewise: bool) -> None:
                         peer.conn.receive_data(wire)
 
 
+def last(center: Center) -> Message:
+    """The latest message the center received."""
+    return center.seen[-1]
+
+
 def send(sender: Center | Machine, receiver: Center | Machine, msg: Message) -> None:
     receiver.conn.receive_data(sender.conn.send(msg))
 
@@ -141,7 +147,8 @@ def test_in_memory_session(bytewise: bool) -> None:
     send(machine, center, HELLO)
     pump(center, machine, bytewise)
     assert center.conn.session is machine.conn.session is State.READY
-    assert isinstance(center.seen[-1], Telemetry) and center.seen[-1].map_version == 0
+    first = center.seen[-1]
+    assert isinstance(first, Telemetry) and first.map_version == 0
 
     payload = encode_map(sample_map(version=7))
     for msg in split_into_chunks(payload, 7, chunk_size=700):
@@ -149,19 +156,20 @@ def test_in_memory_session(bytewise: bool) -> None:
     pump(center, machine, bytewise)
     assert machine.applied is not None and machine.applied.payload == sample_map(version=7)
     assert center.seen[-2:] == [MapAck(7), machine.telemetry()]
-    assert center.seen[-1].map_version == 7  # type: ignore[union-attr]
+    assert machine.telemetry().map_version == 7
 
     send(center, machine, Heartbeat(42))
     pump(center, machine, bytewise)
-    assert center.seen[-1] == HeartbeatReply(42)
+    assert last(center) == HeartbeatReply(42)
 
     send(center, machine, ReleaseCompensation(2000, "thermal model out of date"))
     pump(center, machine, bytewise)
-    assert center.seen[-1] == Released() and machine.applied is None
+    assert last(center) == Released()
+    assert machine.telemetry().map_version == 0  # released: no map applied
 
     send(center, machine, Error(ErrorCode.SHUTDOWN, "center stopping"))
     assert machine.conn.next_event() == Error(ErrorCode.SHUTDOWN, "center stopping")
-    assert center.conn.session is machine.conn.session is State.CLOSED
+    assert {center.conn.session, machine.conn.session} == {State.CLOSED}
 
 
 def test_corrupt_map_keeps_the_old_one() -> None:
@@ -180,7 +188,7 @@ def test_corrupt_map_keeps_the_old_one() -> None:
     pump(center, machine, False)
     assert machine.applied is not None and machine.applied.version == 7
     reject = center.seen[-1]
-    assert type(reject).__name__ == "MapReject" and "SHA-256" in reject.text  # type: ignore[union-attr]
+    assert isinstance(reject, MapReject) and "SHA-256" in reject.text
 
 
 @pytest.mark.parametrize(("secrets", "code"), [
@@ -256,7 +264,8 @@ def test_real_socket_on_port_0() -> None:
             sock.sendall(b"".join(center.conn.send(m)
                                   for m in split_into_chunks(payload, 3, 1024)))
             assert step() == MapAck(3)
-            assert step().map_version == 3  # type: ignore[union-attr]
+            telemetry = step()
+            assert isinstance(telemetry, Telemetry) and telemetry.map_version == 3
             sock.sendall(center.conn.send(Error(ErrorCode.SHUTDOWN, "done")))
         thread.join(10)
     assert not thread.is_alive()
