@@ -126,6 +126,7 @@ class ErrorMapPayload:
     def __post_init__(self) -> None:
         check.name("map machine", self.machine, MAX_NAME_BYTES)
         check.uint("map version", self.version, 32, minimum=1)
+        check.member("map encoding", self.encoding, MapEncoding)
         if self.encoding not in (MapEncoding.INT32_INCREMENTS, MapEncoding.FLOAT32_MM):
             raise ValueError(f"map encoding must be exactly one MapEncoding, "
                              f"got {self.encoding!r}")
@@ -221,7 +222,10 @@ def pack_values(encoding: MapEncoding, values: Iterable[float]) -> bytes:
         ints = list(values)
         if bad := [v for v in ints if v != int(v)]:
             raise ValueError(f"int32 map values must be whole counts, got {bad[0]}")
-        arr = array.array("i", (int(v) for v in ints))
+        try:
+            arr = array.array("i", (int(v) for v in ints))
+        except OverflowError:
+            raise ValueError("int32 map values must lie in [-2**31, 2**31 - 1]") from None
     else:
         arr = array.array("f", values)
     if sys.byteorder == "big":

@@ -128,6 +128,7 @@ def test_float_map_with_nan_value_is_refused() -> None:
 @pytest.mark.parametrize(("change", "pattern"), [
     ({"values": b"\x00" * 3}, r"map values are 3 bytes, shape \(2, 2\) needs 16"),
     ({"encoding": INT32 | FLOAT32}, r"map encoding must be exactly one MapEncoding"),
+    ({"encoding": 1}, r"map encoding must be a MapEncoding, got 1"),
     ({"encoding": FLOAT32}, r"float32 map increment_mm must be 0"),
     ({"outputs": (OutputAxis("X", 1.5),)}, r"output axis X reversal must be an int32 count"),
     ({"grid": ()}, r"map grid must be a tuple of 1 to 6 GridAxis"),
@@ -138,9 +139,18 @@ def test_invalid_map_cannot_be_built(change: dict[str, object], pattern: str) ->
         dataclasses.replace(TINY, **change)  # type: ignore[arg-type]
 
 
-def test_pack_values_refuses_fractional_counts() -> None:
+def test_pack_values_refuses_fractional_or_oversize_counts() -> None:
     with pytest.raises(ValueError, match=r"int32 map values must be whole counts, got 0\.5"):
         pack_values(INT32, [1, 0.5])
+    with pytest.raises(ValueError, match=r"int32 map values must lie in \[-2\*\*31, "):
+        pack_values(INT32, [2**31])
+
+
+def test_float_values_beyond_float32_become_inf_and_are_refused() -> None:
+    with pytest.raises(ValueError, match=r"map value 0 \(flat index\) is not finite"):
+        dataclasses.replace(TINY, encoding=FLOAT32, increment_mm=0.0,
+                            outputs=(OutputAxis("X"), OutputAxis("Y")),
+                            values=pack_values(FLOAT32, [1e39, 0, 0, 0]))
 
 
 # --- chunking and assembly ---------------------------------------------------------------
