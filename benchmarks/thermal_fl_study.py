@@ -155,6 +155,9 @@ def main() -> int:
         return model
 
     fs("forward, min-CV stopping", stopping="min-cv")
+    fs("forward, 1-SE on absolute block gains", stopping="1se-abs")
+    for k in (3, 4, 6, 8, 10):
+        fs(f"forward, 1-SE absolute, {k} CV blocks", stopping="1se-abs", n_blocks=k)
     fs("forward, grid τ only (no refinement)", refine_tau=False)
     fs("forward, τ grid 900 s·4^k, no refinement", refine_tau=False,
        taus_s=tuple(900.0 * 4.0**k for k in range(5)))
@@ -176,13 +179,13 @@ def main() -> int:
         if name in chosen:
             print(f"    {chosen[name]}")
 
-    print("\nautomated procedure: selection path (gain = mean per-block reduction of the "
-          "held-out MSE, µm²)")
+    print("\nautomated procedure: selection path (CV-MSE gain in µm²; relative gain = mean "
+          "over blocks of ln(SSE before/after) ± its standard error)")
     print(f"  intercept only: CV RMS {auto.baseline_cv_rms_um:.2f} µm")
     for step in auto.steps:
         verdict = "joins" if step.accepted else "rejected, stop"
-        print(f"  {step.term.name:<26} CV RMS {step.cv_rms_um:6.2f}  gain {step.gain_mean_um2:8.3f}"
-              f" ± {step.gain_se_um2:7.3f}  {verdict}")
+        print(f"  {step.term.name:<26} CV RMS {step.cv_rms_um:6.2f}  gain {step.gain_um2:8.3f}  "
+              f"relative {step.log_gain_mean:6.3f} ± {step.log_gain_se:5.3f}  {verdict}")
     print("  coefficients (± block-jackknife standard uncertainty):")
     print(f"    intercept                  {auto.intercept_um:9.2f} ± {auto.intercept_u_um:.2f} µm")
     for name, c, u in zip(auto.names, auto.coef, auto.coef_u, strict=True):

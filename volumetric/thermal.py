@@ -42,9 +42,11 @@ only:
 
    a. the paired one-standard-error rule (Breiman et al. 1984; Hastie, Tibshirani &
       Friedman, *Elements of Statistical Learning*, 2nd ed., sec. 7.10) on the per-block
-      gains: the mean over the blocks of the candidate's reduction of the held-out squared
-      error must exceed the standard error of that mean. A term that helps in one block and
-      hurts in others (the signature of fitting one cycle's particulars) stays out;
+      relative gains ``g_b = ln(SSE_b before / SSE_b after)``: their mean must exceed its
+      standard error. A term that helps in one block and hurts in others (the signature of
+      fitting one cycle's particulars) stays out. Relative rather than absolute gains, so
+      that every block counts alike: blocks taken at different operating conditions have
+      errors of very different size, and absolute gains let the worst block decide alone;
    b. the total reduction must exceed ``ln(n)`` times the held-out mean squared error,
       Schwarz's (BIC) price of one parameter: with white-noise residuals the best of a
       hundred useless candidates often passes (a) by chance, never (b).
@@ -108,7 +110,7 @@ standardised first, so only genuinely collinear candidates (e.g. a lag identical
 fall below it; they then add nothing and are not selected."""
 
 TermKind = Literal["level", "lag", "time"]
-Stopping = Literal["1se-bic", "min-cv"]
+Stopping = Literal["1se-bic", "1se-abs", "min-cv"]
 
 
 def _as_time(t_s: ArrayLike, what: str = "t_s") -> F64:
@@ -388,19 +390,23 @@ class SelectionStep:
         The best candidate of this step (with its refined τ).
     cv_rms_um : float
         Blocked-CV RMS (µm) of the model with this candidate added.
-    gain_mean_um2 : float
-        Mean over blocks of the reduction of held-out squared error per row (µm²).
-    gain_se_um2 : float
-        Standard error of that mean (µm²).
+    gain_um2 : float
+        Reduction of the blocked-CV mean squared error (µm²) the candidate brings.
+    log_gain_mean : float
+        Mean over blocks of ``ln(SSE before / SSE after)`` of the held-out squared errors
+        (dimensionless; 0.1 is about a 10 % smaller error sum).
+    log_gain_se : float
+        Standard error of that mean.
     accepted : bool
-        Whether the one-standard-error rule let it join (the last step of a selection is
-        the first rejected candidate, unless ``max_terms`` stopped it).
+        Whether the stopping rule let it join (the last step of a selection is the first
+        rejected candidate, unless ``max_terms`` stopped it).
     """
 
     term: ThermalTerm
     cv_rms_um: float
-    gain_mean_um2: float
-    gain_se_um2: float
+    gain_um2: float
+    log_gain_mean: float
+    log_gain_se: float
     accepted: bool
 
 
@@ -497,6 +503,10 @@ class _BlockedCV:
         self.n = y.shape[0]
         self.masks = [blocks == b for b in np.unique(blocks)]
         self.sy = np.array([y[m] @ y[m] for m in self.masks])
+        # Held-out error sums are floored here before their ratios are taken: an exact fit
+        # (noise-free data) would give 0, and the Gram-matrix arithmetic can round a true
+        # zero to a tiny negative number.
+        self.sse_floor = 1e-12 * float(self.sy.mean()) + np.finfo(np.float64).tiny
 
     def block_sse(self, cols: Sequence[F64]) -> F64:
         """Held-out squared error of each block (µm²), shape (n_blocks,)."""
@@ -582,9 +592,10 @@ def fit_thermal_drift(
         Offer the time drift ``(t - t_s[0])`` in hours as a candidate.
     refine_tau : bool
         Refine each selected lag's τ continuously (default); False keeps grid values.
-    stopping : {"1se-bic", "min-cv"}
-        ``"1se-bic"``: the rule of the module docstring (default). ``"min-cv"``: add terms
-        while the blocked-CV error falls, the naive rule, kept for comparison studies.
+    stopping : {"1se-bic", "1se-abs", "min-cv"}
+        ``"1se-bic"``: the rule of the module docstring (default). For comparison studies:
+        ``"1se-abs"``, the same on absolute instead of relative block gains, and
+        ``"min-cv"``, add terms while the blocked-CV error falls (the naive rule).
 
     Returns
     -------
@@ -618,8 +629,9 @@ def fit_thermal_drift(
     if n_blocks < 3:
         raise ValueError(f"n_blocks must be at least 3 (the stopping rule needs a spread "
                          f"of block gains), got {n_blocks}")
-    if stopping not in ("1se-bic", "min-cv"):
-        raise ValueError(f"stopping must be '1se-bic' or 'min-cv', got {stopping!r}")
+    if stopping not in ("1se-bic", "1se-abs", "min-cv"):
+        raise ValueError(f"stopping must be '1se-bic', '1se-abs' or 'min-cv', "
+                         f"got {stopping!r}")
     if max_terms < 0:
         raise ValueError(f"max_terms must be >= 0, got {max_terms}")
     n_train = int(train.sum())
@@ -644,7 +656,7 @@ def fit_thermal_drift(
 
     chosen: list[ThermalTerm] = []
     cols: list[F64] = []
-    current = cv.block_sse(cols)
+    current = np.maximum(cv.block_sse(cols), cv.sse_floor)
     baseline = float(np.sqrt(current.sum() / n_train))
     steps: list[SelectionStep] = []
     while len(chosen) < max_terms:
@@ -661,18 +673,21 @@ def fit_thermal_drift(
         if term.kind == "lag" and refine_tau:
             term, col = _refine_tau(cv, cols, term, t, signals[term.source], train,
                                     (grid[0], grid[-1]))
-        block = cv.block_sse([*cols, col])
-        gains = (current - block) / n_train
-        mean = float(gains.mean())
-        se = float(gains.std(ddof=1) / np.sqrt(gains.shape[0]))
-        # One-standard-error rule on the block gains (consistency), and a Schwarz (BIC)
-        # price of ln(n) residual variances for the extra parameter, which stops the best
-        # of many useless candidates from slipping through on white-noise data.
+        block = np.maximum(cv.block_sse([*cols, col]), cv.sse_floor)
+        gain = float(current.sum() - block.sum()) / n_train
+        # One-standard-error rule on the relative block gains (consistency), and a Schwarz
+        # (BIC) price of ln(n) residual variances for the extra parameter, which stops the
+        # best of many useless candidates from slipping through on white-noise data.
+        log_gains = np.log(current / block)
+        if stopping == "1se-abs":
+            log_gains = (current - block) / n_train  # absolute gains, for comparison only
+        mean = float(log_gains.mean())
+        se = float(log_gains.std(ddof=1) / np.sqrt(log_gains.shape[0]))
         bic_price = np.log(n_train) * float(block.sum()) / n_train
-        consistent = mean > se and mean * n_train > bic_price
-        accepted = mean > 0.0 if stopping == "min-cv" else consistent
+        consistent = mean > se and gain * n_train > bic_price
+        accepted = gain > 0.0 if stopping == "min-cv" else consistent
         steps.append(SelectionStep(term, float(np.sqrt(block.sum() / n_train)),
-                                   mean, se, accepted))
+                                   gain, mean, se, accepted))
         if not accepted:
             break
         chosen.append(term)
