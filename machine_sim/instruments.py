@@ -12,8 +12,9 @@ about ``u`` (angle, µrad), plus Gaussian noise.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -23,8 +24,11 @@ from volumetric.kinematics import VolumetricError, tool_pose, volumetric_error
 from volumetric.machine import Axis, Machine
 
 from .effects import Effects, axis_offsets
-from .program import MotionLimits
+from .program import MachineState, MotionLimits, Program
 from .thermal import ThermalConfig, default_thermal
+
+if TYPE_CHECKING:
+    from .campaign import CampaignResult
 
 __all__ = ["SimulatedMachine"]
 
@@ -135,6 +139,13 @@ class SimulatedMachine:
                                    tool_mm=tool_mm, orientation=False)
             extra += (p_probe - p_rigid) * (1e3 / PROBE_UM) * offsets[:, j, None]
         return VolumetricError(rigid.position_um + extra, rigid.orientation_urad)
+
+    def run_campaign(self, programs: Sequence[Program], *,
+                     start: MachineState | None = None) -> CampaignResult:
+        """Run measurement programs: :func:`machine_sim.campaign.run_campaign`."""
+        from .campaign import run_campaign  # campaign builds on this module
+
+        return run_campaign(self, programs, start=start)
 
     def read(
         self,
