@@ -230,3 +230,26 @@ def test_real_dynamic_model_beats_two_micrometres(
     # the spindle speed is offered but need not be used; either way it must still reach 2 µm
     with_rpm = fit_thermal_drift(t, temps, y_train, ~held, inputs=inputs)
     assert rms(y[held] - with_rpm.predict(t, temps, inputs)[held]) <= 2.0
+
+
+def test_real_drift_from_sparse_readings(
+        spindle: tuple[np.ndarray, dict[str, np.ndarray], np.ndarray, dict[str, np.ndarray]]
+) -> None:
+    # A campaign that reads drift and temperatures only every 5 min (every 20th row), at
+    # each of five phases: the dynamic model must beat the static one at every phase and
+    # reach 2 µm at the median. (The spindle coolant sensor cycles in about 20 min, so
+    # sparser readings alias it; see benchmarks/thermal_fl_study.py for the full picture.)
+    t, temps, y, _ = spindle
+    dynamic, static = [], []
+    for phase in range(0, 20, 4):
+        rows = np.arange(phase, t.shape[0], 20)
+        ts, ys = t[rows], y[rows]
+        sub = {k: v[rows] for k, v in temps.items()}
+        train = ts < SPLIT_S
+        model = fit_thermal_drift(ts, sub, np.where(train, ys, np.nan), train)
+        dynamic.append(rms((ys - model.predict(ts, sub))[~train]))
+        X = np.column_stack([np.ones(rows.shape[0]), *sub.values()])
+        c = np.linalg.lstsq(X[train], ys[train], rcond=None)[0]
+        static.append(rms((ys - X @ c)[~train]))
+    assert all(d < s for d, s in zip(dynamic, static, strict=True)), (dynamic, static)
+    assert float(np.median(dynamic)) <= 2.0, dynamic
