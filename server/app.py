@@ -24,6 +24,7 @@ from fastapi.responses import JSONResponse
 
 from ednc import __version__
 from server.api.main import api_router, root_router
+from server.api.routes.measurements import MAX_UPLOAD_BYTES
 from server.center import Center
 from server.db import Database
 from server.settings import Settings, load_settings
@@ -94,6 +95,9 @@ def create_app(
             "`X-API-Key` header (401 without it, 403 when the service runs read-only)."
         ),
         lifespan=lifespan,
+        # Bounds every request body, also chunked ones without a Content-Length: the
+        # largest legitimate one is a measurement upload plus multipart overhead.
+        max_body_size=MAX_UPLOAD_BYTES + 1024 * 1024,
     )
     app.add_exception_handler(RequestValidationError, _validation_error)
     app.include_router(api_router)

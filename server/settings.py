@@ -171,6 +171,9 @@ def load_settings(env_file: str | Path | None = None, **overrides: Any) -> Setti
     **overrides
         Field values that win over both (used by tests and the ``serve`` command).
     """
+    if env_file is not None and not Path(env_file).is_file():
+        # pydantic-settings skips a missing env file silently; a named one must exist.
+        raise SettingsError(f"env file {str(env_file)!r} does not exist")
     try:
         return Settings(_env_file=env_file, **overrides)
     except ValidationError as exc:

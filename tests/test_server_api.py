@@ -329,6 +329,20 @@ async def test_measurement_upload_media_and_encoding_errors(client: httpx.AsyncC
     assert "'file'" in errors(r)[0]["msg"]
 
 
+async def test_oversized_upload_is_413(
+    client: httpx.AsyncClient, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    await add_vmc(client)
+    monkeypatch.setattr("server.api.routes.measurements.MAX_UPLOAD_BYTES", 200)
+    url = "/api/machines/vmc-01/measurements"
+    big = csv_text(10).encode()
+    r = await client.post(url, content=big, headers={**WRITE, "content-type": "text/csv"})
+    assert r.status_code == 413
+    r = await client.post(url, files={"file": ("big.csv", big)}, headers=WRITE)
+    assert r.status_code == 413
+    assert (await client.get(url)).json() == []
+
+
 # --- maps, deliveries, status ---------------------------------------------------------------
 
 async def test_maps_deliveries_and_status(api: tuple[FastAPI, httpx.AsyncClient]) -> None:

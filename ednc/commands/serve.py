@@ -1,0 +1,37 @@
+"""``ednc serve``: run the control center (REST API, and the machine services once added)."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated, Any
+
+import typer
+
+
+def register(app: typer.Typer) -> None:
+    @app.command()
+    def serve(
+        env_file: Annotated[Path | None, typer.Option(
+            "--env-file", help="KEY=value file with EDNC_* settings (the environment wins).")]
+        = None,
+        host: Annotated[str | None, typer.Option(help="HTTP address (EDNC_HTTP_HOST).")] = None,
+        port: Annotated[int | None, typer.Option(help="HTTP port (EDNC_HTTP_PORT).")] = None,
+    ) -> None:
+        """Run the control center service until interrupted (settings: EDNC_* variables)."""
+        import uvicorn
+
+        from ednc.cli import UserError
+        from server.app import create_app
+        from server.settings import SettingsError, load_settings
+
+        overrides: dict[str, Any] = {}
+        if host is not None:
+            overrides["http_host"] = host
+        if port is not None:
+            overrides["http_port"] = port
+        try:
+            settings = load_settings(env_file, **overrides)
+        except SettingsError as exc:
+            raise UserError(str(exc).replace("\n  ", " ")) from None
+        uvicorn.run(create_app(settings), host=settings.http_host, port=settings.http_port,
+                    log_level="info")
