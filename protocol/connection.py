@@ -17,9 +17,10 @@ from enum import Enum
 from typing import Final
 
 from .codec import decode_payload, encode_payload
+from .codes import ErrorCode
 from .errors import LocalProtocolError, RemoteProtocolError
 from .frames import FrameBuffer, encode_frame
-from .messages import TYPE_OF, Error, Message
+from .messages import TYPE_OF, Error, Message, clip_text
 from .state import Channel, ConnectionState, Role, State
 
 _SEQ_MOD: Final = 1 << 32
@@ -93,6 +94,17 @@ class Connection:
         self._state.states[channel] = new
         self._send_seq = (self._send_seq + 1) % _SEQ_MOD
         return data
+
+    def send_error(self, code: ErrorCode, text: str) -> bytes:
+        """An Error frame closing the session, or ``b""`` if it is already closed.
+
+        For the usual ending after a RemoteProtocolError or a timeout:
+        ``sock.sendall(conn.send_error(ErrorCode.PROTOCOL_ERROR, str(exc)))``, then close.
+        ``text`` is clipped to fit the message.
+        """
+        if self.session is State.CLOSED:
+            return b""
+        return self.send(Error(code, clip_text(text)))
 
     def receive_data(self, data: bytes) -> None:
         """Hand over bytes read from the socket; ``b""`` means the peer closed it."""

@@ -87,22 +87,13 @@ class FrameBuffer:
             Bad magic, unknown version or type, non-zero reserved field, a length over
             ``MAX_PAYLOAD``, or a CRC mismatch; the text gives the stream offset.
         """
-        if self.pending < HEADER_SIZE:
-            # Check the magic on a partial header too: a stray client fails at once.
-            got = bytes(self._buf[self._pos:self._pos + len(MAGIC)])
-            if not MAGIC.startswith(got):
-                raise self._bad(f"bad magic {got!r}, expected {MAGIC!r}")
+        head = bytes(self._buf[self._pos:self._pos + HEADER_SIZE])
+        # Magic, version and type are checked on a partial header too: a stray client
+        # (HTTP, telnet) or a peer of another version fails at its first bytes.
+        kind = self._check_start(head[:6])
+        if kind is None or len(head) < HEADER_SIZE:
             return None
-        magic, version, type_code, reserved, seq, length = _HEADER.unpack_from(
-            self._buf, self._pos)
-        if magic != MAGIC:
-            raise self._bad(f"bad magic {magic!r}, expected {MAGIC!r}")
-        if version != PROTOCOL_VERSION:
-            raise self._bad(f"protocol version {version}, this end speaks {PROTOCOL_VERSION}")
-        try:
-            kind = MessageType(type_code)
-        except ValueError:
-            raise self._bad(f"unknown message type 0x{type_code:02x}") from None
+        _, _, _, reserved, seq, length = _HEADER.unpack(head)
         if reserved:
             raise self._bad(f"reserved header field is 0x{reserved:04x}, must be 0")
         if length > MAX_PAYLOAD:
@@ -119,6 +110,20 @@ class FrameBuffer:
         payload = bytes(self._buf[self._pos + HEADER_SIZE:end])
         self._pos = end + TRAILER_SIZE
         return Frame(kind, seq, payload)
+
+    def _check_start(self, head: bytes) -> MessageType | None:
+        """Check magic, version and type, as far as ``head`` (up to 6 bytes) reaches."""
+        got = head[:len(MAGIC)]
+        if not MAGIC.startswith(got):
+            raise self._bad(f"bad magic {got!r}, expected {MAGIC!r}")
+        if len(head) > 4 and head[4] != PROTOCOL_VERSION:
+            raise self._bad(f"protocol version {head[4]}, this end speaks {PROTOCOL_VERSION}")
+        if len(head) < 6:
+            return None
+        try:
+            return MessageType(head[5])
+        except ValueError:
+            raise self._bad(f"unknown message type 0x{head[5]:02x}") from None
 
     def _bad(self, what: str) -> RemoteProtocolError:
         return RemoteProtocolError(f"{what} (frame at stream offset {self._offset + self._pos})")

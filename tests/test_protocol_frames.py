@@ -62,6 +62,8 @@ GOOD = frame(0x01, 0, encode_payload(HELLO))
     (b"EDNX", r"bad magic b'EDNX'"),
     (b"ED\x00", r"bad magic b'ED\\x00'"),  # refused before the header is complete
     (b"EDNC\x02" + GOOD[5:], r"protocol version 2, this end speaks 1"),
+    (b"EDNC\x02", r"protocol version 2, this end speaks 1"),  # before the header is whole
+    (b"EDNC\x01\x99", r"unknown message type 0x99"),         # likewise
     (GOOD[:5] + b"\x99" + GOOD[6:], r"unknown message type 0x99"),
     (GOOD[:6] + b"\x00\x01" + GOOD[8:], r"reserved header field is 0x0001, must be 0"),
     (GOOD[:-1] + bytes([GOOD[-1] ^ 1]), r"CRC mismatch in HELLO frame seq 0: computed 0x"),
@@ -240,3 +242,17 @@ def test_error_messages_have_no_stray_characters() -> None:
     with pytest.raises(ValueError) as info:
         Challenge(bytes(3))
     assert re.fullmatch(r"Challenge\.nonce must be 32 bytes, got 3", str(info.value))
+
+
+def test_send_error_after_a_remote_error_then_nothing() -> None:
+    conn = center_with(b"EDNC\x07")
+    with pytest.raises(RemoteProtocolError) as info:
+        conn.next_event()
+    wire = conn.send_error(ErrorCode.PROTOCOL_ERROR, str(info.value) * 10)
+    machine = Connection(Role.MACHINE)
+    machine.receive_data(wire)
+    got = machine.next_event()
+    assert isinstance(got, Error) and got.code is ErrorCode.PROTOCOL_ERROR
+    assert got.text.startswith("protocol version 7, this end speaks 1")
+    assert len(got.text.encode()) == 255
+    assert conn.send_error(ErrorCode.PROTOCOL_ERROR, "again") == b""
