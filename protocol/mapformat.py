@@ -19,7 +19,8 @@ values straight into PMC / NC memory, which is little-endian. Layout::
                         start f64, step f64 (> 0); mm for X Y Z..., degrees for A B C
     64+24D      12 * K  output axes, each: name 4 ASCII NUL-padded, flags u8 (bit 0: has a
                         reversal value), reserved 3 zero, reversal int32 or float32
-                        (value encoding; 0 when absent): the backlash added on direction change
+                        (value encoding; 0 when absent): negative-approach minus
+                        positive-approach correction, added while the axis last moved in -
     64+24D+12K  4 * N * K  values, N = count_1 * ... * count_D, shape (count_1, ..., count_D, K),
                         row-major: output axis fastest, then the last grid axis
 
@@ -81,8 +82,9 @@ class GridAxis:
 
 @dataclass(frozen=True, slots=True)
 class OutputAxis:
-    """One corrected axis; ``reversal`` is its backlash value in the map's value unit
-    (counts for int32, mm for float32), or None."""
+    """One corrected axis. ``reversal`` (backlash) is the negative-approach minus the
+    positive-approach correction, in the map's value unit (counts for int32, mm for
+    float32), or None when the axis has no direction-dependent term."""
 
     name: str
     reversal: float | None = None
