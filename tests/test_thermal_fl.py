@@ -76,6 +76,17 @@ def test_lag_of_columns_equals_lag_of_each_column() -> None:
                                    rtol=0, atol=1e-12)
 
 
+def test_lag_is_linear_and_keeps_constants() -> None:
+    t = irregular_times(200, seed=5)
+    rng = np.random.default_rng(5)
+    x1, x2 = rng.normal(size=(2, t.shape[0]))
+    combined = first_order_lag(t, 3.0 * x1 - 2.0 * x2 + 20.0, 400.0)
+    separate = 3.0 * first_order_lag(t, x1, 400.0) - 2.0 * first_order_lag(t, x2, 400.0) + 20.0
+    np.testing.assert_allclose(combined, separate, rtol=0, atol=1e-10)
+    np.testing.assert_allclose(first_order_lag(t, np.full(t.shape, 21.5), 400.0), 21.5,
+                               rtol=0, atol=1e-12)
+
+
 def test_repeated_time_leaves_the_lag_unchanged() -> None:
     t = np.array([0.0, 100.0, 100.0, 200.0])
     y = first_order_lag(t, np.array([0.0, 1.0, 5.0, 5.0]), 50.0, x0=0.0)

@@ -65,8 +65,8 @@ coolant-like sensor t4 at 57 min, ambient-like t16 at 12.8 h and spindle t5 at 4
 predicts the held-out block to 1.73 µm RMS, against 5.56 µm for the static linear model
 and 24.7 µm without a model. ``benchmarks/thermal_fl_study.py`` prints what the
 alternatives (all lags, ridge, PLS, minimum-CV stopping, other block counts, sparse
-readings) do on it. The selection is not immune to chance: with 6-10 blocks instead of 5
-it keeps only the first two lags (about 2.5 µm), and from readings every 5-20 min it
+readings) do on it. The selection is not immune to chance: with 6, 8 or 10 blocks instead
+of 5 it keeps only the first two lags (2.5-2.6 µm), and from readings every 5-20 min it
 ranges from 1.6 to 4.8 µm.
 
 The regressor builder is separate from the fit so that thermal columns can join a larger
