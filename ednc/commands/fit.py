@@ -1,0 +1,124 @@
+"""``ednc fit``: identify a machine's component errors from a measurement CSV;
+``ednc tables``: export and import component-error tables with ISO 230-1 column names."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ednc.cli import UserError
+from volumetric.errors import ComponentErrorSpecError, MachineSpecError
+from volumetric.fit import FitError, FitResult, fit
+from volumetric.machine import Machine, load_machine
+from volumetric.measurement import MeasurementFormatError, Measurements, read_measurements
+from volumetric.model import MachineModel
+from volumetric.tables import export_tables, import_tables, read_table_files, write_tables
+
+
+def load_machine_or_exit(path: Path) -> Machine:
+    try:
+        return load_machine(path)
+    except MachineSpecError as exc:
+        raise UserError(str(exc)) from exc
+
+
+def load_data_or_exit(path: Path) -> Measurements:
+    try:
+        return read_measurements(path)
+    except (MeasurementFormatError, UnicodeDecodeError) as exc:
+        raise UserError(str(exc)) from exc
+    except OSError as exc:
+        raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc
+
+
+def load_model_or_exit(path: Path) -> MachineModel:
+    try:
+        return MachineModel.from_json(json.loads(path.read_text()))
+    except OSError as exc:
+        raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc
+    except json.JSONDecodeError as exc:
+        raise UserError(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from exc
+    except ComponentErrorSpecError as exc:
+        raise UserError(f"{path}: {exc}") from exc
+
+
+def summary(result: FitResult) -> str:
+    lines = [f"readings: {result.model.info['n_readings']}",
+             "residual RMS: " + ", ".join(f"{k} {v:.3f}" for k, v in result.rms.items()),
+             "degrees: " + ", ".join(f"{k} {v}" for k, v in sorted(result.degrees.items()))]
+    for u in result.unidentifiable:
+        lines.append(f"not identifiable (fixed at 0): {u['parameter']} "
+                     f"(confounded with {', '.join(u['confounded_with'])})")
+    if result.not_measured:
+        lines.append("not measured: " + ", ".join(result.not_measured))
+    return "\n".join(lines)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("fit")
+    def fit_cmd(
+        machine: Annotated[Path, typer.Option("--machine", help="Machine description JSON.")],
+        data: Annotated[Path, typer.Option("--data", help="Measurement CSV (formats.md §2).")],
+        out: Annotated[Path | None, typer.Option("--out", help="Write the model here.")] = None,
+        as_json: Annotated[bool, typer.Option("--json", help="Print the model JSON.")] = False,
+    ) -> None:
+        """Identify the rigid model (ISO 230-1 component and location errors) from readings.
+
+        Degrees are chosen by BIC; parameters the readings cannot separate are named and
+        fixed at zero; uncertainties are in the model's info.
+        """
+        m = load_machine_or_exit(machine)
+        readings = load_data_or_exit(data)
+        try:
+            result = fit(m, readings)
+        except FitError as exc:
+            raise UserError(f"{data}: {exc}") from exc
+        text = json.dumps(result.model.to_json(), indent=1)
+        if out is not None:
+            out.write_text(text)
+        if as_json:
+            typer.echo(text)
+        else:
+            typer.echo(summary(result))
+            if out is not None:
+                typer.echo(f"model written to {out}")
+
+    tables = typer.Typer(help="Component-error tables with ISO 230-1 column names.",
+                         no_args_is_help=True)
+
+    @tables.command("export")
+    def export_cmd(
+        machine: Annotated[Path, typer.Option("--machine", help="Machine description JSON.")],
+        model: Annotated[Path, typer.Option("--model", help="Model JSON (ednc fit).")],
+        out: Annotated[Path, typer.Option("--out", help="Directory for the CSV files.")],
+        points: Annotated[int, typer.Option(help="Positions per axis.")] = 21,
+    ) -> None:
+        """Write one CSV per axis (position, EXX, EYX, ...) and locations.csv."""
+        m = load_machine_or_exit(machine)
+        mm = load_model_or_exit(model)
+        try:
+            for p in write_tables(export_tables(m, mm.geometry, points=points), out):
+                typer.echo(str(p))
+        except ComponentErrorSpecError as exc:
+            raise UserError(str(exc)) from exc
+
+    @tables.command("import")
+    def import_cmd(
+        machine: Annotated[Path, typer.Option("--machine", help="Machine description JSON.")],
+        files: Annotated[list[Path], typer.Argument(help="Table CSV files.")],
+        out: Annotated[Path, typer.Option("--out", help="Model JSON to write.")],
+    ) -> None:
+        """Build a model from component-error tables (linear interpolation between rows)."""
+        m = load_machine_or_exit(machine)
+        try:
+            errors = import_tables(m, read_table_files(files))
+        except ComponentErrorSpecError as exc:
+            raise UserError(str(exc)) from exc
+        model = MachineModel(m.name, errors, (), {"source": [str(f) for f in files]})
+        out.write_text(json.dumps(model.to_json(), indent=1))
+        typer.echo(f"model with {len(errors.components)} tables written to {out}")
+
+    app.add_typer(tables, name="tables")

@@ -1,0 +1,247 @@
+"""The identification problem's design matrix: one row per reading, one column per parameter.
+
+Every reading is one linear observation of the model's parameters: a displacement reads
+``u · Δp`` and an angle ``u · Δω`` (:mod:`volumetric.linear`), and every error is a sum of
+basis functions times coefficients. The parameters are
+
+* the coefficients of each component error in Legendre polynomials of its axis position
+  normalised to [-1, 1] over the travel; per component the lowest degree follows a
+  convention that removes what is structurally the same as another parameter: no
+  constant in any displacement component (it is the tool-tip offset below), no slope in
+  a straightness that a squareness of the same axis already describes (EXY's slope is
+  EC0Y, EXZ's is EB0Z, EYZ's is EA0Z), no constant in a rotary axis's components (those
+  are its location errors). What the readings at hand cannot separate beyond that is
+  found by the fit's null-space analysis, not assumed;
+* the location errors of :func:`volumetric.components.location_names`;
+* a constant offset of each tool tip relative to the workpiece (``OFFSET_X`` ...), for
+  readings whose zero is not the machine's reference.
+
+The matrix is in the readings' units: µm per µm or µrad of a parameter.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.polynomial import legendre
+from numpy.typing import NDArray
+
+from volumetric.components import DIRECTIONS, Polynomial, location_names
+from volumetric.linear import sensitivities
+from volumetric.machine import Axis, Machine
+from volumetric.measurement import Measurements
+
+F64 = NDArray[np.float64]
+MAX_DEGREE_LINEAR = 6
+MAX_DEGREE_ANGULAR = 4
+MAX_DEGREE_ROTARY = 3
+
+
+@dataclass(frozen=True)
+class Param:
+    """One column of the design matrix.
+
+    Attributes
+    ----------
+    name : str
+        ``EXX[2]`` (degree-2 coefficient of EXX), ``EC0Y`` or ``OFFSET_X``.
+    component : str
+        The ISO name the parameter belongs to (``EXX``, ``EC0Y``) or ``OFFSET``.
+    degree : int
+        Polynomial degree (-1 for constants that are not coefficients).
+    unit : str
+        ``"um"`` or ``"urad"``.
+    """
+
+    name: str
+    component: str
+    degree: int
+    unit: str
+
+
+def min_degree(machine: Machine, axis: Axis, direction: str) -> int:
+    """The lowest polynomial degree a component carries (see module docstring)."""
+    if axis.kind == "rotary":
+        return 1
+    if direction in ("A", "B", "C"):
+        return 0
+    # a tilt of the line of motion about base axis a moves the tool along e_a × d
+    e = np.eye(3)["XYZ".index(direction)]
+    d = np.asarray(axis.direction)
+    locs = set(location_names(machine))
+    for k, a in enumerate("ABC"):
+        if f"E{a}0{axis.name}" in locs:
+            shift = np.cross(np.eye(3)[k], d)
+            if axis.name not in ("X", "Y", "Z"):  # spindle axes tilt in their own frame
+                continue
+            if abs(float(shift @ e)) > 0.5:
+                return 2
+    return 1
+
+
+def max_degree(axis: Axis, direction: str) -> int:
+    if axis.kind == "rotary":
+        return MAX_DEGREE_ROTARY
+    return MAX_DEGREE_ANGULAR if direction in ("A", "B", "C") else MAX_DEGREE_LINEAR
+
+
+def axis_positions(machine: Machine, m: Measurements) -> F64:
+    """Commanded positions (N, n_axes) of the readings in ``machine.axes`` order.
+
+    An axis without a standard column (a spindle axis ``Z1``) reads its own extra column
+    ``z1_mm`` when the file has one, else ``z_mm``: the position of the reading's own
+    spindle axis (other spindle axes are irrelevant to that row).
+    """
+    cols = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
+    q = np.zeros((len(m), len(machine.axes)))
+    for j, a in enumerate(machine.axes):
+        own = m.extra.get(f"{a.key}_mm")
+        if a.name not in cols and own is not None and own.dtype.kind == "f":
+            q[:, j] = own
+        else:
+            q[:, j] = m.q[:, cols.get(a.name, 2)]
+    return q
+
+
+def branch_rows(machine: Machine, m: Measurements) -> dict[str, NDArray[np.intp]]:
+    """Row indices per tool branch (spindle)."""
+    names = [b.name for b in machine.branches]
+    if m.spindle is None or len(names) == 1:
+        return {names[0]: np.arange(len(m))}
+    out: dict[str, NDArray[np.intp]] = {}
+    unknown = sorted(set(m.spindle.tolist()) - set(names))
+    if unknown:
+        raise ValueError(f"readings name spindles {unknown}; the machine has {names}")
+    for n in names:
+        out[n] = np.flatnonzero(m.spindle == n)
+    return out
+
+
+@dataclass(frozen=True)
+class Design:
+    """The full design matrix at the maximal degrees.
+
+    Attributes
+    ----------
+    matrix : ndarray, shape (N, P)
+    params : list of Param
+    """
+
+    matrix: F64
+    params: list[Param]
+
+    def columns(self, names: list[str]) -> NDArray[np.intp]:
+        index = {p.name: i for i, p in enumerate(self.params)}
+        return np.array([index[n] for n in names], dtype=np.intp)
+
+
+def _basis(q: F64, axis: Axis, degrees: range) -> F64:
+    lo, hi = axis.travel
+    s = (2.0 * q - lo - hi) / (hi - lo)
+    vander = np.asarray(legendre.legvander(s, max(degrees.stop - 1, 0)), dtype=np.float64)
+    out: F64 = vander[:, degrees.start : degrees.stop]
+    return out
+
+
+def build_design(
+    machine: Machine,
+    m: Measurements,
+    *,
+    degrees: Mapping[str, int] | None = None,
+    offsets: bool = True,
+) -> Design:
+    """Design matrix of the rigid model for the readings.
+
+    Parameters
+    ----------
+    machine : Machine
+    m : Measurements
+    degrees : mapping of str to int, optional
+        Highest degree per component (ISO name); the module's maxima otherwise.
+    offsets : bool
+        Include the tool-tip offset parameters.
+
+    Returns
+    -------
+    Design
+    """
+    q = axis_positions(machine, m)
+    n = len(m)
+    columns: dict[str, F64]
+    columns = {}
+    params: dict[str, Param] = {}
+
+    def add(p: Param, rows: NDArray[np.intp], values: F64) -> None:
+        if p.name not in columns:
+            columns[p.name] = np.zeros(n)
+            params[p.name] = p
+        columns[p.name][rows] += values
+
+    for bname, rows in branch_rows(machine, m).items():
+        if rows.size == 0:
+            continue
+        ang = m.is_angle[rows]
+        u = m.u[rows]
+        tool = m.tool_mm[rows]
+        for s in sensitivities(machine, q[rows], spindle=bname, tool_mm=tool):
+            # project the (Δp, Δω) rows of the sensitivity on each reading's direction
+            proj = np.where(
+                ang[:, None],
+                np.einsum("ni,nik->nk", u, s.matrix[:, 3:, :]),
+                np.einsum("ni,nik->nk", u, s.matrix[:, :3, :]),
+            )
+            if s.column is None:
+                for j, name in enumerate(s.names):
+                    unit = "urad" if name[1] in "ABC" else "um"
+                    add(Param(name, name, -1, unit), rows, proj[:, j])
+                continue
+            axis = machine.axes[s.column]
+            for j, name in enumerate(s.names):
+                direction = DIRECTIONS[j]
+                lo = min_degree(machine, axis, direction)
+                hi = max_degree(axis, direction)
+                if degrees is not None:
+                    hi = min(hi, degrees.get(name, hi))
+                if hi < lo:
+                    continue
+                basis = _basis(q[rows, s.column], axis, range(lo, hi + 1))
+                unit = "urad" if direction in "ABC" else "um"
+                for k in range(lo, hi + 1):
+                    add(Param(f"{name}[{k}]", name, k, unit), rows, proj[:, j] * basis[:, k - lo])
+        if offsets:
+            for i, c in enumerate("XYZ"):
+                name = "OFFSET_" + c if len(machine.branches) == 1 else f"OFFSET_{c}_{bname}"
+                add(Param(name, "OFFSET", -1, "um"), rows, np.where(ang, 0.0, u[:, i]))
+    names = list(columns)
+    matrix = np.column_stack([columns[k] for k in names]) if names else np.zeros((n, 0))
+    return Design(matrix, [params[k] for k in names])
+
+
+def component_polynomial(axis: Axis, coefficients: Mapping[int, float]) -> Polynomial:
+    """Legendre coefficients by degree → a :class:`Polynomial` in the normalised position.
+
+    The returned polynomial has ``origin`` at mid-travel and ``scale`` half the travel, so
+    its coefficients stay of the size of the error itself (µm or µrad).
+    """
+    lo, hi = axis.travel
+    deg = max(coefficients) if coefficients else 0
+    c = np.zeros(deg + 1)
+    for k, v in coefficients.items():
+        c[k] = v
+    mono = legendre.leg2poly(c)
+    return Polynomial(tuple(float(x) for x in mono), 0.5 * (lo + hi), 0.5 * (hi - lo))
+
+
+__all__ = [
+    "Design",
+    "Param",
+    "axis_positions",
+    "branch_rows",
+    "build_design",
+    "component_polynomial",
+    "location_names",
+    "max_degree",
+    "min_degree",
+]
