@@ -306,63 +306,109 @@ def compensate(
         the machine (:class:`~volumetric.errors.ComponentErrorSpecError`).
     """
     qa = _positions(machine, q)
-    w = Weights.default(machine) if weights is None else weights
-    if w.position.shape[0] != len(machine.branches):
-        raise CompensationError(
-            f"weights are for {w.position.shape[0]} tool tips, machine {machine.name!r} "
-            f"has {len(machine.branches)}"
-        )
-    if max_iterations < 1:
-        raise CompensationError("max_iterations must be at least 1")
-    errors.check(machine)
-    orient = w.uses_orientation
-    g, rank, _ = weighted_pinv(machine, qa, w, tool_mm=tool_mm, rcond=rcond)
-    nominal = [
-        tool_pose(machine, qa, None, spindle=br.name, tool_mm=_tool(tool_mm, br.name),
-                  orientation=orient)
-        for br in machine.branches
-    ]
-
-    def residual(dq: F64) -> tuple[F64, F64 | None]:
-        pos, ori = [], []
-        for br, (p_nom, r_nom) in zip(machine.branches, nominal, strict=True):
-            p, r = tool_pose(machine, qa + dq, errors, spindle=br.name,
-                             tool_mm=_tool(tool_mm, br.name), orientation=orient)
-            pos.append((p - p_nom) * UM_PER_MM)
-            if r is not None and r_nom is not None:
-                ori.append(rotation_vector(r @ np.swapaxes(r_nom, 1, 2)) * URAD_PER_RAD)
-        return np.stack(pos), (np.stack(ori) if orient else None)
-
-    def stacked(pos: F64, ori: F64 | None) -> F64:
-        # (B, N, 3) [+ (B, N, 3)] → (N, R) in the row order of the Jacobian
-        parts = [pos] if ori is None else [pos, ori]
-        out: F64 = np.concatenate(parts, axis=2).transpose(1, 0, 2).reshape(qa.shape[0], -1)
-        return out
-
-    dq = np.zeros_like(qa)
-    err_p, err_o = residual(dq)
-    res_p, res_o = err_p, err_o
-    step = math.inf
-    iterations = 0
-    while iterations < max_iterations and step > step_tol:
-        delta = -np.einsum("nij,nj->ni", g, stacked(res_p, res_o))
-        dq = dq + delta
-        step = float(np.abs(delta).max()) if delta.size else 0.0
-        iterations += 1
-        res_p, res_o = residual(dq)
-    converged = step <= step_tol
-    message = (f"converged in {iterations} steps (last step {step:.2e})" if converged else
-               f"not converged: last step {step:.2e} > {step_tol:.0e} after {iterations} "
-               "steps; the errors may be too large for a small-correction solve")
+    solver = _Solver(machine, errors, qa, weights, tool_mm, rcond)
+    dq, iterations, step, converged, message = solver.run(step_tol, max_iterations)
+    res_p, res_o = solver.residual(dq)
     return Compensation(
         axes=machine.axis_names,
         branches=tuple(br.name for br in machine.branches),
         q=qa, dq=dq,
-        error_um=err_p, residual_um=res_p,
-        error_urad=err_o, residual_urad=res_o,
-        rank=np.asarray(rank, dtype=np.int64),
+        error_um=solver.error_p, residual_um=res_p,
+        error_urad=solver.error_o, residual_urad=res_o,
+        rank=np.asarray(solver.rank, dtype=np.int64),
         iterations=iterations, step=step, converged=converged, message=message,
     )
+
+
+def corrections(
+    machine: Machine,
+    errors: GeometricErrors,
+    q: ArrayLike,
+    *,
+    weights: Weights | None = None,
+    tool_mm: Mapping[str, float] | None = None,
+    rcond: float = DEFAULT_RCOND,
+    step_tol: float = DEFAULT_STEP_TOL,
+    max_iterations: int = 6,
+) -> F64:
+    """Only the corrections of :func:`compensate`, shape (N, n_axes), mm or degrees.
+
+    Skips the final residual evaluation (one exact pose per tool tip fewer), for callers
+    that evaluate many points, such as map builders.
+
+    Raises
+    ------
+    CompensationError
+        When the refinement does not settle (the message says how far it got).
+    """
+    solver = _Solver(machine, errors, _positions(machine, q), weights, tool_mm, rcond)
+    dq, _, _, converged, message = solver.run(step_tol, max_iterations)
+    if not converged:
+        raise CompensationError(f"machine {machine.name!r}: {message}")
+    return dq
+
+
+class _Solver:
+    """The iteration of the module docstring over one set of points."""
+
+    def __init__(self, machine: Machine, errors: GeometricErrors, qa: F64,
+                 weights: Weights | None, tool_mm: Mapping[str, float] | None,
+                 rcond: float) -> None:
+        w = Weights.default(machine) if weights is None else weights
+        if w.position.shape[0] != len(machine.branches):
+            raise CompensationError(
+                f"weights are for {w.position.shape[0]} tool tips, machine {machine.name!r} "
+                f"has {len(machine.branches)}"
+            )
+        errors.check(machine)
+        self.machine, self.errors, self.qa, self.tool_mm = machine, errors, qa, tool_mm
+        self.orient = w.uses_orientation
+        self.g, self.rank, _ = weighted_pinv(machine, qa, w, tool_mm=tool_mm, rcond=rcond)
+        self.nominal = [
+            tool_pose(machine, qa, None, spindle=br.name, tool_mm=_tool(tool_mm, br.name),
+                      orientation=self.orient)
+            for br in machine.branches
+        ]
+        self.error_p, self.error_o = self.residual(np.zeros_like(qa))
+
+    def residual(self, dq: F64) -> tuple[F64, F64 | None]:
+        """Exact tool-tip error at ``q + dq`` against the nominal pose at ``q``:
+        position (B, N, 3) µm and orientation (B, N, 3) µrad or None."""
+        pos, ori = [], []
+        for br, (p_nom, r_nom) in zip(self.machine.branches, self.nominal, strict=True):
+            p, r = tool_pose(self.machine, self.qa + dq, self.errors, spindle=br.name,
+                             tool_mm=_tool(self.tool_mm, br.name), orientation=self.orient)
+            pos.append((p - p_nom) * UM_PER_MM)
+            if r is not None and r_nom is not None:
+                ori.append(rotation_vector(r @ np.swapaxes(r_nom, 1, 2)) * URAD_PER_RAD)
+        return np.stack(pos), (np.stack(ori) if self.orient else None)
+
+    def _stacked(self, pos: F64, ori: F64 | None) -> F64:
+        # (B, N, 3) [+ (B, N, 3)] → (N, R) in the row order of the Jacobian
+        parts = [pos] if ori is None else [pos, ori]
+        out: F64 = np.concatenate(parts, axis=2).transpose(1, 0, 2).reshape(self.qa.shape[0], -1)
+        return out
+
+    def run(self, step_tol: float, max_iterations: int) -> tuple[F64, int, float, bool, str]:
+        if max_iterations < 1:
+            raise CompensationError("max_iterations must be at least 1")
+        dq = np.zeros_like(self.qa)
+        res_p, res_o = self.error_p, self.error_o
+        step = math.inf
+        iterations = 0
+        while True:
+            delta = -np.einsum("nij,nj->ni", self.g, self._stacked(res_p, res_o))
+            dq = dq + delta
+            step = float(np.abs(delta).max()) if delta.size else 0.0
+            iterations += 1
+            if step <= step_tol or iterations >= max_iterations:
+                break
+            res_p, res_o = self.residual(dq)
+        converged = step <= step_tol
+        message = (f"converged in {iterations} steps (last step {step:.2e})" if converged else
+                   f"not converged: last step {step:.2e} > {step_tol:.0e} after {iterations} "
+                   "steps; the errors may be too large for a small-correction solve")
+        return dq, iterations, step, converged, message
 
 
 __all__ = [
@@ -370,5 +416,6 @@ __all__ = [
     "CompensationError",
     "Weights",
     "compensate",
+    "corrections",
     "weighted_pinv",
 ]

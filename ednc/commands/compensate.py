@@ -1,0 +1,263 @@
+"""``ednc compensate``: actuator corrections and residual tool-tip errors at given points.
+
+Also holds the input readers ``ednc map`` shares (model file, temperatures, weights).
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+from numpy.typing import NDArray
+
+from ednc.cli import UserError
+from volumetric.compensate import Compensation, CompensationError, Weights, compensate
+from volumetric.components import GeometricErrors
+from volumetric.errors import ComponentErrorSpecError, MachineSpecError
+from volumetric.machine import Machine, load_machine
+from volumetric.model import MachineModel
+
+F64 = NDArray[np.float64]
+
+
+def read_machine(path: Path) -> Machine:
+    try:
+        return load_machine(path)
+    except MachineSpecError as exc:
+        raise UserError(str(exc)) from None
+
+
+def read_model(path: Path, machine: Machine) -> MachineModel:
+    """Read what ``ednc fit`` wrote; every problem names the file and the entry."""
+    try:
+        data = json.loads(path.read_text())
+    except OSError as exc:
+        raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except json.JSONDecodeError as exc:
+        raise UserError(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except UnicodeDecodeError:
+        raise UserError(f"{path}: not a text file") from None
+    try:
+        model = MachineModel.from_json(data)
+        model.geometry.check(machine)
+    except ComponentErrorSpecError as exc:
+        raise UserError(f"{path}: {exc}") from None
+    return model
+
+
+def parse_temperatures(items: Sequence[str]) -> dict[str, float]:
+    """``["T_x_C=21.3", ...]`` → ``{"T_x_C": 21.3}``."""
+    out: dict[str, float] = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise UserError(f"--temperature {item!r}: expected SENSOR=°C such as T_x_C=21.3")
+        try:
+            t = float(value)
+        except ValueError:
+            raise UserError(f"--temperature {item!r}: {value!r} is not a number") from None
+        if not math.isfinite(t):
+            raise UserError(f"--temperature {item!r}: the temperature must be finite")
+        if name in out:
+            raise UserError(f"--temperature: {name} given twice")
+        out[name] = t
+    return out
+
+
+def parse_weights(text: str | None, machine: Machine) -> Weights | None:
+    if text is None:
+        return None
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise UserError(f"--weights {text!r}: expected comma-separated numbers") from None
+    try:
+        return Weights.parse(machine, values)
+    except CompensationError as exc:
+        raise UserError(f"--weights: {exc}") from None
+
+
+def geometry(model: MachineModel, temperatures: dict[str, float],
+             model_path: Path) -> GeometricErrors:
+    try:
+        return model.geometry_at(temperatures)
+    except ComponentErrorSpecError as exc:
+        raise UserError(f"{model_path}: {exc}") from None
+    except ValueError as exc:
+        raise UserError(f"{model_path}: {exc}; give them with --temperature NAME=°C") from None
+
+
+def _unit(machine: Machine, i: int) -> str:
+    return "deg" if machine.axes[i].kind == "rotary" else "mm"
+
+
+def parse_point(text: str, machine: Machine) -> F64:
+    """``"100,50,-20"`` (machine axis order) or ``"x=100,y=50,z=-20"``, one row."""
+    keys = [a.key for a in machine.axes]
+    parts = [p.strip() for p in text.split(",") if p.strip()]
+    if any("=" in p for p in parts):
+        row = {}
+        for p in parts:
+            k, sep, v = p.partition("=")
+            k = k.strip().lower()
+            if not sep or k not in keys:
+                raise UserError(f"--point {text!r}: unknown axis {k!r}; machine "
+                                f"{machine.name!r} has axes {' '.join(keys)}")
+            if k in row:
+                raise UserError(f"--point {text!r}: axis {k} given twice")
+            row[k] = _number(v, f"--point {text!r}: axis {k}")
+        missing = [k for k in keys if k not in row]
+        if missing:
+            raise UserError(f"--point {text!r}: no value for axes {' '.join(missing)}")
+        return np.array([row[k] for k in keys])
+    if len(parts) != len(keys):
+        raise UserError(f"--point {text!r}: expected {len(keys)} values for axes "
+                        f"{' '.join(keys)}, got {len(parts)}")
+    return np.array([_number(v, f"--point {text!r}: value {i + 1}")
+                     for i, v in enumerate(parts)])
+
+
+def _number(text: str, where: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise UserError(f"{where}: {text.strip()!r} is not a number") from None
+    if not math.isfinite(v):
+        raise UserError(f"{where}: must be finite")
+    return v
+
+
+def read_points(path: Path, machine: Machine) -> F64:
+    """A CSV with a header naming the axes (``x`` or ``x_mm``, ``c`` or ``c_deg``, ``z1``
+    or ``z1_mm``); other columns are ignored."""
+    try:
+        with path.open(newline="") as fh:
+            rows = list(csv.reader(fh))
+    except OSError as exc:
+        raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise UserError(f"{path}: not a text file") from None
+    if not rows:
+        raise UserError(f"{path}: empty; expected a header naming the axes")
+    header = [h.strip().lower() for h in rows[0]]
+    cols = []
+    for i, a in enumerate(machine.axes):
+        names = (a.key, f"{a.key}_{_unit(machine, i)}")
+        found = [j for j, h in enumerate(header) if h in names]
+        if not found:
+            raise UserError(f"{path}: no column for axis {a.key} (expected {names[0]!r} or "
+                            f"{names[1]!r}); the header is {','.join(header)}")
+        cols.append(found[0])
+    out = []
+    for line, row in enumerate(rows[1:], start=2):
+        if not any(c.strip() for c in row):
+            continue
+        if len(row) < len(header):
+            raise UserError(f"{path}: line {line} has {len(row)} cells, the header "
+                            f"{len(header)}")
+        out.append([_number(row[j], f"{path}: line {line}, column {header[j]}") for j in cols])
+    if not out:
+        raise UserError(f"{path}: no points after the header")
+    return np.array(out)
+
+
+def _result_json(machine: Machine, c: Compensation) -> dict[str, Any]:
+    keys = [a.key for a in machine.axes]
+    points = []
+    for n in range(c.q.shape[0]):
+        item: dict[str, Any] = {
+            "q": dict(zip(keys, c.q[n].tolist(), strict=True)),
+            "correction": dict(zip(keys, c.dq[n].tolist(), strict=True)),
+            "error_um": {b: c.error_um[k, n].tolist() for k, b in enumerate(c.branches)},
+            "residual_um": {b: c.residual_um[k, n].tolist()
+                            for k, b in enumerate(c.branches)},
+        }
+        if c.residual_urad is not None and c.error_urad is not None:
+            item["error_urad"] = {b: c.error_urad[k, n].tolist()
+                                  for k, b in enumerate(c.branches)}
+            item["residual_urad"] = {b: c.residual_urad[k, n].tolist()
+                                     for k, b in enumerate(c.branches)}
+        points.append(item)
+    return {
+        "machine": machine.name,
+        "axes": keys,
+        "units": {k: _unit(machine, i) for i, k in enumerate(keys)},
+        "spindles": list(c.branches),
+        "points": points,
+        "max_error_um": {b: v.tolist() for b, v in zip(c.branches, c.max_error_um(),
+                                                         strict=True)},
+        "max_residual_um": {b: v.tolist() for b, v in zip(c.branches, c.max_residual_um(),
+                                                            strict=True)},
+        "converged": c.converged,
+        "iterations": c.iterations,
+    }
+
+
+def _result_text(machine: Machine, c: Compensation) -> str:
+    keys = [a.key for a in machine.axes]
+    lines = [f"{machine.name}: corrections (mm, degrees on rotary axes) and tool-tip errors "
+             "(µm, x y z) before -> after"]
+    for n in range(c.q.shape[0]):
+        where = " ".join(f"{k}={v:g}" for k, v in zip(keys, c.q[n], strict=True))
+        corr = "  ".join(f"d{k} {v:+.6f}" for k, v in zip(keys, c.dq[n], strict=True))
+        lines.append(f"point {n + 1}: {where}")
+        lines.append(f"  {corr}")
+        for k, b in enumerate(c.branches):
+            before = " ".join(f"{v:+8.3f}" for v in c.error_um[k, n])
+            after = " ".join(f"{v:+8.3f}" for v in c.residual_um[k, n])
+            lines.append(f"  {b:<6} {before}  ->  {after}")
+    lines.append("max |error| per spindle (µm, x y z) before -> after:")
+    for b, before, after in zip(c.branches, c.max_error_um(), c.max_residual_um(), strict=True):
+        lines.append(f"  {b:<6} {' '.join(f'{v:8.3f}' for v in before)}  ->  "
+                     f"{' '.join(f'{v:8.3f}' for v in after)}")
+    if not c.converged:
+        lines.append(f"warning: {c.message}")
+    return "\n".join(lines)
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("compensate")
+    def compensate_cmd(
+        machine_path: Annotated[Path, typer.Option(
+            "--machine", help="Machine description JSON (formats.md §1).")],
+        model_path: Annotated[Path, typer.Option(
+            "--model", help="Model JSON as written by 'ednc fit'.")],
+        points: Annotated[Path | None, typer.Option(
+            "--points", help="CSV of points, a header naming the axes (x or x_mm, ...).")
+        ] = None,
+        point: Annotated[list[str] | None, typer.Option(
+            "--point", help="One point: 'x,y,z' in axis order or 'x=..,y=..,z=..'; "
+                            "may repeat.")] = None,
+        weights: Annotated[str | None, typer.Option(
+            "--weights", help="x,y,z weights per tool tip (3 per spindle), or x,y,z,a,b,c "
+                              "(6 per spindle).")] = None,
+        temperature: Annotated[list[str] | None, typer.Option(
+            "--temperature", help="SENSOR=°C for the model's thermal terms; may "
+                                  "repeat.")] = None,
+        as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    ) -> None:
+        """Corrections per axis that minimise the weighted tool-tip errors, and what is left
+        of them per spindle."""
+        machine = read_machine(machine_path)
+        model = read_model(model_path, machine)
+        if (points is None) == (not point):
+            raise UserError("give either --points P.csv or --point (one or more)")
+        q = read_points(points, machine) if points is not None else np.vstack(
+            [parse_point(p, machine) for p in point or []])
+        w = parse_weights(weights, machine)
+        geo = geometry(model, parse_temperatures(temperature or []), model_path)
+        try:
+            result = compensate(machine, geo, q, weights=w)
+        except (CompensationError, ComponentErrorSpecError) as exc:
+            raise UserError(str(exc)) from None
+        if as_json:
+            typer.echo(json.dumps(_result_json(machine, result)))
+        else:
+            typer.echo(_result_text(machine, result))

@@ -1,0 +1,701 @@
+"""Error maps: the compensation over a regular grid of the workspace, for a PLC to look up.
+
+A PLC loop reads the machine's coordinates, interpolates the map multilinearly at them and
+applies the result as a shift of every axis (Fanuc's external machine zero point shift,
+Siemens' SD43900). :func:`build_map` samples the exact weighted compensation of
+:mod:`volumetric.compensate` on a grid whose spacing it chooses per axis: the fewest nodes
+that keep the interpolation error under a stated tolerance.
+
+The interpolation error is measured where it matters, at the tool tips: the difference
+between the interpolated and the exact correction, ``Δdq``, moves tool tip ``b`` by
+``J_b Δdq`` (:func:`volumetric.linear.jacobian`, position rows), and the error of a map at a
+point is the largest ``|J_b Δdq|`` over the tool tips, in µm. For a 3-axis machine that is
+simply ``|Δdq|`` in µm; for rotary axes it weighs a degree by its lever arm.
+
+Grid choice (greedy refinement). Multilinear interpolation of a smooth function errs by
+about the sum over axes of the 1-D errors ``h_i² |∂²f/∂q_i²| / 8``. The 1-D error of each
+axis is measured on random lines through the workspace along that axis, at its current
+node count (1 node: the axis is not a grid dimension at all, the correction is taken at
+mid-travel). Starting from one node per axis, the axis whose refinement buys the largest
+predicted error reduction per relative growth of the map is refined, until the sum of the
+1-D errors is below a budget. The full grid is then checked at random points and cell
+centres; if the worst error exceeds the tolerance, the budget shrinks and refinement goes
+on. The reported error comes from a separate random check set that took no part in any
+decision.
+
+Units: grid positions and values in mm (linear axes) or degrees (rotary axes).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field, fields
+from typing import Any, Literal
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from protocol.codes import MapEncoding
+from protocol.limits import MAX_MAP_BYTES
+from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis
+from volumetric.compensate import CompensationError, Weights, corrections
+from volumetric.components import GeometricErrors
+from volumetric.linear import jacobian
+from volumetric.machine import Machine
+from volumetric.model import MachineModel
+
+F64 = NDArray[np.float64]
+Controller = Literal["fanuc", "siemens"]
+DEFAULT_INCREMENT = 0.001
+"""Fanuc's least input increment (IS-B): 0.001 mm, or 0.001° on a rotary axis."""
+DEFAULT_LIMIT_MM = 0.5
+DEFAULT_LIMIT_DEG = 0.05
+_HEADER_BYTES = 64  # payload layout of protocol.mapformat: 64 + 24 D + 12 K + 4 N K
+_MAX_ROUNDS = 40
+_STEP_TOL = 1e-5
+"""Refinement stop for map nodes, mm or degrees. The step after one of size s is about
+s·|de/dq| (the errors' slope, 1e-4 to 1e-3), so stopping at 1e-5 leaves ~0.01 nm: two
+steps instead of three for the same map."""
+
+
+class MapBuildError(ValueError):
+    """A map that cannot be built as asked (bad parameters, tolerance out of reach)."""
+
+
+@dataclass(frozen=True)
+class GridDim:
+    """One grid dimension: ``count`` nodes at ``start + i·step`` of machine axis ``name``.
+
+    Attributes
+    ----------
+    name : str
+        Machine axis name (``"X"``, ``"Z1"``, ``"C"``).
+    start, step : float
+        mm or degrees.
+    count : int
+        At least 2 (an axis with one node is not a grid dimension).
+    """
+
+    name: str
+    start: float
+    step: float
+    count: int
+
+    def __post_init__(self) -> None:
+        if not (math.isfinite(self.start) and math.isfinite(self.step) and self.step > 0):
+            raise MapBuildError(f"grid axis {self.name}: need finite start and step > 0, "
+                                f"got start {self.start}, step {self.step}")
+        if not isinstance(self.count, int) or self.count < 2:
+            raise MapBuildError(f"grid axis {self.name}: count must be an int >= 2, "
+                                f"got {self.count!r}")
+
+    @property
+    def stop(self) -> float:
+        """The last node, mm or degrees."""
+        return self.start + (self.count - 1) * self.step
+
+    def nodes(self) -> F64:
+        """Node positions, shape (count,)."""
+        return np.asarray(self.start + self.step * np.arange(self.count), dtype=np.float64)
+
+
+@dataclass(frozen=True)
+class MapReport:
+    """How a map came out of :func:`build_map`.
+
+    Attributes
+    ----------
+    nodes, bytes : int
+        Grid nodes and the length of the encoded payload.
+    tolerance_um : float
+        The interpolation tolerance asked for.
+    worst_interpolation_um : float
+        Worst tool-tip error of the unquantised map against the exact compensation on an
+        independent check set (random points and cell centres), µm.
+    worst_error_um : float
+        The same for the map as sent (quantised and clamped), µm.
+    check_points : int
+        Size of that check set.
+    clamped_nodes : int
+        Nodes where at least one correction was clamped to the limit.
+    rounds : int
+        Refinement rounds (full-grid checks) taken.
+    build_s : float
+        Wall time, s.
+    """
+
+    nodes: int
+    bytes: int
+    tolerance_um: float
+    worst_interpolation_um: float
+    worst_error_um: float
+    check_points: int
+    clamped_nodes: int
+    rounds: int
+    build_s: float
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "nodes": self.nodes, "bytes": self.bytes, "tolerance_um": self.tolerance_um,
+            "worst_interpolation_um": self.worst_interpolation_um,
+            "worst_error_um": self.worst_error_um, "check_points": self.check_points,
+            "clamped_nodes": self.clamped_nodes, "rounds": self.rounds,
+            "build_s": self.build_s,
+        }
+
+
+@dataclass(frozen=True, eq=False)
+class ErrorMap:
+    """A machine's compensation on a regular grid, as a controller receives it.
+
+    Attributes
+    ----------
+    machine : str
+    version : int
+        Map version (>= 1), increasing with every map pushed to the machine.
+    controller : {"fanuc", "siemens"}
+        Fanuc maps hold whole multiples of ``increment``; Siemens maps float32 values.
+    grid : tuple of GridDim
+        The dimensions the correction depends on, in lookup order.
+    outputs : tuple of str
+        Corrected machine axes, the last index of ``values``.
+    values : ndarray, shape (*counts, n_outputs)
+        Corrections to add to the commands at the nodes, mm or degrees, as sent
+        (quantised and clamped).
+    increment : float or None
+        Fanuc: the value unit, mm or degrees per count; Siemens: None.
+    limits : tuple of float
+        Per output, the largest |correction| allowed, mm or degrees.
+    reversal : tuple of float or None
+        Per output, the backlash (full reversal) the controller adds on direction change,
+        mm or degrees, or None.
+    temperatures : mapping of str to float
+        The temperatures (°C) the map was built for.
+    valid_s : int
+        Seconds the map stays valid once applied, 0 = no limit.
+    report : MapReport or None
+        Build statistics (None for a map decoded from a payload).
+    """
+
+    machine: str
+    version: int
+    controller: Controller
+    grid: tuple[GridDim, ...]
+    outputs: tuple[str, ...]
+    values: F64
+    increment: float | None
+    limits: tuple[float, ...]
+    reversal: tuple[float | None, ...]
+    temperatures: Mapping[str, float] = field(default_factory=dict)
+    valid_s: int = 0
+    report: MapReport | None = None
+
+    def __post_init__(self) -> None:
+        if not self.grid:
+            raise MapBuildError("an error map needs at least one grid dimension")
+        want = (*(g.count for g in self.grid), len(self.outputs))
+        if self.values.shape != want:
+            raise MapBuildError(f"map values have shape {self.values.shape}, grid and "
+                                f"outputs need {want}")
+        if not np.all(np.isfinite(self.values)):
+            raise MapBuildError("map values contain NaN or infinity")
+        if len(self.limits) != len(self.outputs) or len(self.reversal) != len(self.outputs):
+            raise MapBuildError("limits and reversal need one entry per output axis")
+        if self.controller not in ("fanuc", "siemens"):
+            raise MapBuildError(f"controller must be 'fanuc' or 'siemens', "
+                                f"got {self.controller!r}")
+        if (self.controller == "fanuc") != (self.increment is not None):
+            raise MapBuildError("a Fanuc map needs an increment, a Siemens map none")
+        names = [g.name for g in self.grid]
+        if len(set(names)) != len(names) or len(set(self.outputs)) != len(self.outputs):
+            raise MapBuildError(f"grid {names} or outputs {self.outputs} repeat a name")
+
+    def __eq__(self, other: object) -> bool:
+        """Equal content (the build report does not count)."""
+        if not isinstance(other, ErrorMap):
+            return NotImplemented
+        return (self.machine == other.machine and self.version == other.version
+                and self.controller == other.controller and self.grid == other.grid
+                and self.outputs == other.outputs and self.increment == other.increment
+                and self.reversal == other.reversal and self.valid_s == other.valid_s
+                and bool(np.array_equal(self.values, other.values)))
+
+    __hash__ = None  # type: ignore[assignment]
+
+    @property
+    def dims(self) -> tuple[str, ...]:
+        """Names of the grid dimensions: the columns :meth:`lookup` expects."""
+        return tuple(g.name for g in self.grid)
+
+    @property
+    def nodes(self) -> int:
+        return math.prod(g.count for g in self.grid)
+
+    @property
+    def nbytes(self) -> int:
+        """Length of the encoded payload (:mod:`protocol.mapformat`)."""
+        return payload_bytes(len(self.grid), len(self.outputs), self.nodes)
+
+    def lookup(self, points: ArrayLike) -> F64:
+        """Multilinear interpolation of the corrections, clamped at the grid edges.
+
+        Parameters
+        ----------
+        points : array_like, shape (N, n_dims)
+            Coordinates in :attr:`dims` order, mm or degrees.
+
+        Returns
+        -------
+        ndarray, shape (N, n_outputs)
+            Corrections, mm or degrees.
+        """
+        p = np.asarray(points, dtype=float)
+        if p.ndim == 1:
+            p = p[None, :]
+        if p.ndim != 2 or p.shape[1] != len(self.grid):
+            raise ValueError(f"lookup points must have shape (N, {len(self.grid)}) for axes "
+                             f"{' '.join(self.dims)}; got {p.shape}")
+        if not np.all(np.isfinite(p)):
+            raise ValueError("lookup points contain NaN or infinity")
+        return _multilinear(self.grid, self.values, p)
+
+    def select(self, q: ArrayLike, axes: Sequence[str]) -> F64:
+        """The lookup columns of machine coordinates ``q`` (N, len(axes)) named ``axes``."""
+        qa = np.asarray(q, dtype=float)
+        qa = qa[None, :] if qa.ndim == 1 else qa
+        keys = [a.upper() for a in axes]
+        missing = [d for d in self.dims if d.upper() not in keys]
+        if missing:
+            raise ValueError(f"coordinates for axes {axes} lack map axes {missing}")
+        out: F64 = qa[:, [keys.index(d.upper()) for d in self.dims]]
+        return out
+
+    def to_payload(self) -> ErrorMapPayload:
+        """The :class:`protocol.mapformat.ErrorMapPayload` of this map."""
+        fanuc = self.increment is not None
+        encoding = MapEncoding.INT32_INCREMENTS if fanuc else MapEncoding.FLOAT32_MM
+        if self.increment is not None:
+            counts = np.rint(self.values / self.increment)
+            if np.abs(counts).max(initial=0) >= 2**31:
+                raise MapBuildError("map values overflow int32 counts")
+            raw = counts.astype("<i4").tobytes()
+            rev: list[float | None] = [None if r is None else float(round(r / self.increment))
+                                       for r in self.reversal]
+        else:
+            raw = self.values.astype("<f4").tobytes()
+            rev = [None if r is None else float(r) for r in self.reversal]
+        try:
+            return ErrorMapPayload(
+                machine=self.machine, version=self.version, encoding=encoding,
+                grid=tuple(GridAxis(g.name, float(g.start), float(g.step), g.count)
+                           for g in self.grid),
+                outputs=tuple(OutputAxis(n, r) for n, r in zip(self.outputs, rev, strict=True)),
+                values=raw,
+                increment_mm=float(self.increment) if self.increment is not None else 0.0,
+                valid_s=self.valid_s,
+            )
+        except ValueError as exc:
+            raise MapBuildError(f"map of {self.machine!r} cannot be encoded: {exc}") from None
+
+    @staticmethod
+    def from_payload(payload: ErrorMapPayload) -> ErrorMap:
+        """The map a payload carries (limits and temperatures are not on the wire: the
+        limits come back as the largest |value| per output, the temperatures empty)."""
+        shape = payload.shape
+        raw = np.frombuffer(payload.values, dtype=payload.dtype).reshape(shape)
+        fanuc = payload.encoding is MapEncoding.INT32_INCREMENTS
+        inc = payload.increment_mm if fanuc else None
+        values = raw.astype(float) * inc if inc is not None else raw.astype(float)
+        reversal = tuple(
+            None if o.reversal is None else (o.reversal * inc if inc is not None
+                                             else float(o.reversal))
+            for o in payload.outputs)
+        k = len(payload.outputs)
+        limits = tuple(float(np.abs(values[..., j]).max(initial=0.0)) for j in range(k))
+        return ErrorMap(
+            machine=payload.machine, version=payload.version,
+            controller="fanuc" if fanuc else "siemens",
+            grid=tuple(GridDim(g.name, g.start, g.step, g.count) for g in payload.grid),
+            outputs=tuple(o.name for o in payload.outputs),
+            values=values, increment=inc, limits=limits, reversal=reversal,
+            valid_s=payload.valid_s,
+        )
+
+
+def payload_bytes(n_dims: int, n_outputs: int, nodes: int) -> int:
+    """Encoded size of a map: 64 + 24 D + 12 K + 4 N K bytes (protocol.mapformat)."""
+    return _HEADER_BYTES + 24 * n_dims + 12 * n_outputs + 4 * nodes * n_outputs
+
+
+def _multilinear(grid: Sequence[GridDim], values: F64, p: F64) -> F64:
+    k = values.shape[-1]
+    flat = values.reshape(-1, k)
+    counts = [g.count for g in grid]
+    strides = [math.prod(counts[d + 1:]) for d in range(len(grid))]
+    idx, frac = [], []
+    for d, g in enumerate(grid):
+        u = (p[:, d] - g.start) / g.step
+        i = np.clip(np.floor(u), 0, g.count - 2).astype(np.intp)
+        idx.append(i)
+        frac.append(np.clip(u - i, 0.0, 1.0))  # clamped: the edge value holds outside
+    out = np.zeros((p.shape[0], k))
+    for corner in range(1 << len(grid)):
+        w = np.ones(p.shape[0])
+        off = np.zeros(p.shape[0], dtype=np.intp)
+        for d in range(len(grid)):
+            if corner >> d & 1:
+                w = w * frac[d]
+                off = off + (idx[d] + 1) * strides[d]
+            else:
+                w = w * (1.0 - frac[d])
+                off = off + idx[d] * strides[d]
+        out += w[:, None] * flat[off]
+    return out
+
+
+# --- building ---
+
+@dataclass
+class _Problem:
+    """What the build evaluates: the exact compensation and the tool-tip metric."""
+
+    machine: Machine
+    geometry: GeometricErrors
+    weights: Weights
+    tool_mm: Mapping[str, float] | None
+    lo: F64
+    hi: F64
+
+    def exact(self, q: F64) -> F64:
+        try:
+            return corrections(self.machine, self.geometry, q, weights=self.weights,
+                               tool_mm=self.tool_mm, step_tol=_STEP_TOL)
+        except CompensationError as exc:
+            raise MapBuildError(str(exc)) from None
+
+    def tip_um(self, q: F64, ddq: F64) -> F64:
+        """Largest tool-tip displacement over the branches caused by ``ddq``, µm, (N,)."""
+        constant = not any(a.kind == "rotary" for a in self.machine.axes)
+        worst = np.zeros(q.shape[0])
+        for br in self.machine.branches:
+            tool = None if self.tool_mm is None else self.tool_mm.get(br.name)
+            j = jacobian(self.machine, q[:1] if constant else q, spindle=br.name,
+                         tool_mm=tool)[:, :3]
+            d = np.einsum("nij,nj->ni", j, ddq)
+            worst = np.maximum(worst, np.linalg.norm(d, axis=1))
+        return worst
+
+
+def _interval_count(c: int) -> int:
+    """The next node count of an axis: 1 → 2 → 3 → ... growing by about a quarter."""
+    if c == 1:
+        return 2
+    m = c - 1
+    return c + max(1, math.ceil(m / 4))
+
+
+class _Lines:
+    """Random lines along each axis, on which the axis's 1-D interpolation error is
+    measured (see module docstring)."""
+
+    def __init__(self, prob: _Problem, rng: np.random.Generator, n_lines: int) -> None:
+        self.prob = prob
+        self.rng = rng
+        n = len(prob.lo)
+        self.base = [prob.lo + (prob.hi - prob.lo) * rng.random((n_lines, n)) for _ in range(n)]
+
+    def error(self, axis: int, count: int) -> float:
+        prob = self.prob
+        lo, hi = prob.lo[axis], prob.hi[axis]
+        if count == 1:
+            nodes = np.array([0.5 * (lo + hi)])
+            tests = np.linspace(lo, hi, 9)
+        else:
+            nodes = np.linspace(lo, hi, count)
+            h = nodes[1] - nodes[0]
+            starts = nodes[:-1]
+            tests = np.concatenate([starts + 0.5 * h,
+                                    starts + h * self.rng.uniform(0.1, 0.9, count - 1)])
+        base = self.base[axis]
+        s, nn, nt = base.shape[0], nodes.size, tests.size
+        q = np.repeat(base, nn + nt, axis=0)
+        q[:, axis] = np.tile(np.concatenate([nodes, tests]), s)
+        dq = prob.exact(q).reshape(s, nn + nt, -1)
+        at_nodes, at_tests = dq[:, :nn], dq[:, nn:]
+        if count == 1:
+            interp = np.broadcast_to(at_nodes[:, :1], at_tests.shape)
+        else:
+            u = (tests - lo) / (nodes[1] - nodes[0])
+            i = np.clip(np.floor(u), 0, count - 2).astype(np.intp)
+            f = (u - i)[None, :, None]
+            interp = at_nodes[:, i] * (1 - f) + at_nodes[:, i + 1] * f
+        qt = q.reshape(s, nn + nt, -1)[:, nn:].reshape(s * nt, -1)
+        ddq = (interp - at_tests).reshape(s * nt, -1)
+        return float(prob.tip_um(qt, ddq).max())
+
+
+def _grid_for(prob: _Problem, names: Sequence[str], counts: Sequence[int]) -> list[GridDim]:
+    dims = []
+    for i, c in enumerate(counts):
+        if c >= 2:
+            lo, hi = float(prob.lo[i]), float(prob.hi[i])
+            dims.append(GridDim(names[i], lo, (hi - lo) / (c - 1), c))
+    return dims
+
+
+def _node_positions(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim]) -> F64:
+    mid = 0.5 * (prob.lo + prob.hi)
+    mesh = np.meshgrid(*[g.nodes() for g in grid], indexing="ij")
+    q = np.tile(mid, (mesh[0].size, 1))
+    for g, m in zip(grid, mesh, strict=True):
+        q[:, list(names).index(g.name)] = m.ravel()
+    return q
+
+
+def _cell_centres(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim],
+                  rng: np.random.Generator, n: int) -> F64:
+    q = prob.lo + (prob.hi - prob.lo) * rng.random((n, len(names)))
+    for g in grid:
+        cell = rng.integers(0, g.count - 1, n)
+        q[:, list(names).index(g.name)] = g.start + (cell + 0.5) * g.step
+    return q
+
+
+def _map_error(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim], values: F64,
+               q: F64, exact: F64) -> F64:
+    cols = [list(names).index(g.name) for g in grid]
+    return prob.tip_um(q, _multilinear(grid, values, q[:, cols]) - exact)
+
+
+def build_map(
+    machine: Machine,
+    model: MachineModel,
+    temperatures: Mapping[str, float] | None = None,
+    *,
+    tolerance_um: float = 0.5,
+    controller: Controller | None = None,
+    increment: float = DEFAULT_INCREMENT,
+    limit_mm: float = DEFAULT_LIMIT_MM,
+    limit_deg: float = DEFAULT_LIMIT_DEG,
+    weights: Weights | None = None,
+    tool_mm: Mapping[str, float] | None = None,
+    version: int = 1,
+    valid_s: int = 0,
+    check_points: int = 4096,
+    seed: int = 0,
+    max_bytes: int = MAX_MAP_BYTES,
+) -> ErrorMap:
+    """The error map of a machine at given temperatures.
+
+    Parameters
+    ----------
+    machine : Machine
+    model : MachineModel
+        What ``ednc fit`` wrote; its geometry is taken at ``temperatures``.
+    temperatures : mapping of str to float, optional
+        °C per sensor column (``"T_x_C"``); every sensor the model uses must be there.
+    tolerance_um : float
+        Largest tool-tip interpolation error allowed, µm (see module docstring).
+    controller : {"fanuc", "siemens"}, optional
+        The machine's own by default. Fanuc: whole multiples of ``increment``; Siemens:
+        float32 mm.
+    increment : float
+        Fanuc least input increment, mm (or degrees on rotary axes) per count.
+    limit_mm, limit_deg : float
+        Corrections are clamped to ±limit (linear, rotary axes); the report counts the
+        nodes where that happened.
+    weights : Weights, optional
+        Solver weights, :meth:`Weights.default` when omitted.
+    tool_mm : mapping of spindle name to float, optional
+        Tool lengths, mm; each branch's default otherwise.
+    version, valid_s : int
+        Carried into the payload.
+    check_points : int
+        Size of the random check sets (the independent one is twice as large).
+    seed : int
+        Seed of the random check points and lines: builds are reproducible.
+    max_bytes : int
+        Largest payload allowed (the protocol's limit by default).
+
+    Returns
+    -------
+    ErrorMap
+        With :class:`MapReport` in ``report``.
+
+    Raises
+    ------
+    MapBuildError
+        Bad parameters, a temperature missing or not finite, or a tolerance that needs a
+        map larger than ``max_bytes``.
+    ComponentErrorSpecError
+        A model that does not fit the machine (unknown axis, non-finite value).
+    """
+    t0 = time.perf_counter()
+    ctrl = _check_parameters(machine, model, tolerance_um, controller, increment, limit_mm,
+                             limit_deg, check_points)
+    geometry = _geometry(model, temperatures)
+    geometry.check(machine)
+    w = Weights.default(machine) if weights is None else weights
+    prob = _Problem(machine, geometry, w, tool_mm, machine.travel_lo, machine.travel_hi)
+    names = machine.axis_names
+    n_out = len(names)
+    rng = np.random.default_rng(seed)
+    lines = _Lines(prob, rng, n_lines=16)
+
+    counts = [1] * len(names)
+    errs = [lines.error(i, 1) for i in range(len(names))]
+    budget = tolerance_um  # the full-grid checks below tighten it when needed
+    check_q = prob.lo + (prob.hi - prob.lo) * rng.random((check_points, len(names)))
+    check_exact = prob.exact(check_q)
+    indep_rng = np.random.default_rng([seed, 1])
+    rounds = 0
+    while True:
+        rounds += 1
+        if rounds > _MAX_ROUNDS:
+            raise MapBuildError(f"machine {machine.name!r}: no grid met {tolerance_um} µm "
+                                f"after {_MAX_ROUNDS} rounds")
+        while math.sqrt(sum(e * e for e in errs)) > budget:
+            i = _best_axis(counts, errs)
+            counts[i] = _interval_count(counts[i])
+            nodes = math.prod(counts)
+            if payload_bytes(len(names), n_out, nodes) > max_bytes:
+                raise MapBuildError(
+                    f"machine {machine.name!r}: {tolerance_um} µm needs more than {nodes} "
+                    f"nodes ({' x '.join(map(str, counts))}), over the {max_bytes}-byte map "
+                    "limit; ask for a larger tolerance"
+                )
+            errs[i] = lines.error(i, counts[i])
+        if all(c == 1 for c in counts):  # constant correction: one axis, two equal nodes
+            counts[0] = 2
+        grid = _grid_for(prob, names, counts)
+        values = prob.exact(_node_positions(prob, names, grid)).reshape(
+            (*(g.count for g in grid), n_out))
+        centres = _cell_centres(prob, names, grid, rng, check_points // 2)
+        worst = max(float(_map_error(prob, names, grid, values, check_q, check_exact).max()),
+                    float(_map_error(prob, names, grid, values, centres,
+                                     prob.exact(centres)).max()))
+        if worst > tolerance_um:
+            budget *= min(0.8, 0.9 * tolerance_um / worst)
+            continue
+        # independent check: random points and cell centres that took no part above
+        indep = np.vstack([
+            prob.lo + (prob.hi - prob.lo) * indep_rng.random((check_points, len(names))),
+            _cell_centres(prob, names, grid, indep_rng, check_points),
+        ])
+        indep_exact = prob.exact(indep)
+        worst_indep = float(_map_error(prob, names, grid, values, indep, indep_exact).max())
+        if worst_indep <= tolerance_um:
+            break
+        # the decision set missed something: learn from this set, draw a fresh one
+        check_q = np.vstack([check_q, indep])
+        check_exact = np.vstack([check_exact, indep_exact])
+        budget *= min(0.8, 0.9 * tolerance_um / worst_indep)
+
+    limits = np.array([limit_deg if a.kind == "rotary" else limit_mm for a in machine.axes])
+    over = np.abs(values) > limits
+    clamped_nodes = int(over.any(axis=-1).sum())
+    sent = np.clip(values, -limits, limits)
+    inc = increment if ctrl == "fanuc" else None
+    sent = np.rint(sent / inc) * inc if inc is not None else sent.astype(np.float32).astype(float)
+    worst_sent = float(_map_error(prob, names, grid, sent, indep, indep_exact).max())
+    reversal = _reversal(machine, model, inc)
+    report = MapReport(
+        nodes=math.prod(g.count for g in grid),
+        bytes=payload_bytes(len(grid), n_out, math.prod(g.count for g in grid)),
+        tolerance_um=tolerance_um, worst_interpolation_um=worst_indep,
+        worst_error_um=worst_sent, check_points=indep.shape[0],
+        clamped_nodes=clamped_nodes, rounds=rounds, build_s=time.perf_counter() - t0,
+    )
+    return ErrorMap(
+        machine=machine.name, version=version, controller=ctrl, grid=tuple(grid),
+        outputs=names, values=sent, increment=inc, limits=tuple(float(v) for v in limits),
+        reversal=reversal, temperatures=dict(temperatures or {}), valid_s=valid_s,
+        report=report,
+    )
+
+
+def _best_axis(counts: Sequence[int], errs: Sequence[float]) -> int:
+    """The axis whose next refinement buys the largest predicted error reduction per
+    relative growth of the map (linear interpolation: error ∝ spacing²)."""
+    best, best_gain = 0, -1.0
+    for i, (c, e) in enumerate(zip(counts, errs, strict=True)):
+        nxt = _interval_count(c)
+        predicted = 0.25 * e if c == 1 else e * ((c - 1) / (nxt - 1)) ** 2
+        gain = (e - predicted) / math.log(nxt / c)
+        if gain > best_gain:
+            best, best_gain = i, gain
+    return best
+
+
+def _check_parameters(machine: Machine, model: MachineModel, tolerance_um: float,
+                      controller: str | None, increment: float, limit_mm: float,
+                      limit_deg: float, check_points: int) -> Controller:
+    if model.machine and model.machine != machine.name:
+        raise MapBuildError(f"the model is for machine {model.machine!r}, the description "
+                            f"is of {machine.name!r}")
+    if not (math.isfinite(tolerance_um) and tolerance_um > 0):
+        raise MapBuildError(f"tolerance must be a positive number of µm, got {tolerance_um}")
+    ctrl = (controller or machine.controller).lower()
+    if ctrl not in ("fanuc", "siemens"):
+        raise MapBuildError(f"controller must be 'fanuc' or 'siemens', got {ctrl!r}")
+    if not (math.isfinite(increment) and 0 < increment <= 1):
+        raise MapBuildError(f"increment must be in (0, 1] mm, got {increment}")
+    for name, v in (("limit_mm", limit_mm), ("limit_deg", limit_deg)):
+        if not (math.isfinite(v) and v > 0):
+            raise MapBuildError(f"{name} must be positive, got {v}")
+    if check_points < 16:
+        raise MapBuildError(f"check_points must be at least 16, got {check_points}")
+    return "fanuc" if ctrl == "fanuc" else "siemens"
+
+
+def _geometry(model: MachineModel, temperatures: Mapping[str, float] | None) -> GeometricErrors:
+    temps = dict(temperatures or {})
+    for k, v in temps.items():
+        if not isinstance(v, int | float) or not math.isfinite(v):
+            raise MapBuildError(f"temperature {k} = {v!r} is not a finite number of °C")
+    for i, term in enumerate(model.terms):
+        for f in fields(term):
+            name, value = f.name, getattr(term, f.name)
+            if isinstance(value, float) and not math.isfinite(value):
+                kind = getattr(term, "kind", type(term).__name__)
+                raise MapBuildError(f"model term {i} ({kind}, axis {term.axis}): {name} = "
+                                    f"{value} is not finite")
+    try:
+        return model.geometry_at(temps)
+    except ValueError as exc:
+        raise MapBuildError(str(exc)) from None
+
+
+def _reversal(machine: Machine, model: MachineModel,
+              inc: float | None) -> tuple[float | None, ...]:
+    rev = {k.lower(): v for k, v in model.reversal_um().items()}
+    keys = {a.key for a in machine.axes}
+    unknown = sorted(set(rev) - keys)
+    if unknown:
+        raise MapBuildError(f"the model has backlash for axes {unknown}; machine "
+                            f"{machine.name!r} has {sorted(keys)}")
+    out: list[float | None] = []
+    for a in machine.axes:
+        r = rev.get(a.key)
+        if r is None:
+            out.append(None)
+            continue
+        if not math.isfinite(r) or r < 0:
+            raise MapBuildError(f"backlash of axis {a.key} is {r} µm; expected >= 0")
+        mm = r * 1e-3
+        # what the wire carries: whole counts (Fanuc) or a float32 (Siemens)
+        out.append(float(np.rint(mm / inc) * inc) if inc is not None else
+                   float(np.float32(mm)))
+    return tuple(out)
+
+
+__all__ = [
+    "ErrorMap",
+    "GridDim",
+    "MapBuildError",
+    "MapReport",
+    "build_map",
+    "payload_bytes",
+]
