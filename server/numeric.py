@@ -1,22 +1,41 @@
-"""Where the service's edge calls the numeric core's validators, in one place.
+"""Where the service calls the numeric core (:mod:`volumetric`), in one place.
 
-The core (:mod:`volumetric`) is the authority on what a machine description or a
-measurement CSV may hold; the API uses the same readers as the offline commands, so it
-rejects exactly what they reject, with the same messages.
+The core is the authority on what a machine description, a measurement CSV or a model may
+hold; the API uses the same readers as the offline commands, so it rejects exactly what
+they reject, with the same messages. Everything here is synchronous and may take a while
+(a fit): async callers use :func:`asyncio.to_thread`.
 """
 
 from __future__ import annotations
 
 import io
+from collections.abc import Sequence
 from typing import Any
 
 from volumetric.errors import MachineSpecError
+from volumetric.fit import FitError, fit
 from volumetric.machine import parse_machine
-from volumetric.measurement import MeasurementFormatError, read_measurements
+from volumetric.measurement import MeasurementFormatError, Measurements, read_measurements
+from volumetric.model import FORMAT as MODEL_FORMAT
+from volumetric.model import MachineModel
+
+__all__ = [
+    "MODEL_FORMAT",
+    "MeasurementError",
+    "ModelError",
+    "check_machine_description",
+    "check_model",
+    "count_measurement_rows",
+    "fit_model",
+]
 
 
 class MeasurementError(ValueError):
     """A measurement CSV the core refuses; the message names the line and column."""
+
+
+class ModelError(ValueError):
+    """A model the core cannot read or fit; the message says what and where."""
 
 
 def check_machine_description(spec: dict[str, Any]) -> None:
@@ -30,6 +49,15 @@ def check_machine_description(spec: dict[str, Any]) -> None:
         parse_machine(spec)
     except MachineSpecError as exc:
         raise ValueError(str(exc)) from None
+
+
+def _read(text: str, source: str) -> Measurements:
+    stream = io.StringIO(text)
+    stream.name = source  # read_measurements names its errors by the stream's name
+    try:
+        return read_measurements(stream)
+    except MeasurementFormatError as exc:
+        raise MeasurementError(str(exc)) from None
 
 
 def count_measurement_rows(text: str, source: str) -> int:
@@ -47,9 +75,52 @@ def count_measurement_rows(text: str, source: str) -> int:
     MeasurementError
         With the core's message naming the line and column.
     """
-    stream = io.StringIO(text)
-    stream.name = source  # read_measurements names its errors by the stream's name
+    return len(_read(text, source))
+
+
+def check_model(body: dict[str, Any], description: dict[str, Any]) -> None:
+    """Raise :class:`ModelError` unless ``body`` is a model (``MachineModel.to_json``) whose
+    error names all belong to the machine described by ``description``."""
+    if body.get("format") != MODEL_FORMAT:
+        raise ModelError(f"format: expected {MODEL_FORMAT!r}, got {body.get('format')!r}")
     try:
-        return len(read_measurements(stream))
-    except MeasurementFormatError as exc:
-        raise MeasurementError(str(exc)) from None
+        model = MachineModel.from_json(body)
+        model.geometry.check(parse_machine(description))
+    # from_json names the entry for the shapes it expects; TypeError and KeyError are the
+    # shapes it does not (a list where an object belongs): still the client's error.
+    except (ValueError, TypeError, KeyError) as exc:
+        raise ModelError(str(exc)) from None
+
+
+def fit_model(
+    description: dict[str, Any], sets: Sequence[tuple[str, str]], *, select: bool = True
+) -> dict[str, Any]:
+    """Identify a machine's rigid model from stored measurement sets.
+
+    Parameters
+    ----------
+    description
+        The machine description (formats.md §1).
+    sets
+        ``(name, csv_text)`` of each measurement set, used together.
+    select
+        Choose polynomial degrees from the data (BIC) rather than using the maxima.
+
+    Returns
+    -------
+    dict
+        The model as JSON (``MachineModel.to_json``), fit statistics under ``info``.
+
+    Raises
+    ------
+    MeasurementError, ModelError
+        Unreadable sets; sets that do not combine or observe too little to fit.
+    """
+    machine = parse_machine(description)
+    parts = [_read(text, name) for name, text in sets]
+    try:
+        readings = Measurements.concat(parts)
+        result = fit(machine, readings, select=select)
+    except (FitError, ValueError) as exc:
+        raise ModelError(str(exc)) from None
+    return result.model.to_json()

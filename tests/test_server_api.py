@@ -9,6 +9,7 @@ from contextlib import asynccontextmanager
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 from fastapi import FastAPI
 
@@ -19,6 +20,7 @@ from server.db import reports as report_repo
 from server.events import EventKind
 from server.settings import Settings
 from tests.test_server_db import database_url, postgres_url  # noqa: F401  (fixtures)
+from volumetric.components import component_from_json
 
 API_KEY = "test-api-key-0123"
 WRITE = {"X-API-Key": API_KEY}
@@ -253,22 +255,90 @@ def _get_machine(session: Any, name: str) -> Any:
 
 # --- models ---------------------------------------------------------------------------------
 
+def model_body(slope_um: float) -> dict[str, Any]:
+    """A model in the numeric core's JSON form: a linear positioning error of X."""
+    return {"format": "ednc-model/1", "machine": "vmc-01",
+            "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, slope_um],
+                                   "origin": 250.0, "scale": 250.0}},
+            "locations": {}, "terms": [], "info": {}}
+
+
 async def test_models_are_versioned(client: httpx.AsyncClient) -> None:
     await add_vmc(client)
     url = "/api/machines/vmc-01/models"
     assert (await client.get(f"{url}/latest")).status_code == 404
     for i in range(3):
-        r = await client.post(url, headers=WRITE, json={"source": "fit", "body": {"step": i}})
-        assert r.status_code == 201 and r.json()["version"] == i + 1
+        r = await client.post(url, headers=WRITE, json={"body": model_body(i)})
+        assert r.status_code == 201, r.text
+        assert (r.json()["version"], r.json()["source"]) == (i + 1, "upload")
     latest = (await client.get(f"{url}/latest")).json()
-    assert latest["version"] == 3 and latest["body"] == {"step": 2}
-    assert (await client.get(f"{url}/1")).json()["body"] == {"step": 0}
+    assert latest["version"] == 3 and latest["body"] == model_body(2)
+    assert (await client.get(f"{url}/1")).json()["body"] == model_body(0)
     listed = (await client.get(url)).json()
     assert [m["version"] for m in listed] == [3, 2, 1] and "body" not in listed[0]
     assert (await client.get(f"{url}/4")).status_code == 404
     assert (await client.get(f"{url}/0")).status_code == 422
-    r = await client.post(url, headers=WRITE, json={"source": "guess", "body": {}})
+    r = await client.post(url, headers=WRITE, json={"source": "guess", "body": model_body(1)})
     assert errors(r)[0]["loc"] == ["body", "source"]
+
+
+@pytest.mark.parametrize(("change", "words"), [
+    ({"format": "other/9"}, "ednc-model/1"),
+    ({"components": {"EAA": {"type": "polynomial", "coefficients": [1.0]}}}, "EAA"),
+    ({"components": {"EXC": {"type": "polynomial", "coefficients": [1.0]}}}, "no axis C"),
+    ({"components": [1, 2]}, ""),
+    ({"terms": [{"effect": "warp", "axis": "x"}]}, "warp"),
+])
+async def test_a_model_the_core_cannot_read_is_422(
+    client: httpx.AsyncClient, change: dict[str, Any], words: str
+) -> None:
+    await add_vmc(client)
+    r = await client.post("/api/machines/vmc-01/models", headers=WRITE,
+                          json={"body": {**model_body(1.0), **change}})
+    (error,) = errors(r)
+    assert error["loc"] == ["body", "body"] and words in error["msg"]
+    assert (await client.get("/api/machines/vmc-01/models")).json() == []
+
+
+def positioning_csv(slope_um_per_mm: float) -> str:
+    """Two runs of an X positioning test whose error grows linearly with x."""
+    lines = [CSV_HEADER]
+    for run in (1, 2):
+        for i in range(11):
+            x = 50.0 * i
+            lines.append(f"X-positioning,{run},{i},{x},150,-150,1,0,0,100,displacement,"
+                         f"1,0,0,{slope_um_per_mm * x}")
+    return "\n".join(lines) + "\n"
+
+
+async def test_fit_identifies_the_model_from_stored_sets(client: httpx.AsyncClient) -> None:
+    await add_vmc(client)
+    await client.post("/api/machines/vmc-01/measurements", params={"set_name": "x-pos"},
+                      content=positioning_csv(0.02).encode(),
+                      headers={**WRITE, "content-type": "text/csv"})
+    r = await client.post("/api/machines/vmc-01/models/fit", headers=WRITE,
+                          json={"measurement_sets": ["x-pos"]})
+    assert r.status_code == 201, r.text
+    model = r.json()
+    assert (model["version"], model["source"]) == (1, "fit")
+    # 0.02 µm/mm over the 500 mm travel: the fitted EXX rises by 10 µm end to end.
+    exx = component_from_json(model["body"]["components"]["EXX"])
+    ends = exx(np.array([0.0, 500.0]))
+    assert ends[1] - ends[0] == pytest.approx(10.0, rel=1e-6)
+    latest = (await client.get("/api/machines/vmc-01/models/latest")).json()
+    assert latest == model
+
+
+async def test_fit_errors_are_422(client: httpx.AsyncClient) -> None:
+    await add_vmc(client)
+    url = "/api/machines/vmc-01/models/fit"
+    r = await client.post(url, headers=WRITE, json={"measurement_sets": ["missing"]})
+    (error,) = errors(r)
+    assert error["loc"] == ["body", "measurement_sets", 0] and "missing" in error["msg"]
+    r = await client.post(url, headers=WRITE, json={"measurement_sets": []})
+    assert errors(r)[0]["loc"] == ["body", "measurement_sets"]
+    r = await client.post(url, headers=WRITE, json={"measurement_sets": ["a", "a"]})
+    assert "twice" in errors(r)[0]["msg"]
 
 
 # --- measurements ---------------------------------------------------------------------------
@@ -469,8 +539,9 @@ async def test_a_restart_loses_nothing(database_url: str) -> None:  # noqa: F811
     settings = Settings(database_url=database_url, api_key=API_KEY)
     async with running(settings) as (app, client):
         await add_vmc(client)
-        await client.post("/api/machines/vmc-01/models", headers=WRITE,
-                          json={"body": {"kept": True}})
+        r = await client.post("/api/machines/vmc-01/models", headers=WRITE,
+                              json={"body": model_body(4.0)})
+        assert r.status_code == 201
         await client.post("/api/machines/vmc-01/measurements", content=csv_text(2).encode(),
                           params={"set_name": "s1"}, headers={**WRITE, "content-type": "text/csv"})
         await client.post("/api/machines/vmc-01/diagnoses", json=DIAGNOSIS, headers=WRITE)
@@ -479,7 +550,7 @@ async def test_a_restart_loses_nothing(database_url: str) -> None:  # noqa: F811
     async with running(settings) as (_, client):
         after = {p: (await client.get(p)).text for p in RESTART_PATHS}
     assert after == before
-    assert json.loads(before["/api/machines/vmc-01/models/latest"])["body"] == {"kept": True}
+    assert json.loads(before["/api/machines/vmc-01/models/latest"])["body"] == model_body(4.0)
     assert before["/api/machines/vmc-01/measurements/s1/csv"] == csv_text(2)
     assert len(json.loads(before["/api/events"])) == 1
 

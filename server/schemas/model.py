@@ -5,9 +5,9 @@ from __future__ import annotations
 import datetime as dt
 from typing import Any, Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, field_validator
 
-from server.schemas.common import JsonObject
+from server.schemas.common import JsonObject, Name
 
 ModelSource = Literal["fit", "upload", "diagnose"]
 
@@ -32,3 +32,21 @@ class ModelPublic(ModelSummary):
     """A model version with its body."""
 
     body: dict[str, Any]
+
+
+class FitRequest(BaseModel):
+    """Fit the machine's rigid model to stored measurement sets."""
+
+    measurement_sets: list[Name] = Field(
+        min_length=1, max_length=50, description="Names of the sets, used together."
+    )
+    select: bool = Field(
+        default=True, description="Choose polynomial degrees from the data (BIC)."
+    )
+
+    @field_validator("measurement_sets")
+    @classmethod
+    def _distinct(cls, names: list[str]) -> list[str]:
+        if len(set(names)) != len(names):
+            raise ValueError("a set is named twice")
+        return names

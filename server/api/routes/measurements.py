@@ -11,6 +11,7 @@ from fastapi import APIRouter, HTTPException, Path, Query, Request, Response, st
 from starlette.datastructures import UploadFile
 
 from server.api.deps import DatabaseDep, MachineDep, WriteAccess
+from server.api.errors import unprocessable
 from server.db import Database, DuplicateError
 from server.db import measurements as measurement_repo
 from server.db.tables import MachineRow, MeasurementSetRow
@@ -43,11 +44,7 @@ _UPLOAD_BODY: dict[str, Any] = {
 
 
 def _unprocessable(message: str) -> HTTPException:
-    # Same shape as FastAPI's own validation errors, so clients parse one format.
-    return HTTPException(
-        status.HTTP_422_UNPROCESSABLE_CONTENT,
-        [{"loc": ["body"], "msg": message, "type": "measurement_format"}],
-    )
+    return unprocessable(["body"], message, "measurement_format")
 
 
 def set_public(row: MeasurementSetRow, machine: str) -> MeasurementSetPublic:

@@ -1,16 +1,29 @@
-"""``/api/machines/{name}/models``: a machine's error models, versioned."""
+"""``/api/machines/{name}/models``: a machine's error models, versioned.
+
+A model is uploaded (checked by the numeric core against the machine) or fitted here to
+stored measurement sets.
+"""
 
 from __future__ import annotations
+
+import asyncio
 
 from fastapi import APIRouter, HTTPException, status
 
 from server.api.deps import DatabaseDep, MachineDep, Version, WriteAccess
-from server.db import DuplicateError
+from server.api.errors import unprocessable
+from server.db import Database, DuplicateError
 from server.db import error_models as model_repo
-from server.db.tables import ModelRow
-from server.schemas.model import ModelCreate, ModelPublic, ModelSummary
+from server.db import measurements as measurement_repo
+from server.db.tables import MachineRow, ModelRow
+from server.numeric import MeasurementError, ModelError, check_model, fit_model
+from server.schemas.model import FitRequest, ModelCreate, ModelPublic, ModelSource, ModelSummary
 
 router = APIRouter(prefix="/machines/{name}/models", tags=["models"])
+
+_RETRY: dict[int | str, dict[str, str]] = {
+    409: {"description": "Another writer took the version number; retry."}
+}
 
 
 def model_public(row: ModelRow, machine: str) -> ModelPublic:
@@ -18,6 +31,16 @@ def model_public(row: ModelRow, machine: str) -> ModelPublic:
         {"machine": machine, "version": row.version, "source": row.source,
          "body": row.body, "created_at": row.created_at}
     )
+
+
+async def _store(
+    db: Database, machine: MachineRow, source: ModelSource, body: dict[str, object]
+) -> ModelPublic:
+    try:
+        row = await db.run(model_repo.add_model, machine.id, source=source, body=body)
+    except DuplicateError as exc:
+        raise HTTPException(status.HTTP_409_CONFLICT, f"{exc}; retry") from None
+    return model_public(row, machine.name)
 
 
 @router.get("")
@@ -32,14 +55,41 @@ async def list_models(db: DatabaseDep, machine: MachineDep) -> list[ModelSummary
 
 
 @router.post("", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
-             responses={409: {"description": "Another writer took the version; retry."}})
+             responses=_RETRY)
 async def add_model(db: DatabaseDep, machine: MachineDep, model: ModelCreate) -> ModelPublic:
-    """Store a model as the machine's next version."""
+    """Store a model (``MachineModel.to_json`` of the numeric core) as the next version.
+
+    422 when the core cannot read it or it names errors of axes the machine lacks.
+    """
     try:
-        row = await db.run(model_repo.add_model, machine.id, source=model.source, body=model.body)
-    except DuplicateError as exc:
-        raise HTTPException(status.HTTP_409_CONFLICT, f"{exc}; retry") from None
-    return model_public(row, machine.name)
+        await asyncio.to_thread(check_model, model.body, machine.description)
+    except ModelError as exc:
+        raise unprocessable(["body", "body"], str(exc), "model_format") from None
+    return await _store(db, machine, model.source, model.body)
+
+
+@router.post("/fit", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
+             responses=_RETRY)
+async def fit(db: DatabaseDep, machine: MachineDep, request: FitRequest) -> ModelPublic:
+    """Fit the rigid model to stored measurement sets and store it as the next version.
+
+    The fit statistics (degrees chosen, uncertainties, unidentifiable parameters, RMS) are
+    in the model's ``info``. 422 when a set is unknown or the readings cannot be fitted.
+    """
+    sets: list[tuple[str, str]] = []
+    for i, set_name in enumerate(request.measurement_sets):
+        row = await db.run(measurement_repo.get_measurement_set, machine.id, set_name)
+        if row is None:
+            raise unprocessable(["body", "measurement_sets", i],
+                                f"machine {machine.name!r} has no measurement set {set_name!r}",
+                                "unknown_set")
+        sets.append((row.name, row.csv_text))
+    try:
+        body = await asyncio.to_thread(fit_model, machine.description, sets,
+                                       select=request.select)
+    except (MeasurementError, ModelError) as exc:
+        raise unprocessable(["body", "measurement_sets"], str(exc), "fit_failed") from None
+    return await _store(db, machine, "fit", body)
 
 
 @router.get("/latest")
