@@ -1,0 +1,175 @@
+"""Error-map lookup as a PLC does it: multilinear interpolation on a regular grid.
+
+A map (``protocol.mapformat``) holds K output values at every node of a regular grid of
+D dimensions (``start + i·step``, ``i = 0 .. count-1``), row-major with the output axis
+fastest, then the last grid dimension. At a position q the lookup interpolates
+multilinearly between the 2^D surrounding nodes; outside the grid it holds the edge value
+(each coordinate is clamped to the grid), as a pitch-error table does at the end of
+travel.
+
+:class:`GridMap` is one decoded map, values in mm (degrees for rotary outputs).
+:class:`FleetLookup` packs the maps of many machines into one flat array so one vectorised
+call serves a whole fleet's PLC scan (:mod:`benchmarks.fleet_scan` measures it); both use
+the same :func:`interpolate`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from protocol.codes import MapEncoding
+from protocol.mapformat import ErrorMapPayload
+
+__all__ = ["FleetLookup", "GridMap", "interpolate"]
+
+F64 = NDArray[np.float64]
+I64 = NDArray[np.int64]
+
+
+def interpolate(values: F64, base: I64, start: F64, step: F64, count: I64, strides: I64,
+                q: F64) -> F64:
+    """Multilinear interpolation of M points, each on its own grid in one flat table.
+
+    Parameters
+    ----------
+    values : ndarray, shape (T, K)
+        Node values of every grid, one row per node, grids one after the other.
+    base : ndarray of int, shape (M,)
+        Row of each point's grid's first node.
+    start, step : ndarray, shape (M, D)
+        Grid origin and spacing per point (mm or degrees).
+    count, strides : ndarray of int, shape (M, D)
+        Nodes per dimension (>= 2) and the row stride of each dimension.
+    q : ndarray, shape (M, D)
+        Positions, same units as ``start``.
+
+    Returns
+    -------
+    ndarray, shape (M, K)
+        Interpolated values; coordinates outside a grid are clamped to its edge.
+    """
+    u = np.clip((q - start) / step, 0.0, count - 1)
+    i0 = np.minimum(np.floor(u).astype(np.int64), count - 2)
+    f = u - i0
+    m, d = q.shape
+    out = np.zeros((m, values.shape[1]))
+    for corner in range(1 << d):
+        bits = np.array([(corner >> (d - 1 - j)) & 1 for j in range(d)], dtype=bool)
+        w = np.prod(np.where(bits, f, 1.0 - f), axis=1)
+        row = base + np.sum((i0 + bits) * strides, axis=1)
+        out += w[:, None] * values[row]
+    return out
+
+
+def _strides(count: Sequence[int]) -> I64:
+    s = np.ones(len(count), dtype=np.int64)
+    for j in range(len(count) - 2, -1, -1):
+        s[j] = s[j + 1] * count[j + 1]
+    return s
+
+
+@dataclass(frozen=True, eq=False)
+class GridMap:
+    """A decoded error map, values in mm (degrees for rotary outputs).
+
+    Attributes
+    ----------
+    machine : str
+    version, valid_s : int
+    grid : tuple of str
+        Grid dimension names (machine axis names, upper case), D of them.
+    start, step : ndarray, shape (D,)
+    count : ndarray of int, shape (D,)
+    outputs : tuple of str
+        Corrected axes (upper case), K of them.
+    values : ndarray, shape (N_nodes, K)
+        Node values, row-major over the grid.
+    reversal : ndarray, shape (K,)
+        Backlash (full reversal) per output, mm; 0 where the map gives none.
+    """
+
+    machine: str
+    version: int
+    valid_s: int
+    grid: tuple[str, ...]
+    start: F64
+    step: F64
+    count: I64
+    outputs: tuple[str, ...]
+    values: F64
+    reversal: F64
+
+    @staticmethod
+    def from_payload(p: ErrorMapPayload) -> GridMap:
+        """Convert a payload (int32 counts times its increment, or float32 mm) to mm."""
+        raw = np.frombuffer(p.values, dtype=p.dtype).reshape(-1, len(p.outputs))
+        int32 = p.encoding is MapEncoding.INT32_INCREMENTS
+        scale = p.increment_mm if int32 else 1.0
+        rev = np.array([0.0 if o.reversal is None else o.reversal * scale for o in p.outputs])
+        return GridMap(
+            machine=p.machine, version=p.version, valid_s=p.valid_s,
+            grid=tuple(g.name.upper() for g in p.grid),
+            start=np.array([g.start for g in p.grid]), step=np.array([g.step for g in p.grid]),
+            count=np.array([g.count for g in p.grid], dtype=np.int64),
+            outputs=tuple(o.name.upper() for o in p.outputs),
+            values=raw.astype(np.float64) * scale, reversal=rev,
+        )
+
+    @property
+    def strides(self) -> I64:
+        return _strides(self.count.tolist())
+
+    def node_values(self) -> F64:
+        """Values shaped (count_1, ..., count_D, K)."""
+        return self.values.reshape((*self.count.tolist(), len(self.outputs)))
+
+    def lookup(self, q: F64) -> F64:
+        """Interpolated values at positions q, shape (N, D) in ``grid`` order → (N, K), mm."""
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        if qa.shape[1] != len(self.grid):
+            raise ValueError(f"map of grid {self.grid} needs positions of shape (N, "
+                             f"{len(self.grid)}), got {qa.shape}")
+        n = qa.shape[0]
+        return interpolate(self.values, np.zeros(n, dtype=np.int64),
+                           np.broadcast_to(self.start, qa.shape),
+                           np.broadcast_to(self.step, qa.shape),
+                           np.broadcast_to(self.count, qa.shape),
+                           np.broadcast_to(self.strides, qa.shape), qa)
+
+
+class FleetLookup:
+    """The maps of many machines in one table, looked up all at once.
+
+    All maps must have the same number of grid dimensions D and outputs K (their sizes,
+    origins and spacings may differ). Row m of every call belongs to ``maps[m]``.
+    """
+
+    def __init__(self, maps: Sequence[GridMap]) -> None:
+        if not maps:
+            raise ValueError("FleetLookup needs at least one map")
+        d, k = len(maps[0].grid), len(maps[0].outputs)
+        for i, g in enumerate(maps):
+            if len(g.grid) != d or len(g.outputs) != k:
+                raise ValueError(f"map {i} ({g.machine}) has {len(g.grid)} grid dimensions "
+                                 f"and {len(g.outputs)} outputs, map 0 has {d} and {k}")
+        sizes = [g.values.shape[0] for g in maps]
+        self.values = np.vstack([g.values for g in maps])
+        self.base = np.concatenate([[0], np.cumsum(sizes)[:-1]]).astype(np.int64)
+        self.start = np.vstack([g.start for g in maps])
+        self.step = np.vstack([g.step for g in maps])
+        self.count = np.vstack([g.count for g in maps])
+        self.strides = np.vstack([g.strides for g in maps])
+
+    def __len__(self) -> int:
+        return int(self.base.shape[0])
+
+    def lookup(self, q: F64) -> F64:
+        """Values (M, K), mm, at one position per machine, q shape (M, D)."""
+        if q.shape != self.start.shape:
+            raise ValueError(f"positions must have shape {self.start.shape}, got {q.shape}")
+        return interpolate(self.values, self.base, self.start, self.step, self.count,
+                           self.strides, q)

@@ -1,0 +1,211 @@
+"""A Siemens-style controller: temperature compensation data driven by a PLC lookup.
+
+The NC's temperature compensation per axis (Sinumerik 840D's, simplified):
+
+* MD32750 ``TEMP_COMP_TYPE``: bit 0 enables the position-independent offset SD43900,
+  bit 1 the position-dependent part SD43910/SD43920. Default here: 1.
+* SD43900 ``TEMP_COMP_ABS_VALUE``: the offset, mm.
+* SD43910 ``TEMP_COMP_SLOPE`` and SD43920 ``TEMP_COMP_REF_POSITION``: the position-
+  dependent part ``slope · (position - reference)`` (slope in mm/mm, reference in mm).
+* MD32760 ``COMP_ADD_VELO_FACTOR``: the applied compensation changes by at most
+  ``MD32760 · MD32000 · ipo_s / 60`` mm per interpolation cycle (MD32000
+  ``MAX_AX_VELO``, mm/min). Default 0.01 of 10 m/min: 6.7 µm per 4 ms cycle.
+
+Writing SD43900 while MD32750 bit 0 is off is refused with alarm ``SD43900_DISABLED``
+(:class:`SiemensAlarm`), as the real control does; SD43910/SD43920 likewise need bit 1.
+
+The PLC part (every ``plc_every`` interpolation cycles) looks the map up at the current
+machine coordinates (:mod:`machine_sim.controller`) and writes the result to SD43900; the
+NC part runs every interpolation cycle (:meth:`SiemensNC.ipo_cycle`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from protocol.codes import MapEncoding
+
+from .controller import Compensator
+from .mapstore import MapStore
+
+__all__ = [
+    "MD_MAX_AX_VELO",
+    "MD_TEMP_COMP_TYPE",
+    "MD_VELO_FACTOR",
+    "SD_ABS_VALUE",
+    "SD_REF_POSITION",
+    "SD_SLOPE",
+    "SiemensAlarm",
+    "SiemensConfig",
+    "SiemensNC",
+]
+
+F64 = NDArray[np.float64]
+MD_MAX_AX_VELO = 32000
+MD_TEMP_COMP_TYPE = 32750
+MD_VELO_FACTOR = 32760
+SD_ABS_VALUE = 43900
+SD_SLOPE = 43910
+SD_REF_POSITION = 43920
+_MACHINE_DATA = (MD_MAX_AX_VELO, MD_TEMP_COMP_TYPE, MD_VELO_FACTOR)
+_SETTING_DATA = (SD_ABS_VALUE, SD_SLOPE, SD_REF_POSITION)
+
+
+class SiemensAlarm(RuntimeError):
+    """The NC refused a write; ``code`` names the alarm."""
+
+    def __init__(self, code: str, text: str) -> None:
+        super().__init__(f"{code}: {text}")
+        self.code = code
+
+
+@dataclass(frozen=True)
+class SiemensConfig:
+    """Cycle times and initial machine data.
+
+    Attributes
+    ----------
+    ipo_s : float
+        Interpolation cycle, s (4 ms default).
+    plc_every : int
+        The PLC lookup runs every this many interpolation cycles.
+    limit_mm : float
+        Largest |SD43900| accepted, mm.
+    max_ax_velo_mm_min, velo_factor : float
+        Initial MD32000 and MD32760.
+    temp_comp_type : int
+        Initial MD32750 of every axis.
+    expiry_ramp_s : float
+    """
+
+    ipo_s: float = 0.004
+    plc_every: int = 2
+    limit_mm: float = 0.5
+    max_ax_velo_mm_min: float = 10000.0
+    velo_factor: float = 0.01
+    temp_comp_type: int = 1
+    expiry_ramp_s: float = 2.0
+
+    def __post_init__(self) -> None:
+        if not (self.ipo_s > 0 and self.plc_every >= 1 and self.limit_mm > 0):
+            raise ValueError("ipo_s and limit_mm must be > 0, plc_every >= 1")
+
+
+class SiemensNC(Compensator):
+    """A Siemens-style machine's NC and PLC compensation.
+
+    Parameters
+    ----------
+    machine : str
+    axes : sequence of str
+    config : SiemensConfig
+    """
+
+    def __init__(self, machine: str, axes: Sequence[str], config: SiemensConfig | None = None
+                 ) -> None:
+        self.config = c = config or SiemensConfig()
+        store = MapStore(machine, axes, accepted=MapEncoding.FLOAT32_MM, limit_mm=c.limit_mm)
+        super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)
+        n = len(self.axes)
+        self.md: dict[int, F64] = {
+            MD_MAX_AX_VELO: np.full(n, c.max_ax_velo_mm_min),
+            MD_TEMP_COMP_TYPE: np.full(n, float(c.temp_comp_type)),
+            MD_VELO_FACTOR: np.full(n, c.velo_factor),
+        }
+        self.sd: dict[int, F64] = {k: np.zeros(n) for k in _SETTING_DATA}
+        self.applied = np.zeros(n)
+        self.cycles = 0
+        self.alarms: list[str] = []
+
+    def _axis(self, axis: str) -> int:
+        key = axis.upper()
+        if key not in self.axes:
+            raise ValueError(f"no axis {axis!r} on this NC ({' '.join(self.axes)})")
+        return self.axes.index(key)
+
+    def write_md(self, number: int, axis: str, value: float) -> None:
+        """Set machine data ``number`` of one axis."""
+        if number not in _MACHINE_DATA:
+            raise ValueError(f"MD{number} is not simulated (known: {_MACHINE_DATA})")
+        self.md[number][self._axis(axis)] = float(value)
+
+    def read_md(self, number: int, axis: str) -> float:
+        return float(self.md[number][self._axis(axis)])
+
+    def write_sd(self, number: int, axis: str, value: float) -> None:
+        """Set setting data ``number`` of one axis; raises :class:`SiemensAlarm` when
+        MD32750 does not enable it or the value is out of range."""
+        if number not in _SETTING_DATA:
+            raise ValueError(f"SD{number} is not simulated (known: {_SETTING_DATA})")
+        j = self._axis(axis)
+        comp_type = int(self.md[MD_TEMP_COMP_TYPE][j])
+        if number == SD_ABS_VALUE and not comp_type & 1:
+            raise SiemensAlarm("SD43900_DISABLED", f"axis {self.axes[j]}: SD43900 write "
+                               f"refused, MD32750 = {comp_type} has bit 0 off")
+        if number in (SD_SLOPE, SD_REF_POSITION) and not comp_type & 2:
+            raise SiemensAlarm(f"SD{number}_DISABLED", f"axis {self.axes[j]}: SD{number} "
+                               f"write refused, MD32750 = {comp_type} has bit 1 off")
+        v = float(value)
+        if not np.isfinite(v) or (number == SD_ABS_VALUE and abs(v) > self.config.limit_mm):
+            raise SiemensAlarm("SD43900_RANGE", f"axis {self.axes[j]}: SD{number} = {v!r} "
+                               f"is outside ±{self.config.limit_mm} mm")
+        self.sd[number][j] = v
+
+    def read_sd(self, number: int, axis: str) -> float:
+        return float(self.sd[number][self._axis(axis)])
+
+    def applied_mm(self) -> F64:
+        return self.applied
+
+    def max_step_mm(self) -> F64:
+        """Largest change of the applied compensation per IPO cycle, per axis, mm."""
+        out: F64 = (self.md[MD_VELO_FACTOR] * self.md[MD_MAX_AX_VELO] / 60.0
+                    * self.config.ipo_s)
+        return out
+
+    @property
+    def state(self) -> str:
+        """Telemetry label: ``alarm``, ``releasing``, ``ramping``, ``compensating``, ``idle``."""
+        if self.alarms:
+            return "alarm"
+        if self.releasing:
+            return "releasing"
+        if np.any(np.abs(self.applied - self._desired()) > 1e-12):
+            return "ramping"
+        return "compensating" if self.store.active is not None else "idle"
+
+    def _desired(self) -> F64:
+        comp_type = self.md[MD_TEMP_COMP_TYPE].astype(np.int64)
+        out: F64 = np.where(comp_type & 1, self.sd[SD_ABS_VALUE], 0.0)
+        return out
+
+    def ipo_cycle(self, now_s: float, positions: Mapping[str, float] | F64,
+                  directions: Mapping[str, int] | NDArray[np.integer] | None = None) -> F64:
+        """One interpolation cycle (with the PLC lookup every ``plc_every``); returns the
+        compensation applied per axis, mm."""
+        pos = self._vector(positions, float)
+        if self.cycles % self.config.plc_every == 0:
+            wanted = self.wanted_mm(now_s, pos, directions)
+            for j, axis in enumerate(self.axes):
+                if wanted[j] == self.sd[SD_ABS_VALUE][j]:
+                    continue
+                try:
+                    self.write_sd(SD_ABS_VALUE, axis, float(wanted[j]))
+                except SiemensAlarm as exc:
+                    if str(exc) not in self.alarms:
+                        self.alarms.append(str(exc))
+        comp_type = self.md[MD_TEMP_COMP_TYPE].astype(np.int64)
+        desired = self._desired() + np.where(
+            comp_type & 2, self.sd[SD_SLOPE] * (pos - self.sd[SD_REF_POSITION]), 0.0)
+        step = self.max_step_mm()
+        self.applied = self.applied + np.clip(desired - self.applied, -step, step)
+        self.cycles += 1
+        return self.applied
+
+    def reset_alarms(self) -> None:
+        """Operator reset."""
+        self.alarms.clear()
