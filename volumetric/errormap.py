@@ -577,7 +577,7 @@ def build_map(
                     float(_map_error(prob, names, grid, values, centres,
                                      prob.exact(centres)).max()))
         if worst > tolerance_um:
-            budget *= min(0.8, 0.9 * tolerance_um / worst)
+            budget *= _shrink(tolerance_um, worst)
             continue
         # independent check: random points and cell centres that took no part above
         indep = np.vstack([
@@ -591,7 +591,7 @@ def build_map(
         # the decision set missed something: learn from this set, draw a fresh one
         check_q = np.vstack([check_q, indep])
         check_exact = np.vstack([check_exact, indep_exact])
-        budget *= min(0.8, 0.9 * tolerance_um / worst_indep)
+        budget *= _shrink(tolerance_um, worst_indep)
 
     limits = np.array([limit_deg if a.kind == "rotary" else limit_mm for a in machine.axes])
     over = np.abs(values) > limits
@@ -614,6 +614,13 @@ def build_map(
         reversal=reversal, temperatures=dict(temperatures or {}), valid_s=valid_s,
         report=report,
     )
+
+
+def _shrink(tolerance_um: float, worst_um: float) -> float:
+    """Budget factor after a check found ``worst_um`` > tolerance: aim 5 % under the
+    tolerance (interpolation error ∝ spacing², so error and budget scale alike), but move
+    by 5 % at least and by half at most."""
+    return max(0.5, min(0.95, 0.95 * tolerance_um / worst_um))
 
 
 def _best_axis(counts: Sequence[int], errs: Sequence[float]) -> int:
