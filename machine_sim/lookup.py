@@ -24,7 +24,7 @@ from numpy.typing import NDArray
 from protocol.codes import MapEncoding
 from protocol.mapformat import ErrorMapPayload
 
-__all__ = ["FleetLookup", "GridMap", "interpolate"]
+__all__ = ["FleetLadder", "FleetLookup", "GridMap", "interpolate"]
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
@@ -53,15 +53,19 @@ def interpolate(values: F64, base: I64, start: F64, step: F64, count: I64, strid
         Interpolated values; coordinates outside a grid are clamped to its edge.
     """
     u = np.clip((q - start) / step, 0.0, count - 1)
-    i0 = np.minimum(np.floor(u).astype(np.int64), count - 2)
+    i0 = np.minimum(u.astype(np.int64), count - 2)  # u >= 0, so truncation is floor
     f = u - i0
     m, d = q.shape
-    out = np.zeros((m, values.shape[1]))
-    for corner in range(1 << d):
-        bits = np.array([(corner >> (d - 1 - j)) & 1 for j in range(d)], dtype=bool)
-        w = np.prod(np.where(bits, f, 1.0 - f), axis=1)
-        row = base + np.sum((i0 + bits) * strides, axis=1)
-        out += w[:, None] * values[row]
+    # weights and row offsets of the 2^D corners, built one dimension at a time:
+    # corner bit j set = the upper node along dimension j
+    w = np.ones((m, 1))
+    off = np.zeros((m, 1), dtype=np.int64)
+    for j in range(d):
+        fj, sj = f[:, j:j + 1], strides[:, j:j + 1]
+        w = np.concatenate((w * (1.0 - fj), w * fj), axis=1)
+        off = np.concatenate((off, off + sj), axis=1)
+    row = (base + np.einsum("md,md->m", i0, strides))[:, None] + off
+    out: F64 = np.einsum("mc,mck->mk", w, values[row])
     return out
 
 
@@ -173,3 +177,28 @@ class FleetLookup:
             raise ValueError(f"positions must have shape {self.start.shape}, got {q.shape}")
         return interpolate(self.values, self.base, self.start, self.step, self.count,
                            self.strides, q)
+
+
+class FleetLadder:
+    """The Fanuc ladder of :mod:`machine_sim.fanuc` for a whole fleet in one call per scan.
+
+    Quantises each machine's looked-up compensation to increments, clamps it to
+    ``±limit_counts`` and moves each shift by at most ``max_step_counts`` per scan, like
+    :meth:`machine_sim.fanuc.FanucPMC.scan` in ramp mode, for M machines at once.
+    """
+
+    def __init__(self, maps: Sequence[GridMap], *, increment_mm: float = 0.001,
+                 limit_counts: int = 500, max_step_counts: int = 5) -> None:
+        self.lookup = FleetLookup(maps)
+        self.increment_mm = increment_mm
+        self.limit_counts = limit_counts
+        self.max_step_counts = max_step_counts
+        self.shifts = np.zeros((len(maps), len(maps[0].outputs)), dtype=np.int64)
+
+    def scan(self, q: F64) -> I64:
+        """One scan: positions (M, D) in each map's grid order → shifts (M, K), counts."""
+        target = np.rint(self.lookup.lookup(q) / self.increment_mm).astype(np.int64)
+        np.clip(target, -self.limit_counts, self.limit_counts, out=target)
+        step = np.clip(target - self.shifts, -self.max_step_counts, self.max_step_counts)
+        self.shifts += step
+        return self.shifts

@@ -13,7 +13,7 @@ from scipy.interpolate import RegularGridInterpolator
 
 from machine_sim.controller import Compensator
 from machine_sim.fanuc import ALARM_JUMP, FanucConfig, FanucPMC
-from machine_sim.lookup import FleetLookup, GridMap
+from machine_sim.lookup import FleetLadder, FleetLookup, GridMap
 from machine_sim.siemens import SiemensAlarm, SiemensConfig, SiemensNC
 from protocol.codes import MapEncoding, MapRejectReason
 from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis, encode_map
@@ -286,3 +286,22 @@ def test_siemens_position_dependent_part_needs_bit_1() -> None:
     nc.write_md(32750, "z", 1)
     with pytest.raises(SiemensAlarm, match="bit 1 off"):
         nc.write_sd(43910, "z", 2e-5)
+
+
+def test_fleet_ladder_scans_like_each_fanuc_pmc() -> None:
+    rng = np.random.default_rng(4)
+    pmcs, maps = [], []
+    for i in range(5):
+        values = rng.integers(-60, 60, (24, 3))
+        p = payload(values, machine=f"m{i}")
+        maps.append(GridMap.from_payload(p))
+        pmc = FanucPMC(f"m{i}", AXES, FanucConfig(max_step_counts=7))
+        assert isinstance(push(pmc, p), MapAck)
+        pmcs.append(pmc)
+    ladder = FleetLadder(maps, max_step_counts=7)
+    for k in range(30):
+        q = rng.uniform(-50, 600, (5, 2))
+        fleet = ladder.scan(q)
+        for i, pmc in enumerate(pmcs):
+            one = pmc.scan(k * 0.008, {"x": q[i, 0], "y": q[i, 1]})
+            np.testing.assert_array_equal(fleet[i], one)
