@@ -2,10 +2,12 @@
 
 Per cycle the controller wants a compensation per axis (mm, degrees for rotary axes):
 
-* with a map in use: the map looked up at the current machine coordinates of its grid
-  axes (:mod:`machine_sim.lookup`), on its output axes, plus half of each output's reversal
-  value signed by the axis's last direction of motion (``+R/2 · d``: it cancels a backlash
-  of ``-(R/2)·d``, :mod:`machine_sim.effects`);
+* with a map in use: the map looked up at the current (commanded, uncompensated) machine
+  coordinates of its grid axes (:mod:`machine_sim.lookup`), on its output axes; the values
+  are the corrections for a positive approach, so while an output axis last moved in the
+  negative direction its reversal value is added (protocol/README.md section 6: reversal =
+  negative-approach minus positive-approach correction; a backlash of ``-(B/2)·d`` in
+  :mod:`machine_sim.effects` needs the reversal ``-B``);
 * while releasing (ReleaseCompensation, or the map's validity ran out): the compensation
   applied when the release began, ramped linearly to zero over the ramp time; at the end
   the map is dropped (map version 0), and an asked-for release counts one Released to send;
@@ -106,7 +108,7 @@ class Compensator:
         positions : mapping of axis name to float, or ndarray (n_axes,)
             Current machine coordinates (mm, degrees).
         directions : mapping or ndarray (n_axes,) of -1, 0, +1, optional
-            Last direction of motion per axis (for the reversal value).
+            Last direction of motion per axis (for the reversal value); none = positive.
         """
         self.now_s = now_s
         pos = self._vector(positions, float)
@@ -133,7 +135,7 @@ class Compensator:
                 else self._vector(directions, float))
         for k, name in enumerate(m.outputs):
             j = self.axes.index(name)
-            wanted[j] = values[k] + 0.5 * m.reversal[k] * np.sign(dirs[j])
+            wanted[j] = values[k] + (m.reversal[k] if dirs[j] < 0 else 0.0)
         return wanted
 
     def _vector(self, values: Mapping[str, float] | Mapping[str, int] | NDArray[np.generic],

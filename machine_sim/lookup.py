@@ -93,7 +93,8 @@ class GridMap:
     values : ndarray, shape (N_nodes, K)
         Node values, row-major over the grid.
     reversal : ndarray, shape (K,)
-        Backlash (full reversal) per output, mm; 0 where the map gives none.
+        Per output, the negative-approach minus the positive-approach correction, mm; 0
+        where the map gives none.
     """
 
     machine: str

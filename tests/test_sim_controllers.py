@@ -124,19 +124,19 @@ def test_fanuc_scan_interpolates_between_nodes_and_quantises() -> None:
 def test_fanuc_clamps_beyond_the_grid_and_the_emzps_range() -> None:
     values = np.zeros((24, 3), dtype=np.int64)
     values[:, 0] = np.arange(24) * 20  # grows with the node index, up to 460 counts
-    outs = (OutputAxis("X", 80), OutputAxis("Y"), OutputAxis("Z"))
+    outs = (OutputAxis("X", 40), OutputAxis("Y"), OutputAxis("Z"))
     ctl = fanuc(max_step_counts=1000, limit_counts=500)
     assert isinstance(push(ctl, payload(values, outputs=outs)), MapAck)
-    far = ctl.scan(0.0, {"x": 900.0, "y": 900.0}, {"x": 1})  # beyond the last node
-    assert far[0] == 500 and not ctl.status & 16  # 460 + 80/2 = 500, at the range
+    far = ctl.scan(0.0, {"x": 900.0, "y": 900.0}, {"x": -1})  # beyond the last node
+    assert far[0] == 500 and not ctl.status & 16  # 460 + 40 = 500, at the range
     ctl2 = fanuc(max_step_counts=1000, limit_counts=470)
     vals2 = values.copy()
     vals2[:, 0] = np.minimum(vals2[:, 0], 440)
     assert isinstance(push(ctl2, payload(vals2, outputs=outs)), MapAck)
-    s = ctl2.scan(0.0, {"x": 900.0, "y": 900.0}, {"x": 1})
+    s = ctl2.scan(0.0, {"x": 900.0, "y": 900.0}, {"x": -1})
     assert s[0] == 470 and ctl2.status & 16  # 440 + 40 clamped to 470, flagged
-    s = ctl2.scan(0.008, {"x": 900.0, "y": 900.0}, {"x": -1})
-    assert s[0] == 400  # the reversal's half flips with the direction
+    s = ctl2.scan(0.008, {"x": 900.0, "y": 900.0}, {"x": 1})
+    assert s[0] == 440  # positive approach: the map value alone
 
 
 def test_fanuc_splits_a_large_change_over_scans() -> None:
