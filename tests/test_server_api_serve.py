@@ -72,3 +72,12 @@ def test_bad_settings_are_one_line_and_exit_2() -> None:
     lines = out.stderr.strip().splitlines()
     assert len(lines) == 1, out.stderr
     assert "EDNC_HTTP_PORT" in lines[0] and "EDNC_API_KEY" in lines[0]
+
+
+def test_unreachable_database_is_one_line_and_exit_2(tmp_path: Path) -> None:
+    url = f"sqlite:///{tmp_path / 'missing-dir' / 'ednc.db'}"
+    out = subprocess.run([str(EDNC), "serve"], capture_output=True, text=True, timeout=60,
+                         env=environment(EDNC_DATABASE_URL=url))
+    assert out.returncode == 2
+    assert out.stderr.strip().splitlines() == [
+        f"ednc: error: cannot open database {url}: unable to open database file"]

@@ -18,6 +18,7 @@ from sqlalchemy.orm import Session
 
 from server.db import (
     Database,
+    DatabaseUnavailable,
     DuplicateError,
     error_models,
     events,
@@ -234,3 +235,16 @@ def test_failed_call_rolls_back(db: Database) -> None:
     with pytest.raises(RuntimeError):
         db.call(add_then_fail)
     assert db.call(machines.get_machine, "ghost") is None
+
+
+@pytest.mark.parametrize("url", [
+    "sqlite:////nonexistent-dir/sub/ednc.db",
+    "postgresql+psycopg://nobody:hunter2@127.0.0.1:1/ednc",
+])
+def test_unreachable_database_is_one_clear_error(url: str) -> None:
+    db = Database(make_engine(url))
+    with pytest.raises(DatabaseUnavailable) as info:
+        db.create_schema()
+    message = str(info.value)
+    assert message.startswith("cannot open database ") and "hunter2" not in message
+    assert len(message.splitlines()) == 1

@@ -22,6 +22,7 @@ def register(app: typer.Typer) -> None:
 
         from ednc.cli import UserError
         from server.app import create_app
+        from server.db import Database, DatabaseUnavailable, make_engine
         from server.settings import SettingsError, load_settings
 
         overrides: dict[str, Any] = {}
@@ -33,5 +34,14 @@ def register(app: typer.Typer) -> None:
             settings = load_settings(env_file, **overrides)
         except SettingsError as exc:
             raise UserError(str(exc).replace("\n  ", " ")) from None
+        # Open the database (and create its tables) before serving, so that a wrong URL
+        # or a stopped PostgreSQL is one clear line rather than a failed lifespan.
+        db = Database(make_engine(settings.database_url))
+        try:
+            db.create_schema()
+        except DatabaseUnavailable as exc:
+            raise UserError(str(exc)) from None
+        finally:
+            db.engine.dispose()
         uvicorn.run(create_app(settings), host=settings.http_host, port=settings.http_port,
                     log_level="info")

@@ -17,6 +17,7 @@ from typing import Any, Concatenate, ParamSpec, TypeVar
 
 from sqlalchemy import Engine, create_engine, event
 from sqlalchemy.engine import make_url
+from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session, sessionmaker
 from sqlalchemy.pool import StaticPool
 
@@ -24,6 +25,10 @@ from server.db.tables import Base
 
 P = ParamSpec("P")
 T = TypeVar("T")
+
+
+class DatabaseUnavailable(RuntimeError):
+    """The database cannot be reached or opened; the message names it (without password)."""
 
 
 def make_engine(url: str) -> Engine:
@@ -81,8 +86,19 @@ class Database:
             await asyncio.to_thread(db.engine.dispose)
 
     def create_schema(self) -> None:
-        """Create the tables that do not exist yet (existing data is kept)."""
-        Base.metadata.create_all(self.engine)
+        """Create the tables that do not exist yet (existing data is kept).
+
+        Raises
+        ------
+        DatabaseUnavailable
+            When the database cannot be reached (the first thing that connects at start-up).
+        """
+        try:
+            Base.metadata.create_all(self.engine)
+        except OperationalError as exc:
+            where = self.engine.url.render_as_string(hide_password=True)
+            reason = str(exc.orig).strip().splitlines()[0] if exc.orig else str(exc)
+            raise DatabaseUnavailable(f"cannot open database {where}: {reason}") from None
 
     @contextmanager
     def session(self) -> Iterator[Session]:
