@@ -18,7 +18,7 @@ Columns beyond formats.md section 2's required ones (all documented here):
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -30,6 +30,7 @@ from volumetric.machine import Machine
 from volumetric.measurement import Measurements, write_measurements
 
 from .instruments import SimulatedMachine
+from .lookup import GridMap
 from .program import (
     Dwell,
     Instruction,
@@ -53,8 +54,10 @@ from .thermal import ThermalHistory, simulate_thermal
 
 __all__ = [
     "CampaignResult",
+    "Compensation",
     "machine_directions",
     "machine_positions",
+    "map_compensation",
     "run_campaign",
     "standard_campaign",
     "standard_programs",
@@ -62,6 +65,7 @@ __all__ = [
 ]
 
 F64 = NDArray[np.float64]
+Compensation = Callable[[F64, NDArray[np.int8]], F64]
 STANDARD = {"X": 0, "Y": 1, "Z": 2, "A": 3, "B": 4, "C": 5}
 
 
@@ -95,6 +99,7 @@ def run_campaign(
     programs: Sequence[Program],
     *,
     start: MachineState | None = None,
+    compensation: Compensation | None = None,
 ) -> CampaignResult:
     """Execute ``programs`` in order on ``sim`` and take every reading they ask for.
 
@@ -104,6 +109,11 @@ def run_campaign(
     programs : sequence of Program
     start : MachineState, optional
         Home position at time 0 by default.
+    compensation : callable, optional
+        ``compensation(q, direction)`` with q (N, n_axes) commanded positions and direction
+        (N, n_axes) last directions gives the shift (N, n_axes) the controller applies at
+        each reading, mm or degrees (e.g. :func:`map_compensation`): the campaign then
+        measures the compensated machine (a verification run).
 
     Returns
     -------
@@ -152,8 +162,9 @@ def run_campaign(
     for name in dict.fromkeys(branch):
         rows = np.flatnonzero(np.array(branch) == name)
         temps = {k: v[rows] for k, v in true_temps.items()}
+        shift = None if compensation is None else compensation(q[rows], direction[rows])
         err = sim.true_error(q[rows], direction[rows], temps, starts, spindle=name,
-                             tool_mm=tool[rows])
+                             tool_mm=tool[rows], compensation=shift)
         true_value[rows] = sim.read(err, u[rows], is_angle[rows], None)
     noise = np.where(is_angle, sim.effects.noise.angle_urad, sim.effects.noise.displacement_um)
     value = true_value + np.random.default_rng([sim.seed, 2]).normal(0.0, 1.0, n) * noise
@@ -189,6 +200,39 @@ def run_campaign(
         extra=extra,
     )
     return CampaignResult(m, trajectory, history, true_value)
+
+
+def map_compensation(machine: Machine, grid_map: GridMap, *,
+                     increment_mm: float | None = None) -> Compensation:
+    """The shift a controller applies from an error map, as a campaign ``compensation``.
+
+    Looks the map up at the commanded coordinates of its grid axes, adds an output's
+    reversal value where that axis last moved negative (protocol/README.md section 6),
+    and rounds to ``increment_mm`` when given (a Fanuc-style controller). Rate limits and
+    ramps are left out: a verification reading is taken at rest, long after any change.
+
+    Raises
+    ------
+    ValueError
+        A grid or output axis the machine does not have.
+    """
+    names = machine.axis_names
+    for a in (*grid_map.grid, *grid_map.outputs):
+        if a not in names:
+            raise ValueError(f"map axis {a!r} is not an axis of {machine.name} ({names})")
+    cols = [names.index(g) for g in grid_map.grid]
+    outs = [names.index(o) for o in grid_map.outputs]
+
+    def shift(q: F64, direction: NDArray[np.int8]) -> F64:
+        values = grid_map.lookup(q[:, cols])
+        values = values + np.where(direction[:, outs] < 0, grid_map.reversal, 0.0)
+        if increment_mm is not None:
+            values = np.rint(values / increment_mm) * increment_mm
+        out = np.zeros(q.shape)
+        out[:, outs] = values
+        return out
+
+    return shift
 
 
 def machine_positions(machine: Machine, m: Measurements) -> F64:

@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike, NDArray
 from volumetric.components import GeometricErrors, Polynomial, add_components
 from volumetric.kinematics import VolumetricError, tool_pose, volumetric_error
 from volumetric.machine import Axis, Machine
+from volumetric.rigid import rotation_vector
 
 from .effects import Effects, axis_offsets
 from .program import MachineState, MotionLimits, Program
@@ -86,8 +87,13 @@ class SimulatedMachine:
         *,
         spindle: str | None = None,
         tool_mm: ArrayLike | None = None,
+        compensation: ArrayLike | None = None,
     ) -> VolumetricError:
         """The tool tip's true error relative to the workpiece, noise-free.
+
+        With ``compensation`` the axes stand at ``q + compensation`` (what the controller's
+        shift does) while the error is still taken against the nominal pose at the
+        commanded ``q``: the residual error of a compensated machine.
 
         Parameters
         ----------
@@ -102,15 +108,27 @@ class SimulatedMachine:
             ``temperatures`` at the first reading when omitted.
         spindle : str, optional
         tool_mm : float or array_like (N,), optional
+        compensation : array_like, shape (N, n_axes), optional
+            Shift the controller applies per axis, mm or degrees.
 
         Returns
         -------
         VolumetricError
             Position (µm) and orientation (µrad) errors, shape (N, 3) each.
         """
-        qa = np.atleast_2d(np.asarray(q, dtype=float))
-        rigid = volumetric_error(self.machine, self.geometry, qa, spindle=spindle,
-                                 tool_mm=tool_mm)
+        qc = np.atleast_2d(np.asarray(q, dtype=float))
+        if compensation is None:
+            qa = qc
+            rigid = volumetric_error(self.machine, self.geometry, qa, spindle=spindle,
+                                     tool_mm=tool_mm)
+        else:
+            qa = qc + np.asarray(compensation, dtype=float).reshape(qc.shape)
+            p_act, r_act = tool_pose(self.machine, qa, self.geometry, spindle=spindle,
+                                     tool_mm=tool_mm)
+            p_nom, r_nom = tool_pose(self.machine, qc, None, spindle=spindle, tool_mm=tool_mm)
+            assert r_act is not None and r_nom is not None
+            rigid = VolumetricError((p_act - p_nom) * 1e3,
+                                    rotation_vector(r_act @ np.swapaxes(r_nom, 1, 2)) * 1e6)
         e = self.effects
         if not (e.expansion or e.drift or e.backlash or e.periodic):
             return rigid
