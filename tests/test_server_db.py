@@ -14,7 +14,9 @@ from pathlib import Path
 import psycopg
 import pytest
 from sqlalchemy import create_engine, inspect
+from sqlalchemy.exc import InvalidRequestError
 from sqlalchemy.orm import Session
+from sqlalchemy.orm.exc import DetachedInstanceError
 
 from server.db import (
     Database,
@@ -179,7 +181,24 @@ def test_measurement_set_names_are_unique_per_machine(db: Database) -> None:
     with pytest.raises(DuplicateError):
         db.call(measurements.add_measurement_set, a, name="run1", csv_text="h\n", row_count=0)
     row = db.call(measurements.get_measurement_set, b, "run1")
-    assert row is not None and row.csv_text == "h\n2\n"
+    assert row is not None and row.csv_text == "h\n2\n" and row.size_bytes == 4
+
+
+def test_listings_leave_the_big_columns_behind(db: Database) -> None:
+    mid = _machine(db)
+    db.call(measurements.add_measurement_set, mid, name="s", csv_text="h\n1\n", row_count=1)
+    db.call(maps.add_map_version, mid, payload=b"m" * 100, model_version=None)
+    (listed,) = db.call(measurements.list_measurement_sets, mid)
+    meta = db.call(measurements.get_measurement_set, mid, "s", with_text=False)
+    (map_listed,) = db.call(maps.list_map_versions, mid)
+    map_meta = db.call(maps.get_map_version, mid, 1, with_payload=False)
+    assert meta is not None and map_meta is not None
+    assert (listed.size_bytes, map_listed.size_bytes) == (4, 100)
+    for row, column in [(listed, "csv_text"), (meta, "csv_text"), (map_listed, "payload"),
+                        (map_meta, "payload")]:
+        # Never a silent lazy load: detached rows refuse, attached ones raise (raiseload).
+        with pytest.raises((DetachedInstanceError, InvalidRequestError)):
+            getattr(row, column)
 
 
 def test_reports_are_separated_by_kind_and_machine(db: Database) -> None:

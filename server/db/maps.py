@@ -8,7 +8,7 @@ from typing import Any
 
 from sqlalchemy import func, select
 from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, defer
 
 from server.db.errors import DuplicateError
 from server.db.tables import AppliedRow, MapVersionRow, utcnow
@@ -39,17 +39,25 @@ def add_map_version(
     return row
 
 
+# Listings and metadata leave the payload in the database (see measurements.py).
+_WITHOUT_PAYLOAD = defer(MapVersionRow.payload, raiseload=True)
+
+
 def list_map_versions(session: Session, machine_id: int) -> list[MapVersionRow]:
-    """A machine's maps, newest first."""
+    """A machine's maps, newest first, without their payloads."""
     query = select(MapVersionRow).where(MapVersionRow.machine_id == machine_id)
-    return list(session.scalars(query.order_by(MapVersionRow.version.desc())))
+    query = query.options(_WITHOUT_PAYLOAD).order_by(MapVersionRow.version.desc())
+    return list(session.scalars(query))
 
 
 def get_map_version(
-    session: Session, machine_id: int, version: int | None = None
+    session: Session, machine_id: int, version: int | None = None, *, with_payload: bool = True
 ) -> MapVersionRow | None:
-    """One map version, or the latest when ``version`` is None; None when absent."""
+    """One map version (its payload only ``with_payload``), or the latest when ``version``
+    is None; None when absent."""
     query = select(MapVersionRow).where(MapVersionRow.machine_id == machine_id)
+    if not with_payload:
+        query = query.options(_WITHOUT_PAYLOAD)
     if version is not None:
         return session.scalar(query.where(MapVersionRow.version == version))
     return session.scalar(query.order_by(MapVersionRow.version.desc()).limit(1))
@@ -62,7 +70,7 @@ def record_sent(
 
     None when the machine has no such map version.
     """
-    map_row = get_map_version(session, machine_id, version)
+    map_row = get_map_version(session, machine_id, version, with_payload=False)
     if map_row is None:
         return None
     row = AppliedRow(machine_id=machine_id, map_id=map_row.id, map_version=version,

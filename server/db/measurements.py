@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from sqlalchemy import select
 from sqlalchemy.exc import IntegrityError
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, defer
 
 from server.db.errors import DuplicateError
 from server.db.tables import MeasurementSetRow
@@ -20,7 +20,7 @@ def add_measurement_set(
     if session.scalar(taken) is not None:
         raise DuplicateError("measurement set", "name", name)
     row = MeasurementSetRow(machine_id=machine_id, name=name, csv_text=csv_text,
-                            row_count=row_count)
+                            row_count=row_count, size_bytes=len(csv_text.encode()))
     session.add(row)
     try:
         session.flush()
@@ -29,19 +29,28 @@ def add_measurement_set(
     return row
 
 
+# Listings and metadata leave the CSV (megabytes) in the database; touching it on such a
+# row raises instead of lazily loading on a row whose session is gone.
+_WITHOUT_TEXT = defer(MeasurementSetRow.csv_text, raiseload=True)
+
+
 def list_measurement_sets(session: Session, machine_id: int) -> list[MeasurementSetRow]:
-    """A machine's measurement sets, newest first."""
+    """A machine's measurement sets, newest first, without their CSV text."""
     query = select(MeasurementSetRow).where(MeasurementSetRow.machine_id == machine_id)
-    return list(session.scalars(query.order_by(MeasurementSetRow.id.desc())))
+    query = query.options(_WITHOUT_TEXT).order_by(MeasurementSetRow.id.desc())
+    return list(session.scalars(query))
 
 
-def get_measurement_set(session: Session, machine_id: int, name: str) -> MeasurementSetRow | None:
-    """The set called ``name``, or None."""
-    return session.scalar(
-        select(MeasurementSetRow).where(
-            MeasurementSetRow.machine_id == machine_id, MeasurementSetRow.name == name
-        )
+def get_measurement_set(
+    session: Session, machine_id: int, name: str, *, with_text: bool = True
+) -> MeasurementSetRow | None:
+    """The set called ``name`` (its CSV text only ``with_text``), or None."""
+    query = select(MeasurementSetRow).where(
+        MeasurementSetRow.machine_id == machine_id, MeasurementSetRow.name == name
     )
+    if not with_text:
+        query = query.options(_WITHOUT_TEXT)
+    return session.scalar(query)
 
 
 def count_measurement_sets(session: Session, machine_id: int) -> int:

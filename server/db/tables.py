@@ -112,6 +112,7 @@ class MeasurementSetRow(Base):
     name: Mapped[str] = mapped_column(String(128))
     csv_text: Mapped[str] = mapped_column(Text)
     row_count: Mapped[int] = mapped_column(Integer)
+    size_bytes: Mapped[int] = mapped_column(Integer)
     created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
 
 

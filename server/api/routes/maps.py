@@ -29,8 +29,10 @@ def applied_public(row: AppliedRow, machine: str) -> AppliedPublic:
                          reject_reason=row.reject_reason)
 
 
-async def _get_map(db: Database, machine: MachineRow, version: int | None) -> MapVersionRow:
-    row = await db.run(map_repo.get_map_version, machine.id, version)
+async def _get_map(
+    db: Database, machine: MachineRow, version: int | None, *, with_payload: bool = False
+) -> MapVersionRow:
+    row = await db.run(map_repo.get_map_version, machine.id, version, with_payload=with_payload)
     if row is None:
         which = "no map" if version is None else f"no map version {version}"
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"machine {machine.name!r} has {which}")
@@ -63,7 +65,7 @@ async def get_map(db: DatabaseDep, machine: MachineDep, version: Version) -> Map
 )
 async def download_map(db: DatabaseDep, machine: MachineDep, version: Version) -> Response:
     """The encoded map, byte for byte as sent to the machine (ETag: its SHA-256)."""
-    row = await _get_map(db, machine, version)
+    row = await _get_map(db, machine, version, with_payload=True)
     return Response(
         row.payload, media_type="application/octet-stream",
         headers={

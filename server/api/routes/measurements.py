@@ -50,7 +50,7 @@ def _unprocessable(message: str) -> HTTPException:
 def set_public(row: MeasurementSetRow, machine: str) -> MeasurementSetPublic:
     return MeasurementSetPublic(
         machine=machine, name=row.name, row_count=row.row_count,
-        size_bytes=len(row.csv_text.encode()), created_at=row.created_at,
+        size_bytes=row.size_bytes, created_at=row.created_at,
     )
 
 
@@ -62,11 +62,13 @@ async def _read_upload(request: Request) -> tuple[bytes, str | None]:
                             f"upload larger than {MAX_UPLOAD_BYTES} bytes")
     media = request.headers.get("content-type", "").split(";")[0].strip().lower()
     if media == "multipart/form-data":
-        form = await request.form(max_files=1, max_fields=10)
-        upload = form.get("file")
-        if not isinstance(upload, UploadFile):
-            raise _unprocessable("multipart upload needs the CSV as a file field named 'file'")
-        return await upload.read(MAX_UPLOAD_BYTES + 1), upload.filename
+        # The context manager closes the spooled temporary file of the upload.
+        async with request.form(max_files=1, max_fields=10) as form:
+            upload = form.get("file")
+            if not isinstance(upload, UploadFile):
+                raise _unprocessable("multipart upload needs the CSV as a file field "
+                                     "named 'file'")
+            return await upload.read(MAX_UPLOAD_BYTES + 1), upload.filename
     if media in ("text/csv", "text/plain", "application/octet-stream"):
         return await request.body(), None
     raise HTTPException(
@@ -135,8 +137,11 @@ async def list_measurements(db: DatabaseDep, machine: MachineDep) -> list[Measur
     return [set_public(r, machine.name) for r in rows]
 
 
-async def _get_set(db: Database, machine: MachineRow, set_name: str) -> MeasurementSetRow:
-    row = await db.run(measurement_repo.get_measurement_set, machine.id, set_name)
+async def _get_set(
+    db: Database, machine: MachineRow, set_name: str, *, with_text: bool
+) -> MeasurementSetRow:
+    row = await db.run(measurement_repo.get_measurement_set, machine.id, set_name,
+                       with_text=with_text)
     if row is None:
         raise HTTPException(status.HTTP_404_NOT_FOUND,
                             f"machine {machine.name!r} has no measurement set {set_name!r}")
@@ -148,7 +153,7 @@ async def get_measurements(
     db: DatabaseDep, machine: MachineDep, set_name: SetName
 ) -> MeasurementSetPublic:
     """One measurement set's metadata."""
-    return set_public(await _get_set(db, machine, set_name), machine.name)
+    return set_public(await _get_set(db, machine, set_name, with_text=False), machine.name)
 
 
 @router.get("/{set_name}/csv", response_class=Response,
@@ -157,7 +162,7 @@ async def download_measurements(
     db: DatabaseDep, machine: MachineDep, set_name: SetName
 ) -> Response:
     """The measurement CSV as uploaded."""
-    row = await _get_set(db, machine, set_name)
+    row = await _get_set(db, machine, set_name, with_text=True)
     return Response(
         row.csv_text, media_type="text/csv; charset=utf-8",
         headers={"Content-Disposition": f'attachment; filename="{machine.name}-{row.name}.csv"'},

@@ -19,7 +19,7 @@ MapVersions = tuple[int | None, int | None, int | None, str | None]
 
 
 def _map_versions(session: Session, machine_id: int) -> MapVersions:
-    latest = map_repo.get_map_version(session, machine_id)
+    latest = map_repo.get_map_version(session, machine_id, with_payload=False)
     sent = map_repo.latest_sent(session, machine_id)
     applied = map_repo.latest_acked(session, machine_id)
     return (
