@@ -6,6 +6,7 @@ import hashlib
 import json
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
+from pathlib import Path
 from typing import Any
 
 import httpx
@@ -13,7 +14,7 @@ import numpy as np
 import pytest
 from fastapi import FastAPI
 
-from server.app import create_app
+from server.app import ServiceFactory, create_app
 from server.center import Center
 from server.db import maps as map_repo
 from server.db import reports as report_repo
@@ -523,7 +524,7 @@ async def test_events_feed_the_refusal_list_and_metrics(
     assert 'ednc_events_total{kind="connected"} 1.0' in text
 
 
-async def test_two_apps_keep_their_own_metrics(tmp_path: Any) -> None:
+async def test_two_apps_keep_their_own_metrics(tmp_path: Path) -> None:
     settings = [Settings(database_url=f"sqlite:///{tmp_path / f'{i}.db'}") for i in range(2)]
     async with running(settings[0]) as (app_a, client_a), \
             running(settings[1]) as (_, client_b):
@@ -572,3 +573,41 @@ def test_create_app_reads_and_validates_the_environment(
     monkeypatch.setenv("EDNC_HTTP_PORT", "8081")
     assert isinstance(create_app(), FastAPI)
 
+
+
+# --- lifespan seams -------------------------------------------------------------------------
+
+def recording_service(log: list[str], tag: str, fail: bool = False) -> ServiceFactory:
+    @asynccontextmanager
+    async def run(center: Center) -> AsyncIterator[None]:
+        assert isinstance(center, Center) and center.db is not None
+        if fail:
+            raise OSError(f"{tag}: port in use")
+        log.append(f"start {tag}")
+        try:
+            yield
+        finally:
+            log.append(f"stop {tag}")
+
+    return run
+
+
+async def test_services_start_in_the_lifespan_and_stop_in_reverse(tmp_path: Path) -> None:
+    log: list[str] = []
+    services = [recording_service(log, "tcp"), recording_service(log, "mqtt")]
+    app = create_app(Settings(database_url=f"sqlite:///{tmp_path / 'a.db'}"), services=services)
+    async with app.router.lifespan_context(app):
+        assert log == ["start tcp", "start mqtt"]
+        center_of(app)
+    assert log == ["start tcp", "start mqtt", "stop mqtt", "stop tcp"]
+    assert not hasattr(app.state, "center")
+
+
+async def test_a_service_that_cannot_start_stops_the_ones_before(tmp_path: Path) -> None:
+    log: list[str] = []
+    services = [recording_service(log, "tcp"), recording_service(log, "mqtt", fail=True)]
+    app = create_app(Settings(database_url=f"sqlite:///{tmp_path / 'a.db'}"), services=services)
+    with pytest.raises(OSError, match="mqtt: port in use"):
+        async with app.router.lifespan_context(app):
+            pytest.fail("the lifespan must not start")
+    assert log == ["start tcp", "stop tcp"]
