@@ -1,0 +1,204 @@
+"""``ednc sim``: run simulated CNCs against a control center, or write a simulated campaign.
+
+Two modes:
+
+* ``ednc sim --center HOST:PORT --machines N --secret S`` (or ``--fleet FILE``): N
+  simulated Fanuc/Siemens-style machines connect to the center, authenticate, take maps,
+  send telemetry (and MQTT temperatures with ``--mqtt``) until Ctrl-C or ``--duration``.
+* ``ednc sim --campaign OUT.csv --machine M.json [--effect ...]``: a standard measurement
+  campaign on a machine with a random true geometry, written as a measurement CSV
+  (formats.md section 2); the truth goes to ``--truth TRUTH.json`` if asked.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import json
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+
+from ednc.cli import UserError
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("sim")
+    def sim(
+        center: Annotated[str | None, typer.Option(
+            "--center", help="HOST:PORT of the center's machine port.")] = None,
+        machines: Annotated[int, typer.Option(
+            "--machines", help="Generate this many machines (sim-001, ...).")] = 0,
+        fleet: Annotated[Path | None, typer.Option(
+            "--fleet", help="Fleet file (JSON/YAML) with machines and secrets.")] = None,
+        secret: Annotated[str | None, typer.Option(
+            "--secret", help="Secret of the generated machines (>= 16 bytes).",
+            envvar="EDNC_SIM_SECRET")] = None,
+        controller: Annotated[str, typer.Option(
+            "--controller", help="Generated machines: mixed, fanuc or siemens.")] = "mixed",
+        mqtt: Annotated[str | None, typer.Option(
+            "--mqtt", help="HOST:PORT of an MQTT broker for Fanuc-style temperatures.")
+        ] = None,
+        cycle_ms: Annotated[float | None, typer.Option(
+            "--cycle-ms", help="Controller cycle (default: 8 ms Fanuc, 4 ms Siemens).")
+        ] = None,
+        duration: Annotated[float | None, typer.Option(
+            "--duration", help="Stop after this many seconds (default: until Ctrl-C).")
+        ] = None,
+        campaign: Annotated[Path | None, typer.Option(
+            "--campaign", help="Write a simulated measurement campaign CSV here.")] = None,
+        machine: Annotated[Path | None, typer.Option(
+            "--machine", help="Machine description for --campaign.")] = None,
+        effect: Annotated[list[str] | None, typer.Option(
+            "--effect", help="For --campaign, repeatable: backlash:AXIS:B_um, "
+                             "periodic:AXIS:A_um:P_mm, expansion:AXIS:SENSOR:um_per_m_K, "
+                             "drift:AXIS:SENSOR:um_per_K, noise:UM[:URAD].")] = None,
+        truth: Annotated[Path | None, typer.Option(
+            "--truth", help="For --campaign: write the true geometry and effects (JSON).")
+        ] = None,
+        seed: Annotated[int, typer.Option("--seed", help="Random seed.")] = 0,
+    ) -> None:
+        """Run simulated machines against a center, or write a simulated campaign."""
+        if campaign is not None:
+            if center is not None or machines or fleet is not None:
+                raise UserError("--campaign writes a file; it does not take --center, "
+                                "--machines or --fleet")
+            write_campaign_file(campaign, machine, effect or [], truth, seed)
+            return
+        run_fleet(center, machines, fleet, secret, controller, mqtt, cycle_ms, duration, seed)
+
+
+def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret: str | None,
+              controller: str, mqtt: str | None, cycle_ms: float | None,
+              duration: float | None, seed: int) -> None:
+    """The network mode (module docstring)."""
+    from machine_sim.fleet import (
+        Fleet,
+        FleetSpecError,
+        generated_fleet,
+        load_fleet,
+        parse_center,
+    )
+    from machine_sim.link import MqttTarget
+
+    try:
+        settings: dict[str, Any] = {}
+        if fleet_file is not None:
+            if machines:
+                raise UserError("give either --fleet or --machines, not both")
+            entries, settings = load_fleet(fleet_file)
+        elif machines:
+            if secret is None:
+                raise UserError("--machines needs --secret (or EDNC_SIM_SECRET): the secret "
+                                "the center has for the generated machines")
+            entries = generated_fleet(machines, secret, controller=controller, seed=seed)
+        else:
+            raise UserError("give --machines N (with --secret) or --fleet FILE, "
+                            "or --campaign OUT.csv")
+        where = center or settings.get("center")
+        if not isinstance(where, str):
+            raise UserError("give --center HOST:PORT (or 'center' in the fleet file)")
+        address = parse_center(where)
+        target = None
+        mq = settings.get("mqtt")
+        if mqtt is not None:
+            host, port = parse_center(mqtt)
+            target = MqttTarget(host, port)
+        elif isinstance(mq, dict) and "host" in mq:
+            target = MqttTarget(str(mq["host"]), int(mq.get("port", 1883)),
+                                str(mq.get("prefix", "ednc")))
+    except FleetSpecError as exc:
+        raise UserError(str(exc)) from exc
+    if cycle_ms is not None and not cycle_ms > 0:
+        raise UserError(f"--cycle-ms must be > 0, got {cycle_ms}")
+    cycle_s = None if cycle_ms is None else cycle_ms / 1000.0
+
+    async def main() -> dict[str, int]:
+        async with Fleet(entries, address, mqtt=target, cycle_s=cycle_s) as f:
+            typer.echo(f"{len(entries)} simulated machines connecting to "
+                       f"{address[0]}:{address[1]}")
+            with contextlib.suppress(TimeoutError):
+                async with asyncio.timeout(duration):
+                    await asyncio.Event().wait()
+            return f.summary()
+
+    with contextlib.suppress(KeyboardInterrupt):
+        summary = asyncio.run(main())
+        typer.echo(json.dumps(summary))
+
+
+def _effects(specs: list[str], sensors: tuple[str, ...]) -> Any:
+    from machine_sim.effects import (
+        Backlash,
+        Effects,
+        Noise,
+        Periodic,
+        ThermalDrift,
+        ThermalExpansion,
+    )
+
+    parts: dict[str, list[Any]] = {"expansion": [], "drift": [], "backlash": [],
+                                   "periodic": []}
+    noise = Noise()
+    for spec in specs:
+        kind, *args = spec.split(":")
+        try:
+            if kind == "backlash" and len(args) == 2:
+                parts["backlash"].append(Backlash(args[0], float(args[1])))
+            elif kind == "periodic" and len(args) in (3, 4):
+                phase = float(args[3]) if len(args) == 4 else 0.0
+                parts["periodic"].append(Periodic(args[0], float(args[1]), float(args[2]),
+                                                  phase))
+            elif kind == "expansion" and len(args) == 3:
+                parts["expansion"].append(ThermalExpansion(args[0], args[1], float(args[2])))
+            elif kind == "drift" and len(args) == 3:
+                parts["drift"].append(ThermalDrift(args[0], args[1], float(args[2])))
+            elif kind == "noise" and len(args) in (1, 2):
+                noise = Noise(float(args[0]), float(args[1]) if len(args) == 2 else 0.0)
+            else:
+                raise UserError(f"--effect {spec!r}: expected backlash:AXIS:B_um, "
+                                "periodic:AXIS:A_um:P_mm[:PHASE], expansion:AXIS:SENSOR:ALPHA, "
+                                "drift:AXIS:SENSOR:K or noise:UM[:URAD]")
+        except ValueError as exc:
+            raise UserError(f"--effect {spec!r}: {exc}") from exc
+        if kind in ("expansion", "drift") and args[1] not in sensors:
+            raise UserError(f"--effect {spec!r}: no sensor {args[1]!r}; the simulated "
+                            f"machine has {', '.join(sensors)}")
+    return Effects(tuple(parts["expansion"]), tuple(parts["drift"]),
+                   tuple(parts["backlash"]), tuple(parts["periodic"]), noise)
+
+
+def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
+                        truth: Path | None, seed: int) -> None:
+    """The campaign mode (module docstring)."""
+    from machine_sim.campaign import standard_campaign, write_campaign
+    from machine_sim.instruments import SimulatedMachine
+    from machine_sim.thermal import default_thermal
+    from machine_sim.truth import random_geometry
+    from volumetric.errors import MachineSpecError
+    from volumetric.machine import load_machine
+
+    if machine_path is None:
+        raise UserError("--campaign needs --machine M.json")
+    try:
+        m = load_machine(machine_path)
+    except MachineSpecError as exc:
+        raise UserError(str(exc)) from exc
+    rng = np.random.default_rng(seed)
+    effects = _effects(effect, default_thermal(m).names)
+    try:
+        sim = SimulatedMachine(m, random_geometry(m, rng), effects, seed=seed)
+    except ValueError as exc:
+        raise UserError(str(exc)) from exc
+    meas = standard_campaign(sim, rng)
+    try:
+        write_campaign(out, meas)
+        if truth is not None:
+            truth.write_text(json.dumps({"geometry": sim.geometry.to_json(),
+                                         "effects": repr(sim.effects), "seed": seed},
+                                        indent=1))
+    except OSError as exc:
+        raise UserError(f"cannot write: {exc}") from exc
+    typer.echo(f"{len(meas)} readings over {meas.time_s[-1] / 3600:.1f} h written to {out}")

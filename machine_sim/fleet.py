@@ -1,0 +1,192 @@
+"""A fleet of simulated CNCs: the fleet file, generated fleets, and running them together.
+
+Fleet file (JSON, or YAML when the name ends in ``.yaml``/``.yml``)::
+
+    {
+      "center": "127.0.0.1:7070",                 # optional, --center wins
+      "mqtt": {"host": "127.0.0.1", "port": 1883, "prefix": "ednc"},   # optional
+      "machines": [
+        {"machine": "vmc-01.json", "secret": "at-least-16-bytes!", "seed": 1},
+        {"machine": {... a machine description, formats.md section 1 ...},
+         "secret": "another-16-byte-secret", "ip": "127.0.0.1"}
+      ]
+    }
+
+``machine`` is a path (relative to the fleet file) or an inline description; ``ip``
+overrides the address announced in Hello; ``seed`` (default: the position in the list)
+seeds motion and temperatures. Generated fleets (:func:`generated_fleet`) are vertical
+machining centres ``sim-001``, ``sim-002``, ... alternating Fanuc and Siemens (or all of
+one kind), announcing 127.0.0.1, all with the one given secret.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+import yaml
+
+from protocol.auth import MIN_SECRET_BYTES
+from volumetric.errors import MachineSpecError
+from volumetric.machine import Machine, load_machine, parse_machine
+
+from .link import Backoff, MqttTarget, SimulatedCNC
+
+__all__ = ["Fleet", "FleetEntry", "FleetSpecError", "generated_fleet", "load_fleet",
+           "parse_center"]
+
+
+class FleetSpecError(ValueError):
+    """A fleet file or option that cannot be right; the text says where."""
+
+
+@dataclass(frozen=True)
+class FleetEntry:
+    """One simulated machine of a fleet."""
+
+    machine: Machine
+    secret: bytes
+    seed: int = 0
+    ip: str | None = None
+
+
+def parse_center(text: str) -> tuple[str, int]:
+    """``HOST:PORT`` (``[v6]:PORT`` for IPv6) to a (host, port) pair."""
+    host, sep, port = text.rpartition(":")
+    host = host.strip("[]")
+    if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
+        raise FleetSpecError(f"center {text!r}: expected HOST:PORT such as 127.0.0.1:7070")
+    return host, int(port)
+
+
+def _secret(value: Any, where: str) -> bytes:
+    if not isinstance(value, str) or len(value.encode()) < MIN_SECRET_BYTES:
+        raise FleetSpecError(f"{where}: secret must be a string of at least "
+                             f"{MIN_SECRET_BYTES} bytes")
+    return value.encode()
+
+
+def load_fleet(path: str | Path) -> tuple[list[FleetEntry], dict[str, Any]]:
+    """Read a fleet file; returns its machines and its other settings (center, mqtt).
+
+    Raises
+    ------
+    FleetSpecError
+        Unreadable file, bad JSON/YAML, a missing or bad field (named with its index).
+    """
+    p = Path(path)
+    try:
+        text = p.read_text()
+    except OSError as exc:
+        raise FleetSpecError(f"{p}: cannot read ({exc.strerror})") from None
+    try:
+        data = yaml.safe_load(text) if p.suffix in (".yaml", ".yml") else json.loads(text)
+    except (json.JSONDecodeError, yaml.YAMLError) as exc:
+        raise FleetSpecError(f"{p}: not valid {'YAML' if p.suffix != '.json' else 'JSON'}: "
+                             f"{exc}") from None
+    if not isinstance(data, Mapping) or not isinstance(data.get("machines"), list):
+        raise FleetSpecError(f"{p}: expected an object with a 'machines' list")
+    entries = []
+    names: set[str] = set()
+    for i, raw in enumerate(data["machines"]):
+        where = f"{p}: machines[{i}]"
+        if not isinstance(raw, Mapping) or "machine" not in raw:
+            raise FleetSpecError(f"{where}: expected an object with 'machine' and 'secret'")
+        spec = raw["machine"]
+        try:
+            if isinstance(spec, str):
+                m = load_machine(p.parent / spec)
+            elif isinstance(spec, Mapping):
+                m = parse_machine(spec)
+            else:
+                raise FleetSpecError(f"{where}.machine: expected a path or a description")
+        except MachineSpecError as exc:
+            raise FleetSpecError(f"{where}.machine: {exc}") from None
+        if m.name in names:
+            raise FleetSpecError(f"{where}: machine name {m.name!r} appears twice")
+        names.add(m.name)
+        seed = raw.get("seed", i)
+        if not isinstance(seed, int):
+            raise FleetSpecError(f"{where}.seed: expected an integer, got {seed!r}")
+        ip = raw.get("ip")
+        if ip is not None and not isinstance(ip, str):
+            raise FleetSpecError(f"{where}.ip: expected a string")
+        entries.append(FleetEntry(m, _secret(raw.get("secret"), where), seed, ip))
+    if not entries:
+        raise FleetSpecError(f"{p}: the fleet has no machines")
+    settings = {k: v for k, v in data.items() if k != "machines"}
+    return entries, settings
+
+
+def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0
+                    ) -> list[FleetEntry]:
+    """``n`` vertical machining centres (module docstring)."""
+    if n < 1:
+        raise FleetSpecError(f"--machines must be at least 1, got {n}")
+    if controller not in ("mixed", "fanuc", "siemens"):
+        raise FleetSpecError(f"controller must be mixed, fanuc or siemens, got {controller!r}")
+    key = _secret(secret, "--secret")
+    out = []
+    for i in range(n):
+        kind = controller if controller != "mixed" else ("fanuc", "siemens")[i % 2]
+        m = parse_machine({"name": f"sim-{i + 1:03d}", "controller": kind, "ip": "127.0.0.1",
+                           "chain": "w X Y b Z t",
+                           "travel_mm": {"x": [0, 600], "y": [0, 400], "z": [-400, 0]},
+                           "tool_length_mm": 100.0})
+        out.append(FleetEntry(m, key, seed + i))
+    return out
+
+
+class Fleet:
+    """Every machine of a fleet as one async context manager.
+
+    Parameters
+    ----------
+    entries : sequence of FleetEntry
+    center : (host, port)
+    mqtt : MqttTarget, optional
+    cycle_s : float, optional
+        Controller cycle for every machine (their own by default; a coarser one lets a
+        large fleet run on one core).
+    backoff : Backoff, optional
+    """
+
+    def __init__(self, entries: Sequence[FleetEntry], center: tuple[str, int], *,
+                 mqtt: MqttTarget | None = None, cycle_s: float | None = None,
+                 backoff: Backoff | None = None) -> None:
+        self.machines = [SimulatedCNC(e.machine, center, e.secret, ip=e.ip, seed=e.seed,
+                                      mqtt=mqtt, cycle_s=cycle_s, backoff=backoff)
+                         for e in entries]
+        self._stack = contextlib.AsyncExitStack()
+
+    async def __aenter__(self) -> Fleet:
+        async with contextlib.AsyncExitStack() as stack:
+            for cnc in self.machines:
+                await stack.enter_async_context(cnc)
+            self._stack = stack.pop_all()
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        await self._stack.aclose()
+
+    def summary(self) -> dict[str, int]:
+        """Totals over the fleet: connected now, connects, maps acked and rejected, ..."""
+        s = [c.stats for c in self.machines]
+        return {
+            "machines": len(self.machines),
+            "ready": sum(c.ready.is_set() for c in self.machines),
+            "connects": sum(x.connects for x in s),
+            "welcomes": sum(x.welcomes for x in s),
+            "maps_acked": sum(x.maps_acked for x in s),
+            "maps_rejected": sum(x.maps_rejected for x in s),
+            "releases": sum(x.releases for x in s),
+            "telemetry_sent": sum(x.telemetry_sent for x in s),
+            "mqtt_published": sum(x.mqtt_published for x in s),
+            "refused": sum(len(x.rejects) for x in s),
+        }

@@ -1,0 +1,114 @@
+"""A running simulated machine: motion, temperatures and its controller, step by step.
+
+Synchronous and free of I/O: :mod:`machine_sim.link` drives it from the event loop.
+
+* Motion: every axis follows its own slow sine inside its travel (a part program's
+  envelope); the last direction of motion is the sign of the velocity.
+* Temperatures: the machine's thermal model (:mod:`machine_sim.thermal`) integrated ahead
+  for ``hours`` of a shop duty cycle (spindle 40 min on at ``duty_rpm``, 20 min off, axes
+  moving while it runs), read with sensor noise and wrapped around after that.
+* Controller: :class:`~machine_sim.fanuc.FanucPMC` (``scan``) or
+  :class:`~machine_sim.siemens.SiemensNC` (``ipo_cycle``) by the machine's ``controller``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from volumetric.machine import Machine
+
+from .fanuc import FanucConfig, FanucPMC
+from .siemens import SiemensConfig, SiemensNC
+from .thermal import ThermalConfig, ThermalHistory, default_thermal, simulate_thermal
+
+__all__ = ["MachineRuntime", "Motion", "duty_cycle_thermal"]
+
+F64 = NDArray[np.float64]
+
+
+@dataclass(frozen=True)
+class Motion:
+    """Per-axis sine motion: ``centre + amplitude · sin(2π t / period + phase)``."""
+
+    centre: F64
+    amplitude: F64
+    period_s: F64
+    phase: F64
+
+    @staticmethod
+    def random(machine: Machine, rng: np.random.Generator) -> Motion:
+        lo, hi = machine.travel_lo, machine.travel_hi
+        centre = 0.5 * (lo + hi)
+        amplitude = 0.45 * (hi - lo) * rng.uniform(0.3, 1.0, lo.shape)
+        return Motion(centre, amplitude, rng.uniform(20.0, 120.0, lo.shape),
+                      rng.uniform(0.0, 2 * np.pi, lo.shape))
+
+    def at(self, t: float) -> tuple[F64, NDArray[np.int8]]:
+        """Positions (n_axes,) and last directions (n_axes,) at time t, s."""
+        w = 2 * np.pi / self.period_s
+        arg = w * t + self.phase
+        q: F64 = self.centre + self.amplitude * np.sin(arg)
+        d = np.sign(np.cos(arg)).astype(np.int8)
+        return q, d
+
+
+def duty_cycle_thermal(config: ThermalConfig, *, hours: float = 12.0, step_s: float = 5.0,
+                       duty_rpm: float = 6000.0, seed: int = 0) -> ThermalHistory:
+    """Temperatures over a shop duty cycle (module docstring)."""
+    t = np.arange(0.0, hours * 3600.0, step_s)
+    on = (t % 3600.0) < 2400.0
+    rpm = np.where(on, duty_rpm, 0.0)
+    speeds: dict[str, F64] = {}
+    for s in config.sensors:
+        for key, _ in s.motion_K_per_m_min:
+            speeds[key] = np.where(on, 2.0, 0.2)  # m/min while a part runs, creeping else
+    return simulate_thermal(config, t, rpm, speeds, seed)
+
+
+class MachineRuntime:
+    """One machine's motion, temperatures and controller.
+
+    Parameters
+    ----------
+    machine : Machine
+    seed : int
+    thermal : ThermalConfig, optional
+    fanuc, siemens : config, optional
+        Controller settings for the machine's controller family.
+    """
+
+    def __init__(self, machine: Machine, *, seed: int = 0, thermal: ThermalConfig | None = None,
+                 fanuc: FanucConfig | None = None, siemens: SiemensConfig | None = None
+                 ) -> None:
+        self.machine = machine
+        rng = np.random.default_rng(seed)
+        self.motion = Motion.random(machine, rng)
+        self.thermal = duty_cycle_thermal(thermal or default_thermal(machine), seed=seed)
+        self._noise = np.random.default_rng([seed, 7])
+        self.controller: FanucPMC | SiemensNC
+        if machine.controller == "siemens":
+            self.controller = SiemensNC(machine.name, machine.axis_names, siemens)
+            self.cycle_s = self.controller.config.ipo_s
+        else:
+            self.controller = FanucPMC(machine.name, machine.axis_names, fanuc)
+            self.cycle_s = self.controller.config.scan_s
+        self.positions, self.directions = self.motion.at(0.0)
+
+    def step(self, now_s: float) -> F64:
+        """Move to time ``now_s`` and run one controller cycle; returns the applied
+        compensation per axis, mm (degrees)."""
+        self.positions, self.directions = self.motion.at(now_s)
+        c = self.controller
+        if isinstance(c, SiemensNC):
+            return c.ipo_cycle(now_s, self.positions, self.directions)
+        c.scan(now_s, self.positions, self.directions)
+        return c.applied_mm()
+
+    def temperatures(self, now_s: float) -> dict[str, float]:
+        """Sensor readings at ``now_s`` (wrapping around the precomputed span), °C."""
+        span = float(self.thermal.time_s[-1])
+        t = np.array([now_s % span])
+        return {k: float(v[0]) for k, v in self.thermal.read_at(t, self._noise).items()}

@@ -1,0 +1,223 @@
+"""Simulated CNCs on a real socket against a minimal in-test center (port 0): handshake
+with the secret, map push and ack, telemetry, heartbeats, release, bad push, reconnect."""
+
+from __future__ import annotations
+
+import asyncio
+import random
+from collections.abc import AsyncIterator
+from dataclasses import dataclass, field
+
+import numpy as np
+import pytest
+
+from machine_sim.fanuc import FanucConfig
+from machine_sim.link import Backoff, SimulatedCNC
+from machine_sim.runtime import MachineRuntime
+from protocol import (
+    NEED_DATA,
+    AuthResponse,
+    Challenge,
+    Connection,
+    ErrorCode,
+    ErrorMapPayload,
+    GridAxis,
+    Heartbeat,
+    HeartbeatReply,
+    Hello,
+    MapAck,
+    MapEncoding,
+    MapReject,
+    MapRejectReason,
+    Message,
+    OutputAxis,
+    Reject,
+    ReleaseCompensation,
+    Released,
+    Role,
+    Telemetry,
+    Welcome,
+    encode_map,
+    new_nonce,
+    split_into_chunks,
+    verify_mac,
+)
+from volumetric.machine import Machine, parse_machine
+
+SECRET = b"0123456789abcdef-secret"
+DEADLINE_S = 20.0  # a hang guard, not a speed requirement
+
+
+def machine(controller: str, name: str = "sim-01") -> Machine:
+    return parse_machine({"name": name, "controller": controller, "ip": "127.0.0.1",
+                          "chain": "w X Y b Z t",
+                          "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]},
+                          "tool_length_mm": 100.0})
+
+
+@dataclass
+class Session:
+    """The center's end of one connection."""
+
+    conn: Connection
+    reader: asyncio.StreamReader
+    writer: asyncio.StreamWriter
+    hello: Hello | None = None
+
+    async def send(self, msg: Message) -> None:
+        self.writer.write(self.conn.send(msg))
+        await self.writer.drain()
+
+    async def next(self) -> Message:
+        while True:
+            event = self.conn.next_event()
+            if event is not NEED_DATA:
+                assert isinstance(event, Message), event
+                return event
+            self.conn.receive_data(await self.reader.read(65536))
+
+    async def expect(self, kind: type, skip: tuple[type, ...] = (Telemetry,)) -> Message:
+        while True:
+            msg = await self.next()
+            if isinstance(msg, kind):
+                return msg
+            assert isinstance(msg, skip), f"expected {kind.__name__}, got {msg!r}"
+
+
+@dataclass
+class MiniCenter:
+    secret: bytes
+    sessions: asyncio.Queue[Session] = field(default_factory=asyncio.Queue)
+    port: int = 0
+
+    async def handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        s = Session(Connection(Role.CENTER), reader, writer)
+        hello = await s.expect(Hello, ())
+        assert isinstance(hello, Hello)
+        s.hello = hello
+        nonce = new_nonce()
+        await s.send(Challenge(nonce))
+        auth = await s.expect(AuthResponse, ())
+        assert isinstance(auth, AuthResponse)
+        if not verify_mac(self.secret, nonce, hello.name, auth.mac):
+            await s.send(Reject(ErrorCode.AUTH_FAILED, "bad secret"))
+            writer.close()
+            return
+        await s.send(Welcome(heartbeat_period_ms=500, telemetry_period_ms=20))
+        await self.sessions.put(s)
+
+
+@pytest.fixture
+async def center() -> AsyncIterator[MiniCenter]:
+    c = MiniCenter(SECRET)
+    server = await asyncio.start_server(c.handle, "127.0.0.1", 0)
+    c.port = server.sockets[0].getsockname()[1]
+    async with server:
+        yield c
+
+
+def cnc(m: Machine, port: int, secret: bytes = SECRET, **kw: object) -> SimulatedCNC:
+    runtime = MachineRuntime(m, seed=1, fanuc=FanucConfig(max_step_counts=1000))
+    return SimulatedCNC(m, ("127.0.0.1", port), secret, runtime=runtime, cycle_s=0.004,
+                        backoff=Backoff(0.02, 2.0, 0.1), **kw)  # type: ignore[arg-type]
+
+
+def map_payload(name: str, value: float, encoding: MapEncoding, version: int = 1
+                ) -> ErrorMapPayload:
+    grid = (GridAxis("X", 0.0, 250.0, 3), GridAxis("Y", 0.0, 300.0, 2))
+    int32 = encoding is MapEncoding.INT32_INCREMENTS
+    vals = np.full((6, 3), round(value * 1000) if int32 else value)
+    raw = vals.astype("<i4" if int32 else "<f4").tobytes()
+    return ErrorMapPayload(name, version, encoding, grid,
+                           (OutputAxis("X"), OutputAxis("Y"), OutputAxis("Z")), raw,
+                           0.001 if int32 else 0.0)
+
+
+async def push(s: Session, p: ErrorMapPayload, chunk: int = 64) -> Message:
+    for msg in split_into_chunks(encode_map(p), p.version, chunk):
+        await s.send(msg)
+    return await s.expect((MapAck, MapReject))  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize(("controller", "encoding"), [
+    ("fanuc", MapEncoding.INT32_INCREMENTS), ("siemens", MapEncoding.FLOAT32_MM)])
+async def test_session_map_telemetry_heartbeat_release(center: MiniCenter, controller: str,
+                                                       encoding: MapEncoding) -> None:
+    m = machine(controller)
+    async with asyncio.timeout(DEADLINE_S), cnc(m, center.port) as sim:
+        s = await center.sessions.get()
+        assert s.hello is not None and s.hello.name == m.name
+        assert s.hello.map_formats == encoding and s.hello.chain == m.chain
+        ack = await push(s, map_payload(m.name, 0.012, encoding))
+        assert isinstance(ack, MapAck) and ack.version == 1
+        while True:  # the telemetry shows the map applied once the ramp is done
+            t = await s.expect(Telemetry, ())
+            assert isinstance(t, Telemetry)
+            if t.map_version == 1 and all(abs(a.compensation - 0.012) < 1e-6 for a in t.axes):
+                break
+        assert [a.name for a in t.axes] == ["X", "Y", "Z"]
+        if controller == "siemens":
+            assert {r.name for r in t.temperatures} >= {"spindle", "air"}
+        else:
+            assert t.temperatures == ()  # Fanuc-style machines publish them to MQTT
+        await s.send(Heartbeat(77))
+        reply = await s.expect(HeartbeatReply)
+        assert isinstance(reply, HeartbeatReply) and reply.token == 77
+        await s.send(ReleaseCompensation(100, "test"))
+        await s.expect(Released)
+        while True:
+            t = await s.expect(Telemetry, ())
+            assert isinstance(t, Telemetry)
+            if t.map_version == 0:
+                break
+        assert all(a.compensation == 0.0 for a in t.axes)
+        assert sim.stats.maps_acked == 1 and sim.stats.releases == 1
+
+
+async def test_bad_push_is_rejected_and_the_good_map_stays(center: MiniCenter) -> None:
+    m = machine("fanuc")
+    async with asyncio.timeout(DEADLINE_S), cnc(m, center.port) as sim:
+        s = await center.sessions.get()
+        assert isinstance(await push(s, map_payload(m.name, 0.005,
+                                                    MapEncoding.INT32_INCREMENTS)), MapAck)
+        bad = await push(s, map_payload("someone-else", 0.05, MapEncoding.INT32_INCREMENTS, 2))
+        assert isinstance(bad, MapReject) and bad.reason == MapRejectReason.WRONG_MACHINE
+        wrong = await push(s, map_payload(m.name, 0.05, MapEncoding.FLOAT32_MM, 3))
+        assert isinstance(wrong, MapReject)
+        assert wrong.reason == MapRejectReason.UNSUPPORTED_ENCODING
+        t = await s.expect(Telemetry, ())
+        assert isinstance(t, Telemetry) and t.map_version == 1
+        assert sim.stats.maps_rejected == 2
+
+
+async def test_machine_reconnects_and_keeps_its_map(center: MiniCenter) -> None:
+    m = machine("fanuc")
+    async with asyncio.timeout(DEADLINE_S), cnc(m, center.port) as sim:
+        s = await center.sessions.get()
+        assert isinstance(await push(s, map_payload(m.name, 0.007,
+                                                    MapEncoding.INT32_INCREMENTS)), MapAck)
+        s.writer.close()  # the center goes away
+        s2 = await center.sessions.get()  # the machine comes back by itself
+        t = await s2.expect(Telemetry, ())
+        assert isinstance(t, Telemetry) and t.map_version == 1  # still compensating
+        assert sim.stats.connects >= 2 and sim.stats.welcomes >= 2
+
+
+async def test_wrong_secret_is_refused_and_retried_with_backoff(center: MiniCenter) -> None:
+    m = machine("siemens")
+    async with asyncio.timeout(DEADLINE_S), cnc(m, center.port, b"a-wrong-secret-16b") as sim:
+        while len(sim.stats.rejects) < 2:
+            await asyncio.sleep(0.01)
+        assert sim.stats.welcomes == 0
+        assert "AUTH_FAILED" in sim.stats.rejects[0]
+        assert center.sessions.empty()
+
+
+def test_backoff_grows_is_capped_and_jittered() -> None:
+    b = Backoff(1.0, 2.0, 60.0, 0.5)
+    rng = random.Random(0)
+    delays = [b.delay(n, rng) for n in range(12)]
+    for n, d in enumerate(delays):
+        base = min(60.0, 2.0 ** n)
+        assert base * 0.5 <= d <= base
+    assert len({round(d, 6) for d in delays[8:]}) > 1  # capped yet not in lock step
