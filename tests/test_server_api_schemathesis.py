@@ -13,6 +13,8 @@ import pytest
 import schemathesis
 from fastapi import FastAPI
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+from schemathesis import GenerationMode
 from schemathesis.checks import not_a_server_error
 from schemathesis.python import asgi
 from sqlalchemy import create_engine
@@ -103,7 +105,11 @@ def test_no_request_gets_a_server_error(
 ) -> None:
     operation = api_schema[path][method]
 
-    @given(case=operation.as_strategy())
+    # Valid requests and invalid ones (wrong types, missing fields, out-of-range values).
+    cases = st.one_of(operation.as_strategy(GenerationMode.POSITIVE),
+                      operation.as_strategy(GenerationMode.NEGATIVE))
+
+    @given(case=cases)
     @settings(max_examples=12, deadline=None, database=None,
               suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
     def check(case: schemathesis.Case) -> None:
