@@ -1,0 +1,174 @@
+"""Diagnosis: hidden effects are found, named and sized; clean data says none; real data.
+
+The campaign test hides one effect chosen at random (kind, axis, sensor, size within the
+realistic ranges of :mod:`machine_sim.effects`, seed) in simulated measurement campaigns
+on several chains, or none, and requires the diagnosis to name it, its axis and sensor,
+and to size it within 30 %.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from machine_sim.campaign import standard_campaign
+from machine_sim.effects import Backlash, Effects, Noise, Periodic, ThermalDrift, ThermalExpansion
+from machine_sim.instruments import SimulatedMachine
+from machine_sim.thermal import default_thermal
+from machine_sim.truth import random_geometry
+from volumetric.diagnose import DiagnosisError, diagnose
+from volumetric.machine import Machine, parse_machine
+from volumetric.measurement import read_measurements, write_measurements
+
+EDNC = str(Path(sys.executable).parent / "ednc")
+CHAINS = ["w X Y b Z t", "w b Y X Z t", "w X b Y Z t", "w Y b X Z t"]
+KINDS = ["none", "backlash", "periodic", "thermal_drift", "thermal_expansion"]
+N_CASES = 25
+
+
+def machine_for(chain: str) -> Machine:
+    return parse_machine({"name": "m", "chain": chain, "tool_length_mm": 100.0,
+                          "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}})
+
+
+@dataclass(frozen=True)
+class Case:
+    seed: int
+    chain: str
+    kind: str
+    axis: str | None
+    sensor: str | None
+    size: dict[str, float]
+    effects: Effects
+
+
+def make_case(seed: int) -> Case:
+    rng = np.random.default_rng(1000 + seed)
+    chain = CHAINS[seed % len(CHAINS)]
+    kind = KINDS[seed % len(KINDS)]
+    axis = str(rng.choice(["x", "y", "z"]))
+    noise = Noise(float(rng.uniform(0.1, 0.4)), float(rng.uniform(0.2, 0.6)))
+    sensors = default_thermal(machine_for(chain)).names
+    sensor: str | None = None
+    size: dict[str, float] = {}
+    if kind == "none":
+        return Case(seed, chain, kind, None, None, {}, Effects(noise=noise))
+    if kind == "backlash":
+        size = {"reversal_um": float(rng.uniform(2, 15))}
+        eff = Effects(backlash=(Backlash(axis, size["reversal_um"]),), noise=noise)
+    elif kind == "periodic":
+        size = {"amplitude_um": float(rng.uniform(0.8, 5)), "period_mm": float(rng.uniform(5, 25))}
+        eff = Effects(periodic=(Periodic(axis, size["amplitude_um"], size["period_mm"],
+                                         float(rng.uniform(0, 6.28))),), noise=noise)
+    elif kind == "thermal_drift":
+        sensor = str(rng.choice([s for s in sensors if s != "air"]))
+        k = float(rng.uniform(0.5, 5)) * float(rng.choice([-1, 1]))
+        size = {"um_per_K": k}
+        eff = Effects(drift=(ThermalDrift(axis, sensor, k),), noise=noise)
+    else:
+        sensor = str(rng.choice([s for s in sensors if s.endswith("screw") or s == "column"]))
+        alpha = float(rng.uniform(2, 12))
+        size = {"um_per_m_K": alpha}
+        eff = Effects(expansion=(ThermalExpansion(axis, sensor, alpha),), noise=noise)
+    return Case(seed, chain, kind, axis, sensor, size, eff)
+
+
+def run_case(case: Case) -> tuple[bool, str]:
+    m = machine_for(case.chain)
+    rng = np.random.default_rng(case.seed)
+    sim = SimulatedMachine(m, random_geometry(m, rng), case.effects, seed=case.seed)
+    d = diagnose(m, standard_campaign(sim, rng))
+    said = f"{d.effect} {d.axis} {d.sensor} {d.estimate}"
+    if case.kind == "none":
+        return d.effect == "none", said
+    if (d.effect, d.axis) != (case.kind, case.axis):
+        return False, said
+    if case.sensor is not None and d.sensor != f"T_{case.sensor}_C":
+        return False, said
+    for key, true in case.size.items():
+        got = d.estimate[key]
+        if key == "reversal_um" or key == "amplitude_um":
+            true = abs(true)
+        if not abs(got - true) <= 0.3 * abs(true):
+            return False, said
+    return True, said
+
+
+def test_hidden_effects_are_found_named_and_sized() -> None:
+    results = []
+    for seed in range(N_CASES):
+        case = make_case(seed)
+        ok, said = run_case(case)
+        results.append((ok, case, said))
+    misses = [f"seed {c.seed} {c.chain!r}: hid {c.kind} {c.axis} {c.sensor} {c.size}; "
+              f"said {said}" for ok, c, said in results if not ok]
+    hits = sum(ok for ok, _, _ in results)
+    print(f"\nhidden-effect hit rate: {hits}/{len(results)}")
+    kinds = {c.kind for _, c, _ in results}
+    assert kinds == set(KINDS) and len({c.chain for _, c, _ in results}) == len(CHAINS)
+    assert not misses, "\n".join(misses)
+
+
+def test_real_spindle_thermal_test_names_the_thermal_cause_and_beats_2_um(
+        shared_dir: Path) -> None:
+    m = machine_for("w X Y b Z t")
+    readings = read_measurements(shared_dir / "data" / "fl_thermal_ch3_measurements.csv")
+    d = diagnose(m, readings, holdout_after=144000.0)
+    assert (d.effect, d.axis) == ("thermal_drift", "z")
+    assert d.sensor is not None and d.sensor.startswith("T_t")
+    assert d.rms_before_um > 15.0  # the rigid model predicts no drift at all
+    static = [c for c in d.candidates if c["effect"] == "thermal_drift" and "model" not in c]
+    assert min(c["rms_after_um"] for c in static) > 4.0  # one static sensor is not enough
+    assert d.rms_after_um <= 2.0
+    assert d.estimate["dynamic"]["terms"]  # the lagged sensors that carry it
+
+
+def test_what_the_data_cannot_support_is_named_not_guessed() -> None:
+    m = machine_for("w X Y b Z t")
+    rng = np.random.default_rng(3)
+    sim = SimulatedMachine(m, random_geometry(m, rng), Effects(noise=Noise(0.2, 0.2)), seed=3)
+    full = standard_campaign(sim, rng)
+    no_temps = full.select(np.ones(len(full), bool))
+    object.__setattr__(no_temps, "temperatures", {})
+    object.__setattr__(no_temps, "temperature_columns", {})
+    d = diagnose(m, no_temps)
+    assert "thermal" in d.not_assessed and d.effect == "none"
+    one_way = full.select(full.direction[:, 0] >= 0)
+    d = diagnose(m, one_way)
+    assert "backlash x" in d.not_assessed
+    assert not any(c["effect"] == "backlash" and c["axis"] == "x" for c in d.candidates)
+    with pytest.raises(DiagnosisError, match="too few readings"):
+        diagnose(m, full.select(np.arange(20)))
+
+
+def test_diagnose_command_prints_the_documented_json_and_writes_a_report(tmp_path: Path) -> None:
+    m = machine_for("w X Y b Z t")
+    rng = np.random.default_rng(4)
+    sim = SimulatedMachine(m, random_geometry(m, rng),
+                           Effects(backlash=(Backlash("y", 8.0),), noise=Noise(0.2, 0.2)), seed=4)
+    write_measurements(tmp_path / "d.csv", standard_campaign(sim, rng))
+    (tmp_path / "m.json").write_text(json.dumps({"name": "m", "chain": "w X Y b Z t",
+        "tool_length_mm": 100.0, "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}}))
+    out = subprocess.run([EDNC, "diagnose", "--machine", str(tmp_path / "m.json"), "--data",
+                          str(tmp_path / "d.csv"), "--json", "--report", str(tmp_path / "r"),
+                          "--out", str(tmp_path / "model.json")],
+                         capture_output=True, text=True)
+    assert out.returncode == 0, out.stderr
+    got = json.loads(out.stdout)
+    assert {"effect", "axis", "sensor", "estimate", "rms_before_um", "rms_after_um",
+            "candidates"} <= set(got)
+    assert (got["effect"], got["axis"], got["sensor"]) == ("backlash", "y", None)
+    assert abs(got["estimate"]["reversal_um"] - 8.0) < 0.8
+    assert got["rms_after_um"] < got["rms_before_um"]
+    assert all({"effect", "axis", "rms_after_um"} <= set(c) for c in got["candidates"])
+    assert (tmp_path / "r" / "index.html").exists()
+    assert (tmp_path / "r" / "candidates.png").stat().st_size > 1000
+    assert (tmp_path / "r" / "direction_y.png").exists()
+    model = json.loads((tmp_path / "model.json").read_text())
+    assert {"effect": "backlash", "axis": "y"}.items() <= model["terms"][0].items()

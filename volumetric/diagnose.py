@@ -1,0 +1,504 @@
+"""Diagnosis: what the rigid model gets wrong, its physical cause, and the gain of extending it.
+
+Procedure (``ednc diagnose``):
+
+1. **Base model.** The rigid model (21 errors, polynomial components, :mod:`volumetric.fit`)
+   is identified on the readings; its column set (degrees, identifiable parameters) and
+   weights are then kept fixed.
+2. **Held-out readings.** Every reading is predicted by a model fitted without it, in
+   ``K = 5`` folds. A test with several runs gives whole runs to a fold (runs are taken at
+   different times, so a time-dependent effect shows as a run that disagrees with the
+   others and cannot hide in the fit); a test with one run gives contiguous stretches of
+   it. With ``holdout_after`` the split is chronological instead: fit before, judge after.
+3. **Candidates**, each a few extra columns of the same least-squares problem, all along
+   one machine axis ``k`` (``u_k`` is the reading's sensing component along k):
+
+   ===================  =========================================  ======================
+   effect               extra column(s)                            estimate
+   ===================  =========================================  ======================
+   thermal_expansion    ``u_k (T_s − T̄_s)(q_k − q_min) / 1000``    α, ``um_per_m_K``
+   thermal_drift        ``u_k (T_s − T̄_s)``; refined by lagged      k, ``um_per_K``
+                        temperatures (:mod:`volumetric.thermal`)
+   backlash             ``−u_k d_k / 2`` (d_k approach direction)  B, ``reversal_um``
+   periodic             ``u_k sin(2π q_k/P)``, ``u_k cos(2π q_k/P)``  A, P
+                        with P from the base residual's spectrum
+   time_drift           ``u_k (t − t̄) / 3600``                     ``um_per_h``
+   ===================  =========================================  ======================
+
+4. **Ranking and significance.** Candidates are ranked by held-out RMS of the displacement
+   readings. The best (and only the best) is named when its gain is significant: it must
+   reduce the held-out RMS of all displacement readings by at least ``MIN_GAIN``; over
+   the readings it touches, the held-out squared errors of base and candidate, compared
+   in contiguous chunks (so that correlated neighbours count once), must show a mean
+   gain of ``Z_MIN`` standard errors; and its coefficient must stand ``T_MIN`` standard
+   uncertainties clear of zero. Otherwise the answer is ``none``: a false alarm on clean
+   data is as wrong as a miss. On clean simulated campaigns the best spurious candidate
+   gains well under 1 %; a real effect of the smallest realistic size gains tens of per
+   cent. Sensors whose temperatures move together cannot be told apart by any data: the
+   runners-up of the same effect and axis within ``TIE`` of the best are listed as
+   ``alternatives``.
+5. **Estimate.** The named effect is fitted together with the base model on all readings;
+   its coefficient and standard uncertainty are reported in physical units, and it becomes
+   a term of the machine's :class:`~volumetric.model.MachineModel`.
+
+Candidates that the data cannot support are not guessed at: they are listed in
+``not_assessed`` with the reason (no temperature columns, one approach direction only,
+an axis never sensed).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from volumetric.design import axis_positions, build_design
+from volumetric.fit import FitError, fit
+from volumetric.machine import Machine
+from volumetric.measurement import Measurements
+from volumetric.model import BacklashTerm, MachineModel, PeriodicTerm, Term, ThermalTerm
+from volumetric.thermal import fit_thermal_drift
+
+F64 = NDArray[np.float64]
+K_FOLDS = 5
+Z_MIN = 1.0
+"""Significance of the held-out gain, in standard errors of the chunk-mean gain."""
+MIN_GAIN = 0.05
+T_MIN = 5.0
+"""Coefficient over its standard uncertainty that a named effect must reach."""
+"""Smallest relative reduction of the held-out RMS that names an effect."""
+N_CHUNKS = 30
+TIE = 0.05
+"""Relative held-out RMS within which another sensor is reported as an alternative."""
+MIN_READINGS = 50
+
+
+class DiagnosisError(ValueError):
+    """The readings cannot support a diagnosis; the message says what is missing."""
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One physically motivated extension: extra columns and how to read them."""
+
+    effect: str
+    axis: str
+    sensor: str | None
+    columns: F64  # (N, k)
+    extra: dict[str, Any] = field(default_factory=dict)  # e.g. the period of a periodic
+
+    @property
+    def label(self) -> str:
+        return f"{self.effect}({self.axis}{', ' + self.sensor if self.sensor else ''})"
+
+
+@dataclass(frozen=True)
+class Scored:
+    candidate: Candidate
+    heldout: F64  # (N,) held-out residuals
+    rms_after_um: float
+    z: float
+    gain: float
+
+
+@dataclass(frozen=True)
+class Diagnosis:
+    """The answer of :func:`diagnose` (formats.md section 3 plus extensions)."""
+
+    effect: str
+    axis: str | None
+    sensor: str | None
+    estimate: dict[str, Any]
+    rms_before_um: float
+    rms_after_um: float
+    candidates: list[dict[str, Any]]
+    not_assessed: dict[str, str]
+    model: MachineModel
+    details: dict[str, Any] = field(default_factory=dict)
+    residual_before: F64 = field(default_factory=lambda: np.zeros(0), repr=False)
+    residual_after: F64 = field(default_factory=lambda: np.zeros(0), repr=False)
+    judged: NDArray[np.bool_] = field(default_factory=lambda: np.zeros(0, bool), repr=False)
+
+    def to_json(self) -> dict[str, Any]:
+        return {
+            "effect": self.effect,
+            "axis": self.axis,
+            "sensor": self.sensor,
+            "estimate": self.estimate,
+            "rms_before_um": round(self.rms_before_um, 4),
+            "rms_after_um": round(self.rms_after_um, 4),
+            "candidates": self.candidates,
+            "not_assessed": self.not_assessed,
+            **self.details,
+        }
+
+
+def fold_labels(m: Measurements, k: int = K_FOLDS) -> NDArray[np.intp]:
+    """Fold of each reading (see module docstring, step 2)."""
+    folds = np.zeros(len(m), dtype=np.intp)
+    for label in np.unique(m.test):
+        rows = np.flatnonzero(m.test == label)
+        runs = np.unique(m.run[rows])
+        if runs.size >= 2:
+            # whole runs to folds, in time order of the runs
+            starts = [float(m.time_s[rows[m.run[rows] == r]].min()) for r in runs]
+            order = runs[np.argsort(starts)]
+            fold_of = {int(r): i % k for i, r in enumerate(order)}
+            folds[rows] = [fold_of[int(r)] for r in m.run[rows]]
+        else:
+            by_time = rows[np.argsort(m.time_s[rows], kind="stable")]
+            folds[by_time] = (np.arange(by_time.size) * k) // max(by_time.size, 1)
+    return folds
+
+
+def heldout_residuals(a: F64, y: F64, w: F64, folds: NDArray[np.intp]) -> F64:
+    """Residual of every reading predicted by a weighted fit on the other folds.
+
+    Rank-deficient training sets (a column unobserved without the fold) are solved in the
+    minimum-norm sense with a stated eigenvalue cut (1e-10 of the largest).
+    """
+    aw = a * w[:, None]
+    g_all = a.T @ aw
+    b_all = aw.T @ y
+    r = np.empty_like(y)
+    for f in np.unique(folds):
+        rows = folds == f
+        g = g_all - a[rows].T @ aw[rows]
+        b = b_all - aw[rows].T @ y[rows]
+        x = _pinv_solve(g, b)
+        r[rows] = y[rows] - a[rows] @ x
+    return r
+
+
+def _pinv_solve(g: F64, b: F64) -> F64:
+    d = np.sqrt(np.clip(np.diag(g), 0, None))
+    d[d == 0] = 1.0
+    lam, vec = np.linalg.eigh(g / np.outer(d, d))
+    keep = lam > 1e-10 * max(float(lam.max(initial=0.0)), 1e-300)
+    z = vec[:, keep].T @ (b / d)
+    out: F64 = (vec[:, keep] @ (z / lam[keep])) / d
+    return out
+
+
+def _rms(r: F64) -> float:
+    return float(np.sqrt(np.mean(r * r))) if r.size else float("nan")
+
+
+def _significance(base: F64, cand: F64, order: NDArray[np.intp], touched: NDArray[np.bool_]
+                  ) -> float:
+    """Chunk-mean gain of squared held-out errors over its standard error.
+
+    ``order`` lists the judged readings in time order; only those the candidate touches
+    count, so an effect confined to one axis is not diluted by the others' readings.
+    """
+    rows = order[touched[order]]
+    gain = (base * base - cand * cand)[rows]
+    chunks = np.array_split(gain, min(N_CHUNKS, max(gain.size // 5, 2)))
+    sums = np.array([c.mean() for c in chunks if c.size])
+    if sums.size < 2:
+        return 0.0
+    se = float(sums.std(ddof=1) / math.sqrt(sums.size))
+    return float(sums.mean() / se) if se > 0 else (math.inf if sums.mean() > 0 else 0.0)
+
+
+def _temperature_columns(m: Measurements) -> dict[str, F64]:
+    return {m.temperature_columns[s]: v for s, v in m.temperatures.items()}
+
+
+def candidates(
+    machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_]
+) -> tuple[list[Candidate], dict[str, str]]:
+    """The library of extensions for these readings, and what cannot be assessed."""
+    q = axis_positions(machine, m)
+    disp = ~m.is_angle
+    temps = _temperature_columns(m)
+    out: list[Candidate] = []
+    missing: dict[str, str] = {}
+    if not temps:
+        missing["thermal"] = "no temperature columns (T_<sensor>_C) in the readings"
+    linear = [a for a in machine.axes if a.kind == "linear" and a.name in ("X", "Y", "Z")]
+    t_mean = float(m.time_s[train].mean())
+    for axis in linear:
+        k = "XYZ".index(axis.name)
+        uk = np.where(disp, m.u[:, k], 0.0)
+        sensed = np.abs(uk) > 1e-6
+        key = axis.key
+        if not sensed.any():
+            missing[key] = f"no displacement reading senses along {key}"
+            continue
+        qk = q[:, machine.axis_names.index(axis.name)]
+        lo = axis.travel[0]
+        for col, values in temps.items():
+            dt = values - float(values[train].mean())
+            if np.ptp(values[sensed]) < 0.05:
+                missing.setdefault(f"thermal {key}", f"{col} hardly changes (< 0.05 K)")
+                continue
+            out.append(Candidate("thermal_drift", key, col, (uk * dt)[:, None]))
+            expansion = uk * dt * (qk - lo) / 1000.0
+            if np.ptp(qk[sensed]) > 1e-6:
+                out.append(Candidate("thermal_expansion", key, col, expansion[:, None]))
+        dirs = m.direction[:, k].astype(float)
+        if np.unique(dirs[sensed & (dirs != 0)]).size >= 2:
+            out.append(Candidate("backlash", key, None, (-0.5 * uk * dirs)[:, None]))
+        else:
+            missing[f"backlash {key}"] = f"one approach direction only along {key}"
+        span = float(np.ptp(qk[sensed]))
+        if span > 0:
+            period = _best_period(qk, uk, base_residual, sensed & train, span)
+            if period is not None:
+                ph = 2 * np.pi * qk / period
+                cols = np.column_stack((uk * np.sin(ph), uk * np.cos(ph)))
+                out.append(Candidate("periodic", key, None, cols, {"period_mm": period}))
+        if np.ptp(m.time_s) > 0:
+            out.append(Candidate("time_drift", key, None,
+                                 (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
+    return out, missing
+
+
+def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -> float | None:
+    """The period (mm) whose sinusoid along the axis best explains the residual.
+
+    A least-squares periodogram over periods from 2 mm (or twice the finest spacing of the
+    positions) to a third of the sensed span, refined on a finer grid around the peak.
+    """
+    qs = np.sort(np.unique(np.round(q[rows], 6)))
+    if qs.size < 8:
+        return None
+    step = float(np.min(np.diff(qs))) if qs.size > 1 else span
+    lo = max(2.0, 2.0 * step)
+    hi = span / 3.0
+    if hi <= lo:
+        return None
+    qq, uu, rr = q[rows], u[rows], r[rows]
+
+    def power(periods: F64) -> F64:
+        out = np.empty(periods.size)
+        for i, p in enumerate(periods):
+            ph = 2 * np.pi * qq / p
+            a = np.column_stack((uu * np.sin(ph), uu * np.cos(ph)))
+            x, *_ = np.linalg.lstsq(a, rr, rcond=None)
+            out[i] = float(np.sum((a @ x) ** 2))
+        return out
+
+    grid = np.geomspace(lo, hi, 300)
+    pw = power(grid)
+    best = float(grid[int(np.argmax(pw))])
+    fine = np.linspace(best * 0.97, best * 1.03, 61)
+    return float(fine[int(np.argmax(power(fine)))])
+
+
+def diagnose(
+    machine: Machine,
+    m: Measurements,
+    *,
+    holdout_after: float | None = None,
+) -> Diagnosis:
+    """Find what the rigid model misses (see the module docstring).
+
+    Parameters
+    ----------
+    machine : Machine
+    m : Measurements
+    holdout_after : float, optional
+        Judge on readings with ``time_s >= holdout_after`` after fitting on the earlier
+        ones, instead of the default folds.
+
+    Raises
+    ------
+    DiagnosisError
+        Too few readings, or no displacement readings.
+    """
+    if len(m) < MIN_READINGS:
+        raise DiagnosisError(f"too few readings for a diagnosis: {len(m)} (need at least "
+                             f"{MIN_READINGS})")
+    disp = ~m.is_angle
+    if not disp.any():
+        raise DiagnosisError("no displacement readings: the diagnosis judges displacements")
+    order = np.argsort(m.time_s, kind="stable")
+    if holdout_after is not None:
+        folds = (m.time_s >= holdout_after).astype(np.intp)
+        if folds.all() or not folds.any():
+            raise DiagnosisError(f"holdout_after={holdout_after} s leaves no readings on one "
+                                 "side of the split")
+        train = folds == 0
+        judge = ~train & disp
+        fold_ids: list[int] = [1]
+    else:
+        folds = fold_labels(m)
+        train = np.ones(len(m), dtype=bool)
+        judge = disp
+        fold_ids = sorted(int(f) for f in np.unique(folds))
+
+    try:
+        base_fit = fit(machine, m.select(train))
+    except FitError as exc:
+        raise DiagnosisError(f"the rigid model cannot be identified: {exc}") from None
+    design = build_design(machine, m)
+    names = [p.name for p in base_fit.params]
+    a0 = design.matrix[:, design.columns(names)]
+    trained = m.select(train)
+    wd = base_fit.weights[~trained.is_angle]
+    wa = base_fit.weights[trained.is_angle]
+    w = np.where(m.is_angle, float(wa[0]) if wa.size else 1.0, float(wd[0]) if wd.size else 1.0)
+    y = m.value
+
+    def heldout(a: F64) -> F64:
+        if holdout_after is not None:
+            r = np.full(len(m), np.nan)
+            x = _pinv_solve(a[train].T @ (a[train] * w[train, None]),
+                            (a[train] * w[train, None]).T @ y[train])
+            r[~train] = y[~train] - a[~train] @ x
+            return r
+        return heldout_residuals(a, y, w, folds)
+
+    base_heldout = heldout(a0)
+    rms_before = _rms(base_heldout[judge])
+    full_base_resid = y - a0 @ _pinv_solve(a0[train].T @ (a0[train] * w[train, None]),
+                                           (a0[train] * w[train, None]).T @ y[train])
+    cands, missing = candidates(machine, m, full_base_resid, train)
+    order_judge = order[judge[order]]
+    scored: list[Scored] = []
+    for c in cands:
+        r = heldout(np.column_stack((a0, c.columns)))
+        rms = _rms(r[judge])
+        z = _significance(base_heldout, r, order_judge, np.any(c.columns != 0, axis=1))
+        scored.append(Scored(c, r, rms, z, (rms_before - rms) / rms_before))
+    # a dynamic (lagged) refinement of the best thermal drift
+    drift = [s for s in scored if s.candidate.effect == "thermal_drift"]
+    if drift:
+        best_drift = min(drift, key=lambda s: s.rms_after_um)
+        dyn = _dynamic_drift(m, best_drift.candidate, full_base_resid, train, order)
+        if dyn is not None:
+            r = heldout(np.column_stack((a0, dyn.columns)))
+            rms = _rms(r[judge])
+            z = _significance(base_heldout, r, order_judge, np.any(dyn.columns != 0, axis=1))
+            scored.append(Scored(dyn, r, rms, z, (rms_before - rms) / rms_before))
+    scored.sort(key=lambda s: s.rms_after_um)
+    table = [{"effect": s.candidate.effect, "axis": s.candidate.axis,
+              "sensor": s.candidate.sensor, "rms_after_um": round(s.rms_after_um, 4),
+              "gain": round(s.gain, 4), "z": round(s.z, 2),
+              **({"model": "lagged"} if "lagged" in s.candidate.extra else {})}
+             for s in scored]
+    details: dict[str, Any] = {"n_readings": len(m), "folds": len(fold_ids),
+                               "split": "chronological" if holdout_after is not None
+                               else "runs"}
+    best = scored[0] if scored and scored[0].z >= Z_MIN and scored[0].gain >= MIN_GAIN else None
+    if best is not None:
+        static = best.candidate
+        if "lagged" in static.extra:
+            static = min((s for s in scored if s.candidate.effect == "thermal_drift"
+                          and "lagged" not in s.candidate.extra), key=lambda s: s.rms_after_um
+                         ).candidate
+        estimate, term = _estimate(machine, m, a0, w, y, train, static)
+        details["t"] = round(estimate.pop("_t"), 2)
+        if details["t"] < T_MIN:
+            best = None
+    if best is None:
+        return Diagnosis("none", None, None, {}, rms_before, rms_before, table, missing,
+                         base_fit.model, details, base_heldout, base_heldout, judge)
+    c = best.candidate
+    if "lagged" in c.extra:
+        # the static family names the effect; the dynamic model is its refinement
+        estimate["dynamic"] = c.extra.get("description", {})
+    effect, axis, sensor = static.effect, static.axis, static.sensor
+    model = base_fit.model.with_terms(term) if term is not None else base_fit.model
+    alternatives = sorted({s.candidate.sensor for s in scored
+                           if s.candidate.effect == effect and s.candidate.axis == axis
+                           and s.candidate.sensor not in (None, sensor)
+                           and s.rms_after_um <= best.rms_after_um * (1 + TIE)} - {None})
+    if alternatives:
+        details["alternatives"] = alternatives
+    return Diagnosis(effect, axis, sensor, estimate, rms_before, best.rms_after_um, table,
+                     missing, model, details, base_heldout, best.heldout, judge)
+
+
+def _estimate(
+    machine: Machine, m: Measurements, a0: F64, w: F64, y: F64,
+    train: NDArray[np.bool_], c: Candidate,
+) -> tuple[dict[str, Any], Term | None]:
+    """Fit base + candidate on the training readings; the effect in physical units."""
+    a = np.column_stack((a0, c.columns))
+    at, wt, yt = a[train], w[train], y[train]
+    g = at.T @ (at * wt[:, None])
+    x = _pinv_solve(g, (at * wt[:, None]).T @ yt)
+    r = yt - at @ x
+    dof = max(int(train.sum()) - a.shape[1], 1)
+    s2 = float(np.sum(wt * r * r) / dof)
+    cov = np.linalg.pinv(g) * s2
+    kx = c.columns.shape[1]
+    coef = x[-kx:]
+    std = np.sqrt(np.clip(np.diag(cov)[-kx:], 0, None))
+    axis = machine.axis(c.axis)
+    temps = _temperature_columns(m)
+    est, term = _physical(c, coef, std, axis.travel[0], temps, train)
+    est["_t"] = float(np.linalg.norm(coef) / max(float(np.linalg.norm(std)), 1e-300))
+    return est, term
+
+
+def _physical(
+    c: Candidate, coef: F64, std: F64, q_min: float, temps: dict[str, F64],
+    train: NDArray[np.bool_],
+) -> tuple[dict[str, Any], Term | None]:
+    if c.effect == "thermal_expansion":
+        assert c.sensor is not None
+        tref = float(temps[c.sensor][train].mean())
+        return ({"um_per_m_K": float(coef[0]), "um_per_m_K_std": float(std[0])},
+                ThermalTerm("thermal_expansion", c.axis, c.sensor, float(coef[0]), tref,
+                            q_min))
+    if c.effect == "thermal_drift":
+        assert c.sensor is not None
+        tref = float(temps[c.sensor][train].mean())
+        return ({"um_per_K": float(coef[0]), "um_per_K_std": float(std[0])},
+                ThermalTerm("thermal_drift", c.axis, c.sensor, float(coef[0]), tref))
+    if c.effect == "backlash":
+        return ({"reversal_um": abs(float(coef[0])), "reversal_um_std": float(std[0]),
+                 "sign": "lags behind the motion" if coef[0] >= 0 else "leads the motion"},
+                BacklashTerm(c.axis, abs(float(coef[0]))))
+    if c.effect == "periodic":
+        a_s, a_c = float(coef[0]), float(coef[1])
+        amp = math.hypot(a_s, a_c)
+        amp_std = float(math.sqrt((a_s * std[0]) ** 2 + (a_c * std[1]) ** 2) / max(amp, 1e-12))
+        phase = math.atan2(a_c, a_s)
+        period = c.extra["period_mm"]
+        return ({"amplitude_um": amp, "period_mm": period, "amplitude_um_std": amp_std,
+                 "phase_rad": phase},
+                PeriodicTerm(c.axis, amp, period, phase))
+    if c.effect == "time_drift":
+        return ({"um_per_h": float(coef[0]), "um_per_h_std": float(std[0])}, None)
+    raise ValueError(f"unknown effect {c.effect}")
+
+
+def _dynamic_drift(
+    m: Measurements, static: Candidate, resid: F64, train: NDArray[np.bool_],
+    order: NDArray[np.intp],
+) -> Candidate | None:
+    """Lagged-temperature drift along the static candidate's axis (volumetric.thermal)."""
+    k = "xyz".index(static.axis)
+    uk = np.where(m.is_angle, 0.0, m.u[:, k])
+    rows = order[np.abs(uk[order]) > 0.5]
+    if rows.size < 50:
+        return None
+    temps = _temperature_columns(m)
+    t = m.time_s[rows]
+    y = resid[rows] / uk[rows]
+    try:
+        model = fit_thermal_drift(t, {c: v[rows] for c, v in temps.items()}, y,
+                                  train[rows], time_drift=False)
+    except ValueError:
+        return None
+    if not model.terms:
+        return None
+    # columns over every reading: the lags run over the time-ordered series of all rows
+    t_all = m.time_s[order]
+    sig = {c: v[order] for c, v in temps.items()}
+    cols_sorted = np.column_stack([term.column(t_all, sig, model.t0_s) for term in model.terms])
+    cols = np.empty_like(cols_sorted)
+    cols[order] = cols_sorted
+    desc = {"terms": [{"name": term.name, "um_per_K": float(cf), "um_per_K_std": float(cu)}
+                      for term, cf, cu in zip(model.terms, model.coef, model.coef_u,
+                                              strict=True)]}
+    return Candidate("thermal_drift", static.axis, static.sensor, uk[:, None] * cols,
+                     {"lagged": True, "description": desc})
