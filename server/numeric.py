@@ -14,20 +14,28 @@ from typing import Any
 
 from volumetric.errors import MachineSpecError
 from volumetric.fit import FitError, fit
+from volumetric.iso230_6 import DiagonalTestError, diagonal_ranges, improvement
 from volumetric.machine import parse_machine
 from volumetric.measurement import MeasurementFormatError, Measurements, read_measurements
 from volumetric.model import FORMAT as MODEL_FORMAT
 from volumetric.model import MachineModel
 
 __all__ = [
+    "ACCEPTANCE",
     "MODEL_FORMAT",
     "MeasurementError",
     "ModelError",
+    "VerificationError",
     "check_machine_description",
     "check_model",
     "count_measurement_rows",
     "fit_model",
+    "verify_diagonals",
 ]
+
+ACCEPTANCE = 0.70
+"""A compensation passes the body-diagonal verification when it removes at least 70 % of the
+largest diagonal range (the EDNC paper's acceptance, ISO 230-6 diagonals)."""
 
 
 class MeasurementError(ValueError):
@@ -36,6 +44,10 @@ class MeasurementError(ValueError):
 
 class ModelError(ValueError):
     """A model the core cannot read or fit; the message says what and where."""
+
+
+class VerificationError(ValueError):
+    """Readings that are not a body-diagonal test the core can evaluate."""
 
 
 def check_machine_description(spec: dict[str, Any]) -> None:
@@ -124,3 +136,43 @@ def fit_model(
     except (FitError, ValueError) as exc:
         raise ModelError(str(exc)) from None
     return result.model.to_json()
+
+
+def verify_diagonals(
+    before: tuple[str, str], after: tuple[str, str] | None, *, target_tol_mm: float = 1e-3
+) -> dict[str, Any]:
+    """Evaluate ISO 230-6 body-diagonal tests, and the gain of a compensation.
+
+    Parameters
+    ----------
+    before, after
+        ``(set name, csv_text)`` of the diagonal tests without and with compensation;
+        ``after`` may be None (ranges only).
+    target_tol_mm
+        Commanded points closer than this along a diagonal are one target (mm).
+
+    Returns
+    -------
+    dict
+        ``ranges_before_um`` (and with ``after``: ``ranges_after_um``, ``improvement`` per
+        diagonal and ``overall``, ``accepted`` = overall >= :data:`ACCEPTANCE`).
+
+    Raises
+    ------
+    MeasurementError, VerificationError
+    """
+    try:
+        ranges_before = diagonal_ranges(_read(before[1], before[0]),
+                                        target_tol_mm=target_tol_mm)
+        report: dict[str, Any] = {"standard": "ISO 230-6 body diagonals",
+                                  "before_set": before[0], "ranges_before_um": ranges_before}
+        if after is not None:
+            ranges_after = diagonal_ranges(_read(after[1], after[0]),
+                                           target_tol_mm=target_tol_mm)
+            gain = improvement(ranges_before, ranges_after)
+            report |= {"after_set": after[0], "ranges_after_um": ranges_after,
+                       "improvement": gain, "acceptance": ACCEPTANCE,
+                       "accepted": gain["overall"] >= ACCEPTANCE}
+    except DiagonalTestError as exc:
+        raise VerificationError(str(exc)) from None
+    return report

@@ -498,6 +498,60 @@ async def test_diagnoses_and_verifications(api: tuple[FastAPI, httpx.AsyncClient
     assert len((await client.get(vurl)).json()) == 1
 
 
+def diagonal_csv(um_per_mm: float) -> str:
+    """Two runs of the PPP body diagonal whose error grows linearly along it."""
+    start, end = np.array([10.0, 10.0, -290.0]), np.array([490.0, 290.0, -10.0])
+    length = float(np.linalg.norm(end - start))
+    u = (end - start) / length
+    lines = [CSV_HEADER]
+    for run in (1, 2):
+        for i in range(6):
+            p = start + (end - start) * i / 5
+            lines.append(f"diag-PPP,{run},{i},{p[0]},{p[1]},{p[2]},1,1,1,100,displacement,"
+                         f"{u[0]},{u[1]},{u[2]},{um_per_mm * length * i / 5}")
+    return "\n".join(lines) + "\n"
+
+
+async def test_verification_of_a_compensation(client: httpx.AsyncClient) -> None:
+    await add_vmc(client)
+    for set_name, slope in (("diag-before", 0.05), ("diag-after", 0.01)):
+        r = await client.post("/api/machines/vmc-01/measurements", params={"set_name": set_name},
+                              content=diagonal_csv(slope).encode(),
+                              headers={**WRITE, "content-type": "text/csv"})
+        assert r.status_code == 201, r.text
+    url = "/api/machines/vmc-01/verifications"
+    r = await client.post(url, headers=WRITE, json={"before": "diag-before",
+                                                    "after": "diag-after"})
+    assert r.status_code == 201, r.text
+    report = r.json()
+    length = float(np.linalg.norm([480.0, 280.0, 280.0]))
+    result = report["result"]
+    assert result["ranges_before_um"]["diag-PPP"] == pytest.approx(0.05 * length)
+    assert result["ranges_after_um"]["diag-PPP"] == pytest.approx(0.01 * length)
+    assert result["improvement"]["overall"] == pytest.approx(0.8)
+    assert result["accepted"] is True
+    assert (await client.get(f"{url}/{report['id']}")).json() == report
+
+    r = await client.post(url, headers=WRITE, json={"before": "diag-after",
+                                                    "after": "diag-before"})
+    assert r.json()["result"]["accepted"] is False  # worse is not accepted
+    r = await client.post(url, headers=WRITE, json={"before": "diag-before"})
+    assert "improvement" not in r.json()["result"]
+
+
+async def test_verification_errors_are_422(client: httpx.AsyncClient) -> None:
+    await add_vmc(client)
+    await client.post("/api/machines/vmc-01/measurements", params={"set_name": "x-pos"},
+                      content=positioning_csv(0.02).encode(),
+                      headers={**WRITE, "content-type": "text/csv"})
+    url = "/api/machines/vmc-01/verifications"
+    r = await client.post(url, headers=WRITE, json={"before": "x-pos"})
+    assert "diag-" in errors(r)[0]["msg"]
+    r = await client.post(url, headers=WRITE, json={"before": "x-pos", "after": "nope"})
+    assert errors(r)[0]["loc"] == ["body", "after"]
+    assert (await client.get(url)).json() == []
+
+
 # --- events and metrics ---------------------------------------------------------------------
 
 async def test_events_feed_the_refusal_list_and_metrics(

@@ -7,7 +7,7 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_validator
 
-from server.schemas.common import check_json_object
+from server.schemas.common import Name, check_json_object
 
 EffectName = Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9_]{0,63}$")]
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
@@ -53,3 +53,13 @@ class ReportPublic(BaseModel):
     kind: Literal["diagnosis", "verification"]
     result: dict[str, Any]
     created_at: dt.datetime
+
+
+class VerificationRequest(BaseModel):
+    """Evaluate stored body-diagonal tests (ISO 230-6), optionally before and after."""
+
+    before: Name = Field(description="Measurement set with the diag-* tests, uncompensated.")
+    after: Name | None = Field(default=None,
+                               description="The same tests with compensation applied.")
+    target_tol_mm: float = Field(default=1e-3, gt=0.0, le=10.0, allow_inf_nan=False,
+                                 description="Points closer than this are one target (mm).")
