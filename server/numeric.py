@@ -9,9 +9,13 @@ they reject, with the same messages. Everything here is synchronous and may take
 from __future__ import annotations
 
 import io
+import math
 from collections.abc import Sequence
 from typing import Any
 
+import numpy as np
+
+from volumetric.diagnose import DiagnosisError, diagnose
 from volumetric.errors import MachineSpecError
 from volumetric.fit import FitError, fit
 from volumetric.iso230_6 import DiagonalTestError, diagonal_ranges, improvement
@@ -29,6 +33,7 @@ __all__ = [
     "check_machine_description",
     "check_model",
     "count_measurement_rows",
+    "diagnose_sets",
     "fit_model",
     "verify_diagonals",
 ]
@@ -104,6 +109,31 @@ def check_model(body: dict[str, Any], description: dict[str, Any]) -> None:
         raise ModelError(str(exc)) from None
 
 
+def _readings(sets: Sequence[tuple[str, str]]) -> Measurements:
+    parts = [_read(text, name) for name, text in sets]
+    try:
+        return Measurements.concat(parts)
+    except ValueError as exc:
+        raise ModelError(f"the sets do not combine: {exc}") from None
+
+
+def plain_json(value: Any) -> Any:
+    """``value`` with numpy scalars made Python numbers and non-finite floats made None.
+
+    The core's JSON is meant for ``json.dumps``; a database JSON column and strict clients
+    also refuse NaN and numpy integers.
+    """
+    if isinstance(value, dict):
+        return {str(k): plain_json(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [plain_json(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
 def fit_model(
     description: dict[str, Any], sets: Sequence[tuple[str, str]], *, select: bool = True
 ) -> dict[str, Any]:
@@ -129,13 +159,41 @@ def fit_model(
         Unreadable sets; sets that do not combine or observe too little to fit.
     """
     machine = parse_machine(description)
-    parts = [_read(text, name) for name, text in sets]
+    readings = _readings(sets)
     try:
-        readings = Measurements.concat(parts)
         result = fit(machine, readings, select=select)
-    except (FitError, ValueError) as exc:
+    except FitError as exc:
         raise ModelError(str(exc)) from None
-    return result.model.to_json()
+    body: dict[str, Any] = plain_json(result.model.to_json())
+    return body
+
+
+def diagnose_sets(
+    description: dict[str, Any], sets: Sequence[tuple[str, str]], *,
+    holdout_after: float | None = None,
+) -> tuple[dict[str, Any], dict[str, Any] | None]:
+    """Diagnose what the rigid model misses in stored measurement sets (``ednc diagnose``).
+
+    Returns
+    -------
+    result : dict
+        The diagnosis JSON (formats.md §3 and the core's extensions).
+    model : dict or None
+        The model extended by the named effect, or None when the effect is ``none``.
+
+    Raises
+    ------
+    MeasurementError, ModelError
+        Unreadable sets, or readings that cannot support a diagnosis (the core's message).
+    """
+    machine = parse_machine(description)
+    readings = _readings(sets)
+    try:
+        found = diagnose(machine, readings, holdout_after=holdout_after)
+    except DiagnosisError as exc:
+        raise ModelError(str(exc)) from None
+    model = None if found.effect == "none" else plain_json(found.model.to_json())
+    return plain_json(found.to_json()), model
 
 
 def verify_diagonals(

@@ -552,6 +552,63 @@ async def test_verification_errors_are_422(client: httpx.AsyncClient) -> None:
     assert (await client.get(url)).json() == []
 
 
+def backlash_csv(reversal_um: float) -> str:
+    """Four runs of an X positioning test, alternately approached from below and above,
+    whose readings differ by ``reversal_um`` between the two approach directions."""
+    rng = np.random.default_rng(7)  # fixed: the same readings every time
+    lines, t = [CSV_HEADER], 0
+    for run in range(1, 5):
+        d = 1 if run % 2 else -1
+        for i in range(21) if d > 0 else range(20, -1, -1):
+            t, x = t + 1, 25.0 * i
+            value = 0.02 * x - d * reversal_um / 2 + rng.normal(0.0, 0.1)
+            lines.append(f"X-positioning,{run},{t},{x},150,-150,{d},0,0,100,displacement,"
+                         f"1,0,0,{value:.4f}")
+    return "\n".join(lines) + "\n"
+
+
+async def test_diagnosis_run_names_backlash_and_stores_the_extended_model(
+    client: httpx.AsyncClient,
+) -> None:
+    await add_vmc(client)
+    await client.post("/api/machines/vmc-01/measurements", params={"set_name": "bidir"},
+                      content=backlash_csv(8.0).encode(),
+                      headers={**WRITE, "content-type": "text/csv"})
+    r = await client.post("/api/machines/vmc-01/diagnoses/run", headers=WRITE,
+                          json={"measurement_sets": ["bidir"]})
+    assert r.status_code == 201, r.text
+    result = r.json()["result"]
+    assert (result["effect"], result["axis"]) == ("backlash", "x")
+    estimate = result["estimate"]
+    assert abs(estimate["reversal_um"] - 8.0) < 5 * estimate["reversal_um_std"]
+    assert result["rms_after_um"] < result["rms_before_um"]
+    assert result["measurement_sets"] == ["bidir"] and result["model_version"] == 1
+    model = (await client.get("/api/machines/vmc-01/models/latest")).json()
+    assert model["source"] == "diagnose"
+    (term,) = model["body"]["terms"]
+    assert term["effect"] == "backlash" and term["reversal_um"] == estimate["reversal_um"]
+
+    # What the core prints (``ednc diagnose --json``) is also accepted as an upload.
+    uploaded = {k: v for k, v in result.items() if k not in ("measurement_sets",
+                                                              "model_version")}
+    r = await client.post("/api/machines/vmc-01/diagnoses", json=uploaded, headers=WRITE)
+    assert r.status_code == 201, r.text
+    assert r.json()["result"]["estimate"] == estimate
+
+
+async def test_diagnosis_run_errors_are_422(client: httpx.AsyncClient) -> None:
+    await add_vmc(client)
+    await client.post("/api/machines/vmc-01/measurements", params={"set_name": "small"},
+                      content=csv_text(5).encode(), headers={**WRITE, "content-type": "text/csv"})
+    url = "/api/machines/vmc-01/diagnoses/run"
+    r = await client.post(url, headers=WRITE, json={"measurement_sets": ["small"]})
+    assert "too few readings" in errors(r)[0]["msg"]
+    r = await client.post(url, headers=WRITE, json={"measurement_sets": ["small", "gone"]})
+    assert errors(r)[0]["loc"] == ["body", "measurement_sets", 1]
+    assert (await client.get("/api/machines/vmc-01/diagnoses")).json() == []
+    assert (await client.get("/api/machines/vmc-01/models")).json() == []
+
+
 # --- events and metrics ---------------------------------------------------------------------
 
 async def test_events_feed_the_refusal_list_and_metrics(

@@ -46,3 +46,16 @@ def _no_nul(value: str) -> str:
 
 Text = Annotated[str, AfterValidator(_no_nul)]
 """Free text that a database text column can store (no NUL)."""
+
+
+def _distinct(names: list[str]) -> list[str]:
+    if len(set(names)) != len(names):
+        raise ValueError("a set is named twice")
+    return names
+
+
+SetNames = Annotated[
+    list[Name],
+    Field(min_length=1, max_length=50, description="Names of measurement sets, used together."),
+    AfterValidator(_distinct),
+]

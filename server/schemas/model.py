@@ -5,9 +5,9 @@ from __future__ import annotations
 import datetime as dt
 from typing import Any, Literal
 
-from pydantic import BaseModel, Field, field_validator
+from pydantic import BaseModel, Field
 
-from server.schemas.common import JsonObject, Name
+from server.schemas.common import JsonObject, SetNames
 
 ModelSource = Literal["fit", "upload", "diagnose"]
 
@@ -37,16 +37,7 @@ class ModelPublic(ModelSummary):
 class FitRequest(BaseModel):
     """Fit the machine's rigid model to stored measurement sets."""
 
-    measurement_sets: list[Name] = Field(
-        min_length=1, max_length=50, description="Names of the sets, used together."
-    )
+    measurement_sets: SetNames
     select: bool = Field(
         default=True, description="Choose polynomial degrees from the data (BIC)."
     )
-
-    @field_validator("measurement_sets")
-    @classmethod
-    def _distinct(cls, names: list[str]) -> list[str]:
-        if len(set(names)) != len(names):
-            raise ValueError("a set is named twice")
-        return names

@@ -7,10 +7,9 @@ from typing import Annotated, Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field, StringConstraints, model_validator
 
-from server.schemas.common import Name, check_json_object
+from server.schemas.common import JsonObject, Name, SetNames, check_json_object
 
 EffectName = Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9_]{0,63}$")]
-FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 Rms = Annotated[float, Field(ge=0.0, allow_inf_nan=False)]
 
 
@@ -24,11 +23,14 @@ class _Open(BaseModel):
         return self
 
 
+AxisName = Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9]{0,7}$")]
+
+
 class Candidate(_Open):
     """One effect the diagnosis tried."""
 
     effect: EffectName
-    axis: Literal["x", "y", "z"] | None = None
+    axis: AxisName | None = None
     rms_after_um: Rms | None = None
 
 
@@ -36,10 +38,9 @@ class DiagnosisCreate(_Open):
     """The JSON that ``ednc diagnose --json`` prints (formats.md §3)."""
 
     effect: EffectName = Field(examples=["backlash"])
-    axis: Literal["x", "y", "z"] | None = None
+    axis: AxisName | None = Field(default=None, examples=["x"])
     sensor: Annotated[str, StringConstraints(pattern=r"^[^\x00]{1,128}$")] | None = None
-    estimate: dict[Annotated[str, StringConstraints(pattern=r"^[a-z][a-z0-9_]{0,63}$")],
-                   FiniteFloat] = Field(default_factory=dict, examples=[{"reversal_um": 9.8}])
+    estimate: JsonObject = Field(default_factory=dict, examples=[{"reversal_um": 9.8}])
     rms_before_um: Rms
     rms_after_um: Rms
     candidates: Annotated[list[Candidate], Field(max_length=1000)] = Field(default_factory=list)
@@ -63,3 +64,13 @@ class VerificationRequest(BaseModel):
                                description="The same tests with compensation applied.")
     target_tol_mm: float = Field(default=1e-3, gt=0.0, le=10.0, allow_inf_nan=False,
                                  description="Points closer than this are one target (mm).")
+
+
+class DiagnoseRequest(BaseModel):
+    """Diagnose stored measurement sets (what ``ednc diagnose`` does with a CSV)."""
+
+    measurement_sets: SetNames
+    holdout_after: float | None = Field(
+        default=None, ge=0.0, allow_inf_nan=False,
+        description="Judge on readings at or after this time (s), fitted on the earlier ones.",
+    )
