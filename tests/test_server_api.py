@@ -19,6 +19,7 @@ from server.center import Center
 from server.db import maps as map_repo
 from server.db import reports as report_repo
 from server.events import EventKind
+from server.numeric import plain_json
 from server.settings import Settings
 from tests.test_server_db import database_url, postgres_url  # noqa: F401  (fixtures)
 from volumetric.components import component_from_json
@@ -594,6 +595,13 @@ async def test_diagnosis_run_names_backlash_and_stores_the_extended_model(
     r = await client.post("/api/machines/vmc-01/diagnoses", json=uploaded, headers=WRITE)
     assert r.status_code == 201, r.text
     assert r.json()["result"]["estimate"] == estimate
+
+
+def test_core_json_is_made_strict() -> None:
+    out = plain_json({"a": np.float64("nan"), "b": np.int64(3), "c": [np.inf, 1.5], 1: (2,)})
+    assert out == {"a": None, "b": 3, "c": [None, 1.5], "1": [2]}
+    assert type(out["b"]) is int
+    json.dumps(out, allow_nan=False)
 
 
 async def test_diagnosis_run_errors_are_422(client: httpx.AsyncClient) -> None:

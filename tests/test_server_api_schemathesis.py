@@ -23,6 +23,7 @@ from server.app import create_app
 from server.db import Database, error_models, machines, make_engine, maps, measurements, reports
 from server.db.tables import Base
 from server.settings import Settings
+from tests.test_server_api import backlash_csv
 from tests.test_server_db import postgres_url  # noqa: F401  (fixture)
 
 API_KEY = "fuzz-api-key-0123"
@@ -43,7 +44,10 @@ def _seed(url: str) -> None:
             description={"name": EXPENDABLE, "controller": "siemens", "ip": "10.0.0.99",
                          "translational_type": 1, "rotary_type": 0}, secret="seeded-secret")
     db.call(error_models.add_model, row.id, source="fit", body={"terms": []})
-    db.call(measurements.add_measurement_set, row.id, name="s1", csv_text="h\n1\n", row_count=1)
+    # A real campaign, so that fit, diagnose and verify run on data under generated options.
+    readings = backlash_csv(8.0)
+    db.call(measurements.add_measurement_set, row.id, name="s1", csv_text=readings,
+            row_count=readings.count("\n") - 1)
     db.call(maps.add_map_version, row.id, payload=b"\x00map", model_version=1)
     db.call(maps.record_sent, row.id, 1)
     db.call(reports.add_report, row.id, kind="diagnosis", result={"effect": "none"})
