@@ -2,7 +2,10 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from fastapi import HTTPException, status
+from pydantic import BaseModel
 
 
 def unprocessable(loc: list[str | int], message: str, kind: str) -> HTTPException:
@@ -20,3 +23,23 @@ def unprocessable(loc: list[str | int], message: str, kind: str) -> HTTPExceptio
     return HTTPException(
         status.HTTP_422_UNPROCESSABLE_CONTENT, [{"loc": loc, "msg": message, "type": kind}]
     )
+
+
+class Problem(BaseModel):
+    """The body of an error reply other than 422."""
+
+    detail: str
+
+
+_Responses = dict[int | str, dict[str, Any]]
+
+NOT_FOUND: _Responses = {
+    404: {"model": Problem, "description": "No such machine (or no such item of it)."}
+}
+"""Documented on every route under a machine's name."""
+
+WRITE: _Responses = {
+    401: {"model": Problem, "description": "API key missing or wrong (X-API-Key)."},
+    403: {"model": Problem, "description": "The service runs read-only (no API key set)."},
+}
+"""Documented on every route that needs the API key."""

@@ -11,7 +11,7 @@ import asyncio
 from fastapi import APIRouter, HTTPException, status
 
 from server.api.deps import DatabaseDep, MachineDep, ReportId, WriteAccess
-from server.api.errors import unprocessable
+from server.api.errors import NOT_FOUND, WRITE, unprocessable
 from server.db import DuplicateError
 from server.db import error_models as model_repo
 from server.db import measurements as measurement_repo
@@ -20,7 +20,9 @@ from server.db.tables import DiagnosisRow
 from server.numeric import MeasurementError, ModelError, diagnose_sets
 from server.schemas.report import DiagnoseRequest, DiagnosisCreate, ReportPublic
 
-router = APIRouter(prefix="/machines/{name}/diagnoses", tags=["diagnoses"])
+router = APIRouter(
+    prefix="/machines/{name}/diagnoses", tags=["diagnoses"], responses=NOT_FOUND
+)
 
 
 def report_public(row: DiagnosisRow, machine: str) -> ReportPublic:
@@ -37,7 +39,8 @@ async def list_diagnoses(db: DatabaseDep, machine: MachineDep) -> list[ReportPub
     return [report_public(r, machine.name) for r in rows]
 
 
-@router.post("", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess])
+@router.post("", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
+             responses=WRITE)
 async def add_diagnosis(
     db: DatabaseDep, machine: MachineDep, diagnosis: DiagnosisCreate
 ) -> ReportPublic:
@@ -47,7 +50,8 @@ async def add_diagnosis(
     return report_public(row, machine.name)
 
 
-@router.post("/run", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess])
+@router.post("/run", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
+             responses=WRITE)
 async def run_diagnosis(
     db: DatabaseDep, machine: MachineDep, request: DiagnoseRequest
 ) -> ReportPublic:

@@ -9,6 +9,7 @@ from fastapi.exceptions import RequestValidationError
 from pydantic import ValidationError
 
 from server.api.deps import CenterDep, DatabaseDep, MachineDep, WriteAccess
+from server.api.errors import NOT_FOUND, WRITE
 from server.db import DuplicateError
 from server.db import machines as machine_repo
 from server.db.tables import MachineRow
@@ -32,7 +33,8 @@ async def list_machines(db: DatabaseDep) -> list[MachinePublic]:
 
 
 @router.post(
-    "", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess], responses=_CONFLICT
+    "", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
+    responses={**WRITE, **_CONFLICT},
 )
 async def create_machine(db: DatabaseDep, machine: MachineCreate) -> MachinePublic:
     """Add a machine. Its ``secret`` is stored for the challenge-response and never shown."""
@@ -48,13 +50,14 @@ async def create_machine(db: DatabaseDep, machine: MachineCreate) -> MachinePubl
     return machine_public(row)
 
 
-@router.get("/{name}")
+@router.get("/{name}", responses=NOT_FOUND)
 async def get_machine(machine: MachineDep) -> MachinePublic:
     """One machine."""
     return machine_public(machine)
 
 
-@router.patch("/{name}", dependencies=[WriteAccess], responses=_CONFLICT)
+@router.patch("/{name}", dependencies=[WriteAccess],
+              responses={**NOT_FOUND, **WRITE, **_CONFLICT})
 async def update_machine(
     center: CenterDep, machine: MachineDep, update: MachineUpdate
 ) -> MachinePublic:
@@ -83,7 +86,8 @@ async def update_machine(
     return machine_public(row)
 
 
-@router.delete("/{name}", status_code=status.HTTP_204_NO_CONTENT, dependencies=[WriteAccess])
+@router.delete("/{name}", status_code=status.HTTP_204_NO_CONTENT, dependencies=[WriteAccess],
+               responses={**NOT_FOUND, **WRITE})
 async def delete_machine(center: CenterDep, machine: MachineDep) -> Response:
     """Remove a machine with its models, measurements, maps and reports (events stay)."""
     await center.db.run(machine_repo.delete_machine, machine.name)

@@ -6,12 +6,15 @@ from __future__ import annotations
 from fastapi import APIRouter, HTTPException, Response, status
 
 from server.api.deps import DatabaseDep, MachineDep, Version
+from server.api.errors import NOT_FOUND
 from server.db import Database
 from server.db import maps as map_repo
 from server.db.tables import AppliedRow, MachineRow, MapVersionRow
 from server.schemas.maps import AppliedPublic, MapPublic
 
-router = APIRouter(prefix="/machines/{name}", tags=["maps"])
+router = APIRouter(
+    prefix="/machines/{name}", tags=["maps"], responses=NOT_FOUND
+)
 
 
 def map_public(row: MapVersionRow, machine: str) -> MapPublic:

@@ -11,7 +11,7 @@ from fastapi import APIRouter, HTTPException, Path, Query, Request, Response, st
 from starlette.datastructures import UploadFile
 
 from server.api.deps import DatabaseDep, MachineDep, WriteAccess
-from server.api.errors import unprocessable
+from server.api.errors import NOT_FOUND, WRITE, unprocessable
 from server.db import Database, DuplicateError
 from server.db import measurements as measurement_repo
 from server.db.tables import MachineRow, MeasurementSetRow
@@ -19,7 +19,9 @@ from server.numeric import MeasurementError, count_measurement_rows
 from server.schemas.common import NAME_PATTERN
 from server.schemas.measurement import MeasurementSetPublic
 
-router = APIRouter(prefix="/machines/{name}/measurements", tags=["measurements"])
+router = APIRouter(
+    prefix="/machines/{name}/measurements", tags=["measurements"], responses=NOT_FOUND
+)
 
 # The public data sets run to a few MB; 64 MB leaves room for long campaigns while
 # keeping one upload from filling the server's memory.
@@ -93,7 +95,7 @@ def _decode(data: bytes, source: str) -> str:
 @router.post(
     "", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
     openapi_extra=_UPLOAD_BODY,
-    responses={409: {"description": "The machine already has a set of that name."},
+    responses={**WRITE, 409: {"description": "The machine already has a set of that name."},
                413: {"description": "Upload too large."},
                415: {"description": "Neither text/csv nor multipart/form-data."}},
 )

@@ -11,7 +11,7 @@ import asyncio
 from fastapi import APIRouter, HTTPException, status
 
 from server.api.deps import DatabaseDep, MachineDep, Version, WriteAccess
-from server.api.errors import unprocessable
+from server.api.errors import NOT_FOUND, WRITE, unprocessable
 from server.db import Database, DuplicateError
 from server.db import error_models as model_repo
 from server.db import measurements as measurement_repo
@@ -19,7 +19,9 @@ from server.db.tables import MachineRow, ModelRow
 from server.numeric import MeasurementError, ModelError, check_model, fit_model
 from server.schemas.model import FitRequest, ModelCreate, ModelPublic, ModelSource, ModelSummary
 
-router = APIRouter(prefix="/machines/{name}/models", tags=["models"])
+router = APIRouter(
+    prefix="/machines/{name}/models", tags=["models"], responses=NOT_FOUND
+)
 
 _RETRY: dict[int | str, dict[str, str]] = {
     409: {"description": "Another writer took the version number; retry."}
@@ -55,7 +57,7 @@ async def list_models(db: DatabaseDep, machine: MachineDep) -> list[ModelSummary
 
 
 @router.post("", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
-             responses=_RETRY)
+             responses={**WRITE, **_RETRY})
 async def add_model(db: DatabaseDep, machine: MachineDep, model: ModelCreate) -> ModelPublic:
     """Store a model (``MachineModel.to_json`` of the numeric core) as the next version.
 
@@ -69,7 +71,7 @@ async def add_model(db: DatabaseDep, machine: MachineDep, model: ModelCreate) ->
 
 
 @router.post("/fit", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
-             responses=_RETRY)
+             responses={**WRITE, **_RETRY})
 async def fit(db: DatabaseDep, machine: MachineDep, request: FitRequest) -> ModelPublic:
     """Fit the rigid model to stored measurement sets and store it as the next version.
 

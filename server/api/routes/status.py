@@ -7,6 +7,7 @@ from sqlalchemy.orm import Session
 
 from ednc import __version__
 from server.api.deps import CenterDep, MachineDep
+from server.api.errors import NOT_FOUND
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.db.tables import MachineRow
@@ -59,7 +60,7 @@ async def service_status(center: CenterDep) -> ServiceStatus:
     )
 
 
-@router.get("/machines/{name}/status")
+@router.get("/machines/{name}/status", responses=NOT_FOUND)
 async def machine_status(center: CenterDep, machine: MachineDep) -> MachineStatus:
     """One machine's link and map versions."""
     versions = await center.db.run(_map_versions, machine.id)

@@ -11,14 +11,16 @@ import asyncio
 from fastapi import APIRouter, HTTPException, status
 
 from server.api.deps import DatabaseDep, MachineDep, ReportId, WriteAccess
-from server.api.errors import unprocessable
+from server.api.errors import NOT_FOUND, WRITE, unprocessable
 from server.api.routes.diagnoses import report_public
 from server.db import measurements as measurement_repo
 from server.db import reports as report_repo
 from server.numeric import MeasurementError, VerificationError, verify_diagonals
 from server.schemas.report import ReportPublic, VerificationRequest
 
-router = APIRouter(prefix="/machines/{name}/verifications", tags=["verifications"])
+router = APIRouter(
+    prefix="/machines/{name}/verifications", tags=["verifications"], responses=NOT_FOUND
+)
 
 
 @router.get("")
@@ -40,7 +42,8 @@ async def get_verification(
     return report_public(row, machine.name)
 
 
-@router.post("", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess])
+@router.post("", status_code=status.HTTP_201_CREATED, dependencies=[WriteAccess],
+             responses=WRITE)
 async def verify(
     db: DatabaseDep, machine: MachineDep, request: VerificationRequest
 ) -> ReportPublic:
