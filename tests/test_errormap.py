@@ -185,9 +185,14 @@ def test_backlash_travels_as_the_reversal_of_its_axis() -> None:
     mach, model = vmc(), vmc_model().with_terms(BacklashTerm("x", 9.8))
     fanuc = build_map(mach, model, controller="fanuc")
     siemens = build_map(mach, model, controller="siemens")
-    assert fanuc.reversal == (0.01, None, None)  # 9.8 µm in 0.001 mm counts
-    assert siemens.reversal[0] == pytest.approx(0.0098, rel=1e-7)
-    assert fanuc.to_payload().outputs[0].reversal == 10
+    rigid = build_map(mach, vmc_model(), controller="siemens")
+    # a lagging axis: the negative approach needs 9.8 µm less correction than the positive
+    assert fanuc.reversal == (-0.01, None, None)  # -9.8 µm in 0.001 mm counts
+    assert siemens.reversal[0] == pytest.approx(-0.0098, rel=1e-7)
+    assert fanuc.to_payload().outputs[0].reversal == -10
+    # and the values are the positive-approach corrections: the mean plus half of it
+    shift = siemens.values[..., 0] - rigid.values[..., 0]
+    np.testing.assert_allclose(shift, 0.0049, atol=1e-6)
 
 
 # --- quantisation and limits ---
@@ -298,7 +303,7 @@ def test_map_command_writes_a_payload_and_reports_it(files: tuple[Path, Path],
     assert info["worst_interpolation_um"] <= 0.4
     assert info["controller"] == "fanuc" and payload.increment_mm == 0.001
     assert info["temperatures"] == {"T_x_C": 23.5}
-    assert payload.outputs[0].reversal == 10
+    assert payload.outputs[0].reversal == -10
 
 
 def test_compensate_command_prints_corrections_and_residuals(files: tuple[Path, Path],

@@ -177,8 +177,9 @@ class ErrorMap:
     limits : tuple of float
         Per output, the largest |correction| allowed, mm or degrees.
     reversal : tuple of float or None
-        Per output, the backlash (full reversal) the controller adds on direction change,
-        mm or degrees, or None.
+        Per output, what the controller adds while the axis last moved negative: the
+        negative-approach minus the positive-approach correction (minus the backlash of an
+        axis that lags behind its motion), mm or degrees, or None.
     temperatures : mapping of str to float
         The temperatures (°C) the map was built for.
     valid_s : int
@@ -601,6 +602,12 @@ def build_map(
         check_exact = np.vstack([check_exact, indep_exact])
         budget *= _shrink(tolerance_um, worst_indep)
 
+    # Backlash: the tool lags half the reversal behind the motion (volumetric.model), so
+    # the positive-approach correction the values carry is the mean one plus B/2, and the
+    # negative approach differs by -B (protocol/README.md section 6: reversal = negative-
+    # approach correction minus positive-approach correction).
+    backlash_mm = np.array([model.reversal_um().get(a.key, 0.0) * 1e-3 for a in machine.axes])
+    values = values + 0.5 * backlash_mm
     limits = np.array([limit_deg if a.kind == "rotary" else limit_mm for a in machine.axes])
     over = np.abs(values) > limits
     clamped_nodes = int(over.any(axis=-1).sum())
@@ -699,7 +706,7 @@ def _reversal(machine: Machine, model: MachineModel,
             continue
         if not math.isfinite(r) or r < 0:
             raise MapBuildError(f"backlash of axis {a.key} is {r} µm; expected >= 0")
-        mm = r * 1e-3
+        mm = -r * 1e-3  # negative minus positive approach correction of a lagging axis
         # what the wire carries: whole counts (Fanuc) or a float32 (Siemens)
         out.append(float(np.rint(mm / inc) * inc) if inc is not None else
                    float(np.float32(mm)))
