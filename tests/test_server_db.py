@@ -267,3 +267,23 @@ def test_unreachable_database_is_one_clear_error(url: str) -> None:
     message = str(info.value)
     assert message.startswith("cannot open database ") and "hunter2" not in message
     assert len(message.splitlines()) == 1
+
+
+def test_map_states_of_every_machine_at_once(db: Database) -> None:
+    a, b = _machine(db), _machine(db, "vmc-02", "10.0.0.22")
+    _machine(db, "vmc-03", "10.0.0.23")  # no maps at all
+    for mid in (a, a, a, b):
+        db.call(maps.add_map_version, mid, payload=b"m", model_version=None)
+    first = db.call(maps.record_sent, a, 1)
+    assert first is not None
+    db.call(maps.record_answer, first.id, acked=True)
+    second = db.call(maps.record_sent, a, 2)
+    assert second is not None
+    db.call(maps.record_answer, second.id, acked=False, reject_reason="busy")
+    db.call(maps.record_sent, b, 1)  # pending
+    states = db.call(maps.map_states)
+    assert states == {
+        a: maps.MapState(latest=3, sent=2, applied=1, reject_reason="busy"),
+        b: maps.MapState(latest=1, sent=1, applied=None, reject_reason=None),
+    }
+    assert db.call(maps.map_states, b) == {b: states[b]}

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
+from dataclasses import dataclass
 from typing import Any
 
 from sqlalchemy import func, select
@@ -109,3 +110,43 @@ def latest_acked(session: Session, machine_id: int) -> AppliedRow | None:
     """The machine's most recent delivery that it acknowledged as applied."""
     query = select(AppliedRow).where(AppliedRow.machine_id == machine_id, AppliedRow.acked)
     return session.scalar(query.order_by(AppliedRow.id.desc()).limit(1))
+
+
+@dataclass(frozen=True)
+class MapState:
+    """Where a machine's maps stand: newest built, newest sent, newest applied."""
+
+    latest: int | None = None
+    sent: int | None = None
+    applied: int | None = None
+    reject_reason: str | None = None
+    """Why the machine rejected the newest map sent, if it did."""
+
+
+def map_states(session: Session, machine_id: int | None = None) -> dict[int, MapState]:
+    """:class:`MapState` by machine id (machines without maps are absent), in three
+    grouped queries whatever the number of machines; one machine only if given."""
+
+    def only(query: Any, column: Any) -> Any:
+        return query if machine_id is None else query.where(column == machine_id)
+
+    latest: dict[int, int] = {
+        mid: version for mid, version in session.execute(only(
+            select(MapVersionRow.machine_id, func.max(MapVersionRow.version)),
+            MapVersionRow.machine_id).group_by(MapVersionRow.machine_id))
+    }
+    newest = only(select(func.max(AppliedRow.id)), AppliedRow.machine_id)
+    sent = {r.machine_id: r for r in session.scalars(select(AppliedRow).where(
+        AppliedRow.id.in_(newest.group_by(AppliedRow.machine_id))))}
+    newest_acked = newest.where(AppliedRow.acked).group_by(AppliedRow.machine_id)
+    acked = {r.machine_id: r for r in session.scalars(select(AppliedRow).where(
+        AppliedRow.id.in_(newest_acked)))}
+    return {
+        mid: MapState(
+            latest=latest.get(mid),
+            sent=sent[mid].map_version if mid in sent else None,
+            applied=acked[mid].map_version if mid in acked else None,
+            reject_reason=sent[mid].reject_reason if mid in sent else None,
+        )
+        for mid in set(latest) | set(sent)
+    }
