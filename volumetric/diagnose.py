@@ -56,7 +56,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.design import axis_positions, build_design
-from volumetric.fit import FitError, fit
+from volumetric.fit import FitError, fit, model_from_parameters
 from volumetric.machine import Machine
 from volumetric.measurement import Measurements
 from volumetric.model import BacklashTerm, MachineModel, PeriodicTerm, Term, ThermalTerm
@@ -392,7 +392,7 @@ def diagnose(
             static = min((s for s in scored if s.candidate.effect == "thermal_drift"
                           and "lagged" not in s.candidate.extra), key=lambda s: s.rms_after_um
                          ).candidate
-        estimate, term = _estimate(machine, m, a0, w, y, train, static)
+        estimate, term, joint = _estimate(machine, m, a0, w, y, train, static)
         details["t"] = round(estimate.pop("_t"), 2)
         if details["t"] < T_MIN:
             best = None
@@ -404,7 +404,11 @@ def diagnose(
         # the static family names the effect; the dynamic model is its refinement
         estimate["dynamic"] = c.extra.get("description", {})
     effect, axis, sensor = static.effect, static.axis, static.sensor
-    model = base_fit.model.with_terms(term) if term is not None else base_fit.model
+    # the rigid part refitted together with the effect, so it no longer carries a share of
+    # it (a drift seen as straightness, a backlash as positioning error)
+    geometry = model_from_parameters(machine, base_fit.params, joint).geometry
+    model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
+                         {**base_fit.model.info, "extended_with": effect})
     alternatives = sorted({s.candidate.sensor for s in scored
                            if s.candidate.effect == effect and s.candidate.axis == axis
                            and s.candidate.sensor not in (None, sensor)
@@ -418,8 +422,9 @@ def diagnose(
 def _estimate(
     machine: Machine, m: Measurements, a0: F64, w: F64, y: F64,
     train: NDArray[np.bool_], c: Candidate,
-) -> tuple[dict[str, Any], Term | None]:
-    """Fit base + candidate on the training readings; the effect in physical units."""
+) -> tuple[dict[str, Any], Term | None, F64]:
+    """Fit base + candidate on the training readings: the effect in physical units, its
+    model term, and the rigid parameters of the joint fit."""
     a = np.column_stack((a0, c.columns))
     at, wt, yt = a[train], w[train], y[train]
     g = at.T @ (at * wt[:, None])
@@ -435,7 +440,7 @@ def _estimate(
     temps = _temperature_columns(m)
     est, term = _physical(c, coef, std, axis.travel[0], temps, train)
     est["_t"] = float(np.linalg.norm(coef) / max(float(np.linalg.norm(std)), 1e-300))
-    return est, term
+    return est, term, x[:-kx]
 
 
 def _physical(

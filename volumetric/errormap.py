@@ -614,7 +614,9 @@ def build_map(
     sent = np.clip(values, -limits, limits)
     inc = increment if ctrl == "fanuc" else None
     sent = np.rint(sent / inc) * inc if inc is not None else sent.astype(np.float32).astype(float)
-    worst_sent = float(_map_error(prob, names, grid, sent, indep, indep_exact).max())
+    # judged on the direction-free part: the positive-approach shift is not an error
+    worst_sent = float(_map_error(prob, names, grid, sent - 0.5 * backlash_mm, indep,
+                                  indep_exact).max())
     reversal = _reversal(machine, model, inc)
     report = MapReport(
         nodes=math.prod(g.count for g in grid),

@@ -357,7 +357,7 @@ def fit(
         w[grp] = wt
     sol = solve(design.matrix[:, cols], y, w)
     params = [design.params[i] for i in cols]
-    model = _model(machine, params, sol.values)
+    model = model_from_parameters(machine, params, sol.values)
     deg: dict[str, int] = {}
     for p in params:
         if p.degree >= 0:
@@ -382,7 +382,8 @@ def fit(
                      sol.residual, rms, w)
 
 
-def _model(machine: Machine, params: list[Param], values: F64) -> MachineModel:
+def model_from_parameters(machine: Machine, params: list[Param], values: F64) -> MachineModel:
+    """The rigid model of identified parameters (Legendre coefficients, locations)."""
     coeffs: dict[str, dict[int, float]] = {}
     locations: dict[str, float] = {}
     for p, v in zip(params, values, strict=True):
