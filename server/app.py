@@ -5,8 +5,9 @@ The lifespan is the one place where long-lived services start and stop, in an
 
 1. the database (tables created if missing),
 2. the :class:`~server.center.Center` stored as ``app.state.center``,
-3. each service factory in ``services``, called with the Center; the machine TCP server,
-   the push scheduler and the MQTT bridge plug in here as async context managers.
+3. the built-in services (:class:`~server.retention.EventRetention`), then each factory
+   in ``services``, called with the Center; the machine TCP server, the push scheduler and
+   the MQTT bridge plug in here as async context managers.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from server.api.main import api_router, root_router
 from server.api.routes.measurements import MAX_UPLOAD_BYTES
 from server.center import Center
 from server.db import Database
+from server.retention import EventRetention
 from server.settings import Settings, load_settings
 
 log = logging.getLogger(__name__)
@@ -80,7 +82,7 @@ def create_app(
             center = Center(settings=settings, db=db)
             app.state.center = center
             stack.callback(delattr, app.state, "center")
-            for factory in services:
+            for factory in (EventRetention, *services):
                 await stack.enter_async_context(factory(center))
             if not settings.writes_enabled:
                 log.warning("EDNC_API_KEY is not set: the REST API is read-only")

@@ -16,6 +16,7 @@ variable                        default                    meaning
 ``EDNC_PUSH_PERIOD_S``          60                         error-map push period, s
 ``EDNC_HEARTBEAT_S``            10                         machine heartbeat period, s
 ``EDNC_NODE_ID``                ``<host>-<pid>``           this process, for leases
+``EDNC_EVENT_RETENTION_DAYS``   30                         events older are deleted
 ==============================  =========================  ===============================
 """
 
@@ -104,6 +105,7 @@ class Settings(BaseSettings):
     push_period_s: float = Field(default=60.0, gt=0.0, le=86400.0)
     heartbeat_s: float = Field(default=10.0, gt=0.0, le=3600.0)
     node_id: str = Field(default_factory=_default_node_id)
+    event_retention_days: float = Field(default=30.0, gt=0.0, le=36500.0)
 
     @field_validator("database_url")
     @classmethod

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import datetime as dt
 import hashlib
 import json
 from collections.abc import AsyncIterator
@@ -16,10 +17,13 @@ from fastapi import FastAPI
 
 from server.app import ServiceFactory, create_app
 from server.center import Center
+from server.db import Database, make_engine
+from server.db import events as event_repo
 from server.db import maps as map_repo
 from server.db import reports as report_repo
 from server.events import EventKind
 from server.numeric import plain_json
+from server.retention import EventRetention
 from server.settings import Settings
 from tests.test_server_db import database_url, postgres_url  # noqa: F401  (fixtures)
 from volumetric.components import component_from_json
@@ -730,3 +734,18 @@ async def test_a_service_that_cannot_start_stops_the_ones_before(tmp_path: Path)
         async with app.router.lifespan_context(app):
             pytest.fail("the lifespan must not start")
     assert log == ["start tcp", "stop tcp"]
+
+
+async def test_events_past_retention_are_deleted_at_start_up(tmp_path: Path) -> None:
+    url = f"sqlite:///{tmp_path / 'ednc.db'}"
+    db = Database(make_engine(url))
+    db.create_schema()
+    now = dt.datetime.now(dt.UTC)
+    for days in (10, 3, 1):
+        db.call(event_repo.add_event, kind="refused", machine=f"{days}d",
+                time=now - dt.timedelta(days=days))
+    db.engine.dispose()
+    async with running(Settings(database_url=url, event_retention_days=2)) as (app, client):
+        assert [e["machine"] for e in (await client.get("/api/events")).json()] == ["1d"]
+        await center_of(app).record_event(EventKind.CONNECTED, "vmc-01")
+        assert await EventRetention(center_of(app)).prune_once() == 0

@@ -69,6 +69,7 @@ def test_postgresql_url_gets_the_installed_driver() -> None:
     ("EDNC_HEARTBEAT_S", "-1", "greater than 0"),
     ("EDNC_NODE_ID", "two words", "letters, digits"),
     ("EDNC_HTTP_HOST", "bad host", "not a host"),
+    ("EDNC_EVENT_RETENTION_DAYS", "0", "greater than 0"),
 ])
 def test_bad_value_names_the_variable(
     monkeypatch: pytest.MonkeyPatch, variable: str, value: str, words: str

@@ -287,3 +287,22 @@ def test_map_states_of_every_machine_at_once(db: Database) -> None:
         b: maps.MapState(latest=1, sent=1, applied=None, reject_reason=None),
     }
     assert db.call(maps.map_states, b) == {b: states[b]}
+
+
+def test_event_text_from_peers_is_always_storable(db: Database) -> None:
+    row = db.call(events.add_event, kind="refused", machine="evil\x00" + "m" * 300,
+                  detail="bad\x00hello " + "x" * 5000)
+    (stored,) = db.call(events.list_events)
+    assert stored.id == row.id
+    assert stored.machine.startswith("evil\\0mmm") and len(stored.machine) == 128
+    assert stored.machine.endswith("…")
+    assert stored.detail.startswith("bad\\0hello") and len(stored.detail) == 2000
+
+
+def test_old_events_are_deleted(db: Database) -> None:
+    now = dt.datetime.now(dt.UTC)
+    for days in (40, 31, 1, 0):
+        db.call(events.add_event, kind="refused", machine=f"{days}d",
+                time=now - dt.timedelta(days=days))
+    assert db.call(events.delete_events_before, now - dt.timedelta(days=30)) == 2
+    assert [e.machine for e in db.call(events.list_events)] == ["0d", "1d"]

@@ -4,18 +4,33 @@ from __future__ import annotations
 
 import datetime as dt
 
-from sqlalchemy import select
+from sqlalchemy import delete, select
 from sqlalchemy.orm import Session
 
 from server.db.tables import EventRow, utcnow
+
+MAX_MACHINE_CHARS = 128  # the column's width
+MAX_DETAIL_CHARS = 2000
+
+
+def _storable(text: str, limit: int) -> str:
+    # Event text often comes from peers (a refused Hello's name, a reject reason): make it
+    # something every backend stores (PostgreSQL refuses NUL; varchar has a width).
+    text = text.replace("\x00", "\\0")
+    return text if len(text) <= limit else text[: limit - 1] + "…"
 
 
 def add_event(
     session: Session, *, kind: str, machine: str, detail: str = "",
     time: dt.datetime | None = None,
 ) -> EventRow:
-    """Append an event; ``machine`` is a machine name or, for unknown peers, an address."""
-    row = EventRow(kind=kind, machine=machine, detail=detail, time=time or utcnow())
+    """Append an event; ``machine`` is a machine name or, for unknown peers, an address.
+
+    NUL characters are escaped and over-long texts shortened (with ``…``), never refused:
+    an event must not fail because of what a peer sent.
+    """
+    row = EventRow(kind=kind, machine=_storable(machine, MAX_MACHINE_CHARS),
+                   detail=_storable(detail, MAX_DETAIL_CHARS), time=time or utcnow())
     session.add(row)
     session.flush()
     return row
@@ -35,3 +50,9 @@ def list_events(
     if before_id is not None:
         query = query.where(EventRow.id < before_id)
     return list(session.scalars(query.order_by(EventRow.id.desc()).limit(limit)))
+
+
+def delete_events_before(session: Session, time: dt.datetime) -> int:
+    """Delete events older than ``time``; return how many (retention)."""
+    result = session.execute(delete(EventRow).where(EventRow.time < time))
+    return int(getattr(result, "rowcount", 0) or 0)
