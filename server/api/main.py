@@ -15,10 +15,13 @@ from server.api.routes import (
     status,
     verifications,
 )
+from server.dashboard import routes as dashboard
 
 api_router = APIRouter(prefix="/api")
 for module in (machines, status, models, measurements, maps, diagnoses, verifications, events):
     api_router.include_router(module.router)
+api_router.include_router(dashboard.api)
 
 root_router = APIRouter()
 root_router.include_router(metrics.router)
+root_router.include_router(dashboard.pages)

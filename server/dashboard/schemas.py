@@ -1,0 +1,209 @@
+"""What the dashboard pages read: the snapshot, a machine's detail, map slices, diagonals.
+
+Units are in the field names (``_mm``, ``_um``, ``_C``, ``_s``) so that the pages never
+guess; angles of rotary axes are degrees for positions and µrad for errors, as in the
+numeric core.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+from typing import Any, Literal
+
+from pydantic import BaseModel, Field
+
+from server.schemas.event import EventPublic
+
+Health = Literal["ok", "warn", "alarm", "offline"]
+"""The colour of a machine's row: green, amber, red, grey."""
+
+
+class AxisLive(BaseModel):
+    """One axis as the machine last reported it."""
+
+    name: str
+    rotary: bool = Field(description="Rotary axis: position in degrees, compensation in µrad.")
+    position: float = Field(description="Machine coordinate, mm (degrees for a rotary axis).")
+    compensation: float = Field(
+        description="Compensation now applied, µm (µrad for a rotary axis)."
+    )
+
+
+class TemperatureLive(BaseModel):
+    """One temperature sensor as the machine last reported it."""
+
+    name: str
+    celsius: float = Field(description="°C.")
+    stale: bool = Field(description="The reading is older than the stale limit.")
+
+
+class MapVersions(BaseModel):
+    """Where the machine's error maps stand."""
+
+    latest: int | None = Field(description="Newest map built for the machine.")
+    sent: int | None = Field(description="Newest map sent to it.")
+    sent_at: dt.datetime | None
+    sent_state: Literal["pending", "applied", "rejected"] | None = Field(
+        description="The machine's answer to the newest delivery."
+    )
+    applied: int | None = Field(description="Newest map the machine acknowledged.")
+    reported: int | None = Field(
+        description="Map version the machine reports in its telemetry (0: none applied)."
+    )
+    reject_reason: str | None
+
+
+class VerificationSummary(BaseModel):
+    """The last ISO 230-6 body-diagonal verification of the machine."""
+
+    id: int
+    created_at: dt.datetime
+    ranges_before_um: dict[str, float] = Field(description="Range per diagonal, µm.")
+    ranges_after_um: dict[str, float] | None = Field(description="With compensation, µm.")
+    improvement_pct: dict[str, float] | None = Field(
+        description="Per diagonal and 'overall': range removed, % (negative: worse)."
+    )
+    accepted: bool | None = Field(description="Overall improvement at least the acceptance.")
+    acceptance_pct: float | None
+
+
+class DiagnosisSummary(BaseModel):
+    """The last diagnosis of the machine (formats.md §3)."""
+
+    id: int
+    created_at: dt.datetime
+    effect: str
+    axis: str | None
+    sensor: str | None
+    estimate: dict[str, float] = Field(description="The effect's size, units in the keys.")
+    rms_before_um: float | None
+    rms_after_um: float | None
+
+
+class MachineCard(BaseModel):
+    """One machine's row on the dashboard."""
+
+    name: str
+    controller: str
+    ip: str
+    chain: str = Field(description="Kinematic chain, or the type numbers when none is given.")
+    health: Health
+    health_reason: str = Field(description="Why the row has its colour, for the operator.")
+    connected: bool
+    address: str | None
+    connected_since: dt.datetime | None
+    last_seen: dt.datetime | None
+    telemetry_age_s: float | None = Field(description="Age of the last telemetry, s.")
+    telemetry_stale: bool
+    state: str | None = Field(description="The machine's state label (idle, compensating...).")
+    axes: list[AxisLive]
+    temperatures: list[TemperatureLive]
+    maps: MapVersions
+    verification: VerificationSummary | None
+    diagnosis: DiagnosisSummary | None
+
+
+class DashboardSnapshot(BaseModel):
+    """Everything the dashboard shows, at one instant."""
+
+    generated_at: dt.datetime
+    version: str
+    node_id: str
+    stale_after_s: float = Field(description="Telemetry older than this is marked stale, s.")
+    machines: list[MachineCard]
+    events: list[EventPublic] = Field(description="Recent events, newest first.")
+
+
+class ComponentView(BaseModel):
+    """One component or location error of a model, summarised over the axis travel."""
+
+    name: str = Field(description="ISO 230-1 name, e.g. EXX, EC0Y.")
+    axis: str
+    location: bool = Field(description="Position-independent (location) error.")
+    unit: Literal["µm", "µrad"]
+    kind: str = Field(description="polynomial, table, sinusoid, sum, or 'constant'.")
+    min: float | None = Field(description="Smallest value over the travel (unit above).")
+    max: float | None = Field(description="Largest value over the travel (unit above).")
+    positions: list[float] = Field(description="Where the curve is sampled, mm or degrees.")
+    values: list[float] = Field(description="The curve at those positions (unit above).")
+
+
+class ModelView(BaseModel):
+    """A stored model's terms, ready to read."""
+
+    version: int
+    source: str
+    created_at: dt.datetime
+    components: list[ComponentView]
+    terms: list[dict[str, Any]] = Field(description="Extensions: thermal, backlash, periodic.")
+    info: dict[str, Any] = Field(description="Fit statistics as stored.")
+
+
+class MachineDetail(BaseModel):
+    """A machine's page: its description, live row and model."""
+
+    card: MachineCard
+    description: dict[str, Any] = Field(description="The machine description (formats.md §1).")
+    model: ModelView | None
+    model_problem: str | None = Field(description="Why the model cannot be shown, if so.")
+
+
+class GridAxisView(BaseModel):
+    """One grid dimension of a map."""
+
+    name: str
+    unit: Literal["mm", "deg"]
+    start: float
+    step: float
+    count: int
+
+
+class MapSlice(BaseModel):
+    """One output axis of the map over the two chosen grid axes."""
+
+    output: str
+    unit: Literal["µm", "µrad"]
+    reversal: float | None = Field(description="Backlash added on reversal (unit above).")
+    values: list[list[float]] = Field(
+        description="values[j][i] at v-node j, u-node i (unit above); one row for a 1-D map."
+    )
+    min: float
+    max: float
+
+
+class MapGrid(BaseModel):
+    """A slice of an error map for a heat map: two grid axes, the others held fixed."""
+
+    machine: str
+    version: int
+    encoding: Literal["int32", "float32"]
+    increment_mm: float
+    grid: list[GridAxisView]
+    u: str = Field(description="Grid axis along the plot's horizontal.")
+    v: str | None = Field(description="Grid axis along the vertical (None: 1-D map).")
+    fixed: dict[str, float] = Field(
+        description="The other grid axes at their node nearest mid-travel, mm or degrees."
+    )
+    outputs: list[MapSlice]
+
+
+class DiagonalProfile(BaseModel):
+    """Deviation along one body diagonal: the mean reading at each target."""
+
+    label: str
+    along_mm: list[float] = Field(description="Distance from the first target, mm.")
+    before_um: list[float] = Field(description="Uncompensated deviation, µm.")
+    after_along_mm: list[float] | None
+    after_um: list[float] | None = Field(description="Compensated deviation, µm.")
+    range_before_um: float
+    range_after_um: float | None
+
+
+class DiagonalPlots(BaseModel):
+    """The diagonal profiles of a verification report, from its measurement sets."""
+
+    machine: str
+    report_id: int
+    before_set: str
+    after_set: str | None
+    diagonals: list[DiagonalProfile]

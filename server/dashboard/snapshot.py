@@ -1,0 +1,214 @@
+"""The dashboard snapshot: the database's facts per machine joined with the live registry.
+
+The database half (:func:`load_facts`) runs in one transaction on a worker thread; the
+registry half (:func:`build_snapshot`) runs on the event loop, which owns the registry.
+Stored reports are JSON that the format may extend and old rows may lack keys, so the
+summaries read them defensively: a key that is missing or of the wrong type shows as
+absent, never as an error on the whole dashboard.
+"""
+
+from __future__ import annotations
+
+import datetime as dt
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from sqlalchemy import select
+from sqlalchemy.orm import Session
+
+from ednc import __version__
+from server.dashboard.schemas import (
+    DashboardSnapshot,
+    DiagnosisSummary,
+    Health,
+    MachineCard,
+    MapVersions,
+    TemperatureLive,
+    VerificationSummary,
+)
+from server.dashboard.telemetry import live_values
+from server.db import events as event_repo
+from server.db import machines as machine_repo
+from server.db import maps as map_repo
+from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow
+from server.schemas.event import EventPublic
+from server.state import LinkState, Registry
+
+STALE_AFTER_S = 10.0
+"""Telemetry older than this is stale: ten default telemetry periods (1 s, protocol §9),
+and less than the 15 s after which the center declares a silent machine dead."""
+
+EVENTS_SHOWN = 30
+
+
+@dataclass(frozen=True, slots=True)
+class MachineFacts:
+    """What the database knows about one machine for its dashboard row."""
+
+    machine: MachineRow
+    latest_map: int | None
+    sent: AppliedRow | None
+    applied: AppliedRow | None
+    verification: DiagnosisRow | None
+    diagnosis: DiagnosisRow | None
+
+
+@dataclass(frozen=True, slots=True)
+class Facts:
+    """The database half of a snapshot."""
+
+    machines: list[MachineFacts]
+    events: list[EventPublic]
+
+
+def _latest_report(session: Session, machine_id: int, kind: str) -> DiagnosisRow | None:
+    query = select(DiagnosisRow).where(DiagnosisRow.machine_id == machine_id,
+                                       DiagnosisRow.kind == kind)
+    return session.scalar(query.order_by(DiagnosisRow.id.desc()).limit(1))
+
+
+def machine_facts(session: Session, machine: MachineRow) -> MachineFacts:
+    """One machine's facts (five indexed single-row queries)."""
+    latest = session.scalar(
+        select(MapVersionRow.version).where(MapVersionRow.machine_id == machine.id)
+        .order_by(MapVersionRow.version.desc()).limit(1)
+    )
+    return MachineFacts(
+        machine=machine, latest_map=latest,
+        sent=map_repo.latest_sent(session, machine.id),
+        applied=map_repo.latest_acked(session, machine.id),
+        verification=_latest_report(session, machine.id, "verification"),
+        diagnosis=_latest_report(session, machine.id, "diagnosis"),
+    )
+
+
+def load_facts(session: Session, events: int = EVENTS_SHOWN) -> Facts:
+    """Every machine's facts and the newest ``events`` events."""
+    rows = event_repo.list_events(session, limit=events)
+    return Facts(
+        machines=[machine_facts(session, m) for m in machine_repo.list_machines(session)],
+        events=[EventPublic.model_validate(r, from_attributes=True) for r in rows],
+    )
+
+
+def _float(value: Any) -> float | None:
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return None
+    return float(value) if math.isfinite(value) else None
+
+
+def _floats(value: Any) -> dict[str, float] | None:
+    """A JSON object of numbers, keeping only the numeric entries; None if not an object."""
+    if not isinstance(value, Mapping):
+        return None
+    out = {str(k): _float(v) for k, v in value.items()}
+    return {k: v for k, v in out.items() if v is not None}
+
+
+def _text(value: Any) -> str | None:
+    return value if isinstance(value, str) else None
+
+
+def verification_summary(row: DiagnosisRow) -> VerificationSummary:
+    """The dashboard's view of a stored ISO 230-6 report (``server.numeric.verify_diagonals``)."""
+    result = row.result if isinstance(row.result, Mapping) else {}
+    gain = _floats(result.get("improvement"))
+    acceptance = _float(result.get("acceptance"))
+    accepted = result.get("accepted")
+    return VerificationSummary(
+        id=row.id, created_at=row.created_at,
+        ranges_before_um=_floats(result.get("ranges_before_um")) or {},
+        ranges_after_um=_floats(result.get("ranges_after_um")),
+        improvement_pct=None if gain is None else {k: 100.0 * v for k, v in gain.items()},
+        accepted=accepted if isinstance(accepted, bool) else None,
+        acceptance_pct=None if acceptance is None else 100.0 * acceptance,
+    )
+
+
+def diagnosis_summary(row: DiagnosisRow) -> DiagnosisSummary:
+    """The dashboard's view of a stored diagnosis (formats.md §3)."""
+    result = row.result if isinstance(row.result, Mapping) else {}
+    return DiagnosisSummary(
+        id=row.id, created_at=row.created_at,
+        effect=_text(result.get("effect")) or "unknown",
+        axis=_text(result.get("axis")), sensor=_text(result.get("sensor")),
+        estimate=_floats(result.get("estimate")) or {},
+        rms_before_um=_float(result.get("rms_before_um")),
+        rms_after_um=_float(result.get("rms_after_um")),
+    )
+
+
+def chain_text(description: Mapping[str, Any]) -> str:
+    """The chain, or the generalized model's type numbers when the description has none."""
+    chain = description.get("chain")
+    if isinstance(chain, str):
+        return chain
+    return (f"type {description.get('translational_type', '?')}"
+            f"/{description.get('rotary_type', 0)}")
+
+
+def _health(card: dict[str, Any], maps: MapVersions) -> tuple[Health, str]:
+    """The row's colour and why: the first problem an operator should act on."""
+    if not card["connected"]:
+        return "offline", "not connected"
+    if card["state"] == "alarm":
+        return "alarm", "machine reports alarm"
+    if maps.sent_state == "rejected":
+        return "alarm", f"map v{maps.sent} rejected: {maps.reject_reason or 'no reason'}"
+    if card["telemetry_stale"]:
+        return "warn", "telemetry stale"
+    if maps.latest is None:
+        return "warn", "no error map built"
+    if maps.applied != maps.latest:
+        return "warn", f"map v{maps.latest} not applied yet"
+    return "ok", f"map v{maps.applied} applied"
+
+
+def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
+                 stale_after_s: float = STALE_AFTER_S) -> MachineCard:
+    """One machine's dashboard row from its facts and its live link."""
+    m = facts.machine
+    live = live_values(link.telemetry)
+    measured_at = live.measured_at or (link.last_seen if link.telemetry else None)
+    age = None if measured_at is None else max(0.0, (now - measured_at).total_seconds())
+    stale = not link.connected or age is None or age > stale_after_s
+    sent = facts.sent
+    sent_state = None if sent is None else (
+        "applied" if sent.acked else "rejected" if sent.reject_reason else "pending")
+    maps = MapVersions(
+        latest=facts.latest_map, sent=None if sent is None else sent.map_version,
+        sent_at=None if sent is None else sent.applied_at, sent_state=sent_state,
+        applied=None if facts.applied is None else facts.applied.map_version,
+        reported=live.map_version, reject_reason=None if sent is None else sent.reject_reason,
+    )
+    fields: dict[str, Any] = {
+        "name": m.name, "controller": m.controller, "ip": m.ip,
+        "chain": chain_text(m.description if isinstance(m.description, Mapping) else {}),
+        "connected": link.connected, "address": link.address,
+        "connected_since": link.connected_since, "last_seen": link.last_seen,
+        "telemetry_age_s": age, "telemetry_stale": stale,
+        "state": live.state, "axes": list(live.axes),
+        "temperatures": [TemperatureLive(name=t.name, celsius=t.celsius, stale=stale)
+                         for t in live.temperatures],
+        "maps": maps,
+        "verification": None if facts.verification is None
+        else verification_summary(facts.verification),
+        "diagnosis": None if facts.diagnosis is None else diagnosis_summary(facts.diagnosis),
+    }
+    health, reason = _health(fields, maps)
+    return MachineCard(health=health, health_reason=reason, **fields)
+
+
+def build_snapshot(facts: Facts, registry: Registry, *, node_id: str,
+                   now: dt.datetime | None = None,
+                   stale_after_s: float = STALE_AFTER_S) -> DashboardSnapshot:
+    """The whole dashboard: every registered machine, live or not, and recent events."""
+    now = now or dt.datetime.now(dt.UTC)
+    return DashboardSnapshot(
+        generated_at=now, version=__version__, node_id=node_id, stale_after_s=stale_after_s,
+        machines=[machine_card(f, registry.get(f.machine.name), now, stale_after_s)
+                  for f in facts.machines],
+        events=facts.events,
+    )

@@ -1,0 +1,342 @@
+// One machine's page: live values from /api/live, and from the JSON endpoints its
+// description and model (/api/machines/{name}/dashboard), its newest error map as one heat
+// map per output axis (.../maps/latest/grid) and the diagonal profiles of its newest
+// verification (.../verifications/latest/diagonals). Map and plots reload when the live
+// row shows a newer map version or verification.
+"use strict";
+
+(() => {
+  const { el, svg, num, qty, signed, age, time, posUnit, compUnit, getJSON } = EDNC;
+  const NAME = decodeURIComponent(location.pathname.split("/")[2] || "");
+  const API = `/api/machines/${encodeURIComponent(NAME)}`;
+  // What is on screen: the map version the live row showed when the map was last loaded,
+  // and the verification report shown, so that only news triggers a reload.
+  const shown = { mapLatest: undefined, verification: undefined, u: null, v: null };
+
+  document.getElementById("name").textContent = NAME;
+  document.title = `EDNC — ${NAME}`;
+
+  function kv(rows) {
+    return el("table", { class: "kv" }, rows.filter(Boolean).map(([k, v, attrs]) =>
+      el("tr", {}, el("th", {}, k), el("td", attrs || {}, v))));
+  }
+
+  // ---- live values -------------------------------------------------------------------
+  function renderLive(card) {
+    const status = document.getElementById("status");
+    status.replaceChildren(EDNC.healthPill(card), " ", card.health_reason);
+    const m = card.maps;
+    const v = (x) => (x === null || x === undefined ? "—" : `v${x}`);
+    const axes = card.axes.length ? el("table", { class: "terms" },
+      el("tr", {}, el("th", {}, "Axis"), el("th", {}, "Position"),
+        el("th", {}, "Compensation applied")),
+      card.axes.map((a) => el("tr", { class: card.telemetry_stale ? "stale" : null },
+        el("td", {}, a.name),
+        el("td", { class: "num", "data-field": `pos-${a.name}` }, qty(a.position, posUnit(a), 3)),
+        el("td", { class: "num", "data-field": `comp-${a.name}` },
+          signed(a.compensation, compUnit(a), 1))))) : el("p", { class: "sub" }, "no axes reported");
+    const temps = card.temperatures.length ? el("table", { class: "terms" },
+      el("tr", {}, el("th", {}, "Sensor"), el("th", {}, "Temperature")),
+      card.temperatures.map((t) => el("tr", { class: t.stale ? "stale" : null },
+        el("td", {}, t.name),
+        el("td", { class: "num", "data-field": `temp-${t.name}` },
+          qty(t.celsius, "°C", 2), t.stale ? " (stale)" : "")))) : null;
+    document.getElementById("live-values").replaceChildren(
+      kv([
+        ["Link", card.connected ? `connected from ${card.address}` : "disconnected"],
+        ["Connected since", time(card.connected_since)],
+        ["Telemetry", card.telemetry_age_s === null ? "none"
+          : age(card.telemetry_age_s) + (card.telemetry_stale ? " (stale)" : ""),
+        { class: card.telemetry_stale ? "stale" : null }],
+        ["State", card.state || "—", { "data-field": "state" }],
+        ["Error map", `latest ${v(m.latest)} · sent ${v(m.sent)}` +
+          `${m.sent_state ? " (" + m.sent_state + ")" : ""} · applied ${v(m.applied)}` +
+          (m.reported !== null ? ` · machine reports ${m.reported ? "v" + m.reported : "none"}`
+            : "")],
+        m.reject_reason ? ["Rejected because", m.reject_reason, { class: "problem" }] : null,
+      ]),
+      axes, temps);
+  }
+
+  // ---- description -------------------------------------------------------------------
+  function renderDescription(d) {
+    const travel = Object.entries(d.travel_mm || {}).map(([k, [lo, hi]]) =>
+      `${k} ${num(lo, 0)}…${num(hi, 0)}`).join(", ");
+    document.getElementById("description").replaceChildren(
+      kv([
+        ["Controller", d.controller],
+        ["Address", d.ip],
+        ["Chain", d.chain || `type ${d.translational_type}/${d.rotary_type || 0}`],
+        ["Travel", travel ? `${travel} (mm; rotary °)` : "—"],
+        ["Tool length", qty(d.tool_length_mm ?? 0, "mm", 1)],
+        d.spindles ? ["Spindles", d.spindles.map((s) => `${s.name} on ${s.axis}`).join(", ")]
+          : null,
+      ]),
+      el("details", {}, el("summary", { class: "sub" }, "description as stored (JSON)"),
+        el("pre", { class: "json" }, JSON.stringify(d, null, 2))));
+  }
+
+  // ---- error map -----------------------------------------------------------------------
+  function heatmap(grid, slice) {
+    const [W, H, m] = [360, 300, { l: 52, r: 10, t: 10, b: 40 }];
+    const rows = slice.values;
+    const nv = rows.length;
+    const nu = rows[0].length;
+    const gu = grid.grid.find((g) => g.name === grid.u);
+    const gv = grid.v ? grid.grid.find((g) => g.name === grid.v) : null;
+    const limit = Math.max(Math.abs(slice.min), Math.abs(slice.max)) || 1;
+    const cw = (W - m.l - m.r) / nu;
+    const ch = (H - m.t - m.b) / nv;
+    const root = svg("svg", { viewBox: `0 0 ${W} ${H}`, class: "heatmap",
+      "data-output": slice.output, role: "img",
+      "aria-label": `map correction of ${slice.output}` });
+    for (let j = 0; j < nv; j++) {
+      for (let i = 0; i < nu; i++) {
+        const value = rows[j][i];
+        // v grows upwards, like a drawing of the machine's table.
+        root.append(svg("rect", { x: m.l + i * cw, y: H - m.b - (j + 1) * ch,
+          width: cw + 0.3, height: ch + 0.3, fill: EDNC.diverging(value / limit) },
+        svg("title", {}, `${grid.u} ${num(gu.start + i * gu.step, 1)} ${gu.unit}` +
+          (gv ? `, ${grid.v} ${num(gv.start + j * gv.step, 1)} ${gv.unit}` : "") +
+          `: ${num(value, 2)} ${slice.unit}`)));
+      }
+    }
+    root.append(svg("rect", { x: m.l, y: m.t, width: W - m.l - m.r, height: H - m.t - m.b,
+      class: "frame" }));
+    const uEnd = gu.start + (gu.count - 1) * gu.step;
+    for (const t of EDNC.ticks(gu.start, uEnd, 4)) {
+      const x = m.l + ((t - gu.start) / (uEnd - gu.start || 1)) * (W - m.l - m.r - cw) + cw / 2;
+      root.append(svg("text", { x, y: H - m.b + 14, class: "tick", "text-anchor": "middle" },
+        num(t, 0)));
+    }
+    root.append(svg("text", { x: (m.l + W - m.r) / 2, y: H - 6, class: "axis-label",
+      "text-anchor": "middle" }, `${grid.u} (${gu.unit})`));
+    if (gv) {
+      const vEnd = gv.start + (gv.count - 1) * gv.step;
+      for (const t of EDNC.ticks(gv.start, vEnd, 4)) {
+        const y = H - m.b - ((t - gv.start) / (vEnd - gv.start || 1)) * (H - m.t - m.b - ch)
+          - ch / 2;
+        root.append(svg("text", { x: m.l - 5, y: y + 4, class: "tick", "text-anchor": "end" },
+          num(t, 0)));
+      }
+      const yc = (m.t + H - m.b) / 2;
+      root.append(svg("text", { x: 12, y: yc, class: "axis-label", "text-anchor": "middle",
+        transform: `rotate(-90 12 ${yc})` }, `${grid.v} (${gv.unit})`));
+    }
+    return root;
+  }
+
+  function legend(slice) {
+    const limit = Math.max(Math.abs(slice.min), Math.abs(slice.max));
+    const bar = svg("svg", { viewBox: "0 0 360 24", class: "heatmap" });
+    for (let i = 0; i < 60; i++) {
+      bar.append(svg("rect", { x: 52 + i * 5, y: 2, width: 5.3, height: 10,
+        fill: EDNC.diverging(i / 29.5 - 1) }));
+    }
+    bar.append(svg("text", { x: 52, y: 23, class: "tick" }, `${num(-limit, 1)} ${slice.unit}`));
+    bar.append(svg("text", { x: 352, y: 23, class: "tick", "text-anchor": "end" },
+      `+${num(limit, 1)} ${slice.unit}`));
+    return bar;
+  }
+
+  function mapControls(grid) {
+    const box = document.getElementById("map-controls");
+    if (grid.grid.length < 3) {
+      box.replaceChildren(grid.v ? "" : "one grid axis");
+      return;
+    }
+    const select = (which, current) => {
+      const s = el("select", { "aria-label": which },
+        grid.grid.map((g) => el("option", { value: g.name, selected: g.name === current },
+          g.name)));
+      s.addEventListener("change", () => {
+        shown[which] = s.value;
+        loadMap();
+      });
+      return s;
+    };
+    box.replaceChildren("horizontal", select("u", grid.u), "vertical", select("v", grid.v));
+  }
+
+  async function loadMap() {
+    const box = document.getElementById("map");
+    const params = new URLSearchParams();
+    if (shown.u) params.set("u", shown.u);
+    if (shown.v) params.set("v", shown.v);
+    let grid;
+    try {
+      grid = await getJSON(`${API}/maps/latest/grid?${params}`);
+    } catch (err) {
+      box.replaceChildren(el("p", { class: err.status === 404 ? "sub" : "problem" },
+        err.status === 404 ? "No error map built for this machine yet." : err.message));
+      return;
+    }
+    mapControls(grid);
+    const fixed = Object.entries(grid.fixed)
+      .map(([k, v]) => `${k} = ${num(v, 1)}`).join(", ");
+    const caption = `v${grid.version}, ${grid.encoding}` +
+      (grid.encoding === "int32" ? ` (${num(grid.increment_mm * 1000, 1)} µm per count)` : "") +
+      `, grid ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")}` +
+      (fixed ? `; held at ${fixed}` : "");
+    box.replaceChildren(...grid.outputs.map((s) => el("figure", { "data-output": s.output },
+      heatmap(grid, s), legend(s),
+      el("figcaption", {}, el("b", {}, `Correction of ${s.output}`),
+        ` ${num(s.min, 1)} … ${num(s.max, 1)} ${s.unit}` +
+        (s.reversal !== null ? `; reversal ${signed(s.reversal, s.unit, 1)}` : "")))),
+    el("p", { class: "sub", style: "flex-basis: 100%" }, caption));
+  }
+
+  // ---- verification ----------------------------------------------------------------
+  function renderVerificationSummary(v) {
+    const box = document.getElementById("verification");
+    if (!v) {
+      box.replaceChildren(el("p", { class: "sub" }, "No verification yet."));
+      return;
+    }
+    const labels = Object.keys(v.ranges_before_um);
+    box.replaceChildren(el("table", { class: "terms" },
+      el("tr", {}, el("th", {}, "Diagonal"), el("th", {}, "Range before"),
+        el("th", {}, "Range after"), el("th", {}, "Improvement")),
+      labels.map((k) => el("tr", {}, el("td", {}, k),
+        el("td", { class: "num" }, qty(v.ranges_before_um[k], "µm", 2)),
+        el("td", { class: "num" }, v.ranges_after_um ? qty(v.ranges_after_um[k], "µm", 2) : "—"),
+        el("td", { class: "num" }, v.improvement_pct ? signed(v.improvement_pct[k], "%", 1)
+          : "—"))),
+      v.improvement_pct ? el("tr", {}, el("th", {}, "overall"), el("td", {}), el("td", {}),
+        el("td", { class: "num", "data-field": "improvement" },
+          el("b", {}, signed(v.improvement_pct.overall, "%", 1)), " ",
+          v.accepted === null ? "" : el("span", { class: v.accepted ? "pill ok small"
+            : "pill alarm small" }, v.accepted ? "accepted" : "not accepted"),
+          v.acceptance_pct !== null ? ` (needs ≥ ${num(v.acceptance_pct, 0)} %)` : ""))
+        : null),
+    el("p", { class: "sub" }, `Report ${v.id}, ${time(v.created_at)}`));
+  }
+
+  async function loadDiagonals() {
+    const box = document.getElementById("diagonals");
+    let plots;
+    try {
+      plots = await getJSON(`${API}/verifications/latest/diagonals`);
+    } catch (err) {
+      box.replaceChildren(err.status === 404 ? "" : el("p", { class: "problem" },
+        `Diagonal profiles unavailable: ${err.message}`));
+      return;
+    }
+    box.replaceChildren(el("p", { class: "legend", style: "flex-basis: 100%" },
+      "Mean deviation along the diagonal at each target: ",
+      el("span", { class: "before" }, `before (${plots.before_set})`),
+      plots.after_set ? [" and ", el("span", { class: "after" }, `after (${plots.after_set})`)]
+        : ""),
+    ...plots.diagonals.map((d) => {
+      const series = [{ name: "before", cls: "before", x: d.along_mm, y: d.before_um }];
+      if (d.after_um) series.push({ name: "after", cls: "after", x: d.after_along_mm,
+        y: d.after_um });
+      return el("figure", { "data-diagonal": d.label },
+        EDNC.lineChart(series, { title: d.label, xLabel: "position along the diagonal (mm)",
+          yLabel: "deviation (µm)" }),
+        el("figcaption", {}, `range ${qty(d.range_before_um, "µm", 2)}` +
+          (d.range_after_um !== null ? ` → ${qty(d.range_after_um, "µm", 2)}` : "")));
+    }));
+  }
+
+  // ---- diagnosis and model -----------------------------------------------------------
+  function renderDiagnosis(d) {
+    const box = document.getElementById("diagnosis");
+    if (!d) {
+      box.replaceChildren(el("p", { class: "sub" }, "No diagnosis yet."));
+      return;
+    }
+    box.replaceChildren(kv([
+      ["Effect", [d.effect, d.axis ? ` on ${d.axis}` : "", d.sensor ? ` (sensor ${d.sensor})`
+        : ""].join(""), { "data-field": "effect" }],
+      ["Estimate", Object.entries(d.estimate).map(([k, v]) => `${k} = ${num(v, 3)}`)
+        .join(", ") || "—"],
+      ["Held-out RMS", `${qty(d.rms_before_um, "µm", 2)} → ${qty(d.rms_after_um, "µm", 2)}`],
+      ["When", time(d.created_at)],
+    ]));
+  }
+
+  function sparkline(c) {
+    const chart = EDNC.lineChart([{ name: c.name, cls: "curve", x: c.positions, y: c.values }],
+      { width: 260, height: 90, xLabel: "", yLabel: "" });
+    chart.setAttribute("style", "width: 260px");
+    return chart;
+  }
+
+  function renderModel(detail) {
+    const box = document.getElementById("model");
+    const model = detail.model;
+    if (!model) {
+      box.replaceChildren(el("p", { class: detail.model_problem ? "problem" : "sub" },
+        detail.model_problem || "No model yet."));
+      return;
+    }
+    const comps = model.components.filter((c) => !c.location);
+    const locs = model.components.filter((c) => c.location);
+    const info = Object.entries(model.info)
+      .filter(([, v]) => typeof v === "number" || typeof v === "string")
+      .map(([k, v]) => `${k} = ${typeof v === "number" ? num(v, 3) : v}`).join(" · ");
+    box.replaceChildren(
+      el("p", { class: "sub" }, `Version ${model.version} (${model.source}), ` +
+        `${time(model.created_at)}${info ? " · " + info : ""}`),
+      el("table", { class: "terms", id: "components" },
+        el("tr", {}, el("th", {}, "Component error"), el("th", {}, "Form"),
+          el("th", {}, "Min"), el("th", {}, "Max"), el("th", {}, "Peak to peak"),
+          el("th", {}, "Over the travel")),
+        comps.map((c) => el("tr", { "data-component": c.name },
+          el("td", {}, el("b", {}, c.name)), el("td", {}, c.kind),
+          el("td", { class: "num" }, qty(c.min, c.unit, 2)),
+          el("td", { class: "num" }, qty(c.max, c.unit, 2)),
+          el("td", { class: "num" }, qty(c.max - c.min, c.unit, 2)),
+          el("td", {}, sparkline(c))))),
+      locs.length ? el("h3", {}, "Location errors (squareness, offsets)") : null,
+      locs.length ? el("table", { class: "terms" }, locs.map((c) => el("tr", {},
+        el("td", {}, el("b", {}, c.name)), el("td", { class: "num" }, qty(c.min, c.unit, 2)))))
+        : null,
+      model.terms.length ? el("h3", {}, "Extensions") : null,
+      model.terms.length ? el("table", { class: "terms" }, model.terms.map((t) =>
+        el("tr", {}, el("td", {}, el("b", {}, t.effect)), el("td", {}, t.axis || ""),
+          el("td", {}, Object.entries(t).filter(([k]) => !["effect", "axis"].includes(k))
+            .map(([k, v]) => `${k} = ${typeof v === "number" ? num(v, 3) : v}`)
+            .join(", "))))) : null);
+  }
+
+  // ---- wiring ---------------------------------------------------------------------------
+  function onCard(card) {
+    renderLive(card);
+    renderDiagnosis(card.diagnosis);
+    const latestMap = card.maps.latest;
+    if (shown.mapLatest !== undefined && latestMap !== shown.mapLatest) {
+      shown.mapLatest = latestMap;
+      loadMap();
+    }
+    const vid = card.verification ? card.verification.id : null;
+    if (vid !== shown.verification) {
+      shown.verification = vid;
+      renderVerificationSummary(card.verification);
+      loadDiagonals();
+    }
+  }
+
+  async function start() {
+    let detail;
+    try {
+      detail = await getJSON(`${API}/dashboard`);
+    } catch (err) {
+      document.getElementById("status").textContent = err.message;
+      return;
+    }
+    renderDescription(detail.description);
+    renderModel(detail);
+    onCard(detail.card);
+    shown.mapLatest = detail.card.maps.latest;
+    await loadMap();
+    const indicator = document.getElementById("live");
+    EDNC.follow((snapshot) => {
+      const card = snapshot.machines.find((c) => c.name === NAME);
+      if (card) onCard(card);
+    }, (state) => EDNC.showLinkState(indicator, state));
+  }
+
+  start();
+})();
