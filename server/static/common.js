@@ -35,6 +35,22 @@ const EDNC = (() => {
     }
   }
 
+  /** Replace a node's children (null, undefined and false children are left out). */
+  function fill(node, ...children) {
+    node.replaceChildren();
+    append(node, children);
+    return node;
+  }
+
+  /** An estimate such as reversal_um = 9.8 as "reversal 9.80 µm" (unit from the key). */
+  function estimate(key, value) {
+    const units = [["_um_per_m_K", "µm/(m·K)"], ["_um_per_K", "µm/K"], ["_um", "µm"],
+      ["_mm", "mm"], ["_urad", "µrad"], ["_s", "s"], ["_C", "°C"]];
+    const found = units.find(([suffix]) => key.endsWith(suffix));
+    const name = (found ? key.slice(0, -found[0].length) : key).replace(/_/g, " ");
+    return found ? `${name} ${num(value, 2)} ${found[1]}` : `${name} ${num(value, 3)}`;
+  }
+
   /** A number with fixed decimals, or an em dash when there is none. */
   function num(value, digits = 1) {
     if (value === null || value === undefined || !Number.isFinite(value)) return "—";
@@ -188,6 +204,6 @@ const EDNC = (() => {
     return root;
   }
 
-  return { el, svg, num, qty, signed, age, time, posUnit, compUnit, getJSON, follow,
+  return { el, svg, fill, estimate, num, qty, signed, age, time, posUnit, compUnit, getJSON, follow,
     showLinkState, healthPill, diverging, ticks, lineChart };
 })();

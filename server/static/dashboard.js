@@ -69,7 +69,8 @@
       { class: v.accepted ? "pill ok small" : "pill alarm small" },
       v.accepted ? "accepted" : "not accepted");
     return el("td", { "data-field": "verification" },
-      el("div", {}, `${qty(before, "µm")} → ${after === null ? "—" : qty(after, "µm")}`),
+      el("div", { title: "largest diagonal range before → after compensation" },
+        `${qty(before, "µm")} → ${after === null ? "—" : qty(after, "µm")}`),
       gain === null ? null : el("div", {}, el("b", {}, signed(gain, "%", 0)), " better ",
         verdict),
       el("div", { class: "sub" }, time(v.created_at)));
@@ -80,8 +81,8 @@
     if (!d) return el("td", { class: "sub" }, "none");
     const what = [d.effect, d.axis ? `on ${d.axis}` : null, d.sensor ? `(${d.sensor})` : null]
       .filter(Boolean).join(" ");
-    const estimate = Object.entries(d.estimate)
-      .map(([k, v]) => `${k.replace(/_/g, " ")} ${num(v, 2)}`).join(", ");
+    const estimate = Object.entries(d.estimate).map(([k, v]) => EDNC.estimate(k, v))
+      .join(", ");
     return el("td", { "data-field": "diagnosis" },
       el("div", {}, el("b", {}, what)),
       estimate ? el("div", { class: "sub" }, estimate) : null,
@@ -101,7 +102,7 @@
 
   function eventRow(e) {
     return el("tr", { class: `event ${e.kind}`, "data-kind": e.kind },
-      el("td", { class: "num" }, time(e.time)),
+      el("td", { class: "time" }, time(e.time)),
       el("td", {}, el("span", { class: `kind ${e.kind}` }, e.kind)),
       el("td", {}, e.machine),
       el("td", {}, e.detail));
@@ -109,9 +110,9 @@
 
   function render(snapshot) {
     const machines = snapshot.machines;
-    document.querySelector("#machines tbody").replaceChildren(...machines.map(row));
+    document.querySelector("#machines > tbody").replaceChildren(...machines.map(row));
     document.getElementById("no-machines").hidden = machines.length > 0;
-    document.querySelector("#events tbody").replaceChildren(...snapshot.events.map(eventRow));
+    document.querySelector("#events > tbody").replaceChildren(...snapshot.events.map(eventRow));
     const count = (h) => machines.filter((c) => c.health === h).length;
     document.getElementById("summary").textContent =
       `${machines.length} machines · ${machines.filter((c) => c.connected).length} connected · ` +

@@ -24,7 +24,7 @@
   // ---- live values -------------------------------------------------------------------
   function renderLive(card) {
     const status = document.getElementById("status");
-    status.replaceChildren(EDNC.healthPill(card), " ", card.health_reason);
+    EDNC.fill(status, EDNC.healthPill(card), " ", card.health_reason);
     const m = card.maps;
     const v = (x) => (x === null || x === undefined ? "—" : `v${x}`);
     const axes = card.axes.length ? el("table", { class: "terms" },
@@ -41,7 +41,7 @@
         el("td", {}, t.name),
         el("td", { class: "num", "data-field": `temp-${t.name}` },
           qty(t.celsius, "°C", 2), t.stale ? " (stale)" : "")))) : null;
-    document.getElementById("live-values").replaceChildren(
+    EDNC.fill(document.getElementById("live-values"),
       kv([
         ["Link", card.connected ? `connected from ${card.address}` : "disconnected"],
         ["Connected since", time(card.connected_since)],
@@ -173,12 +173,13 @@
     }
     mapControls(grid);
     const fixed = Object.entries(grid.fixed)
-      .map(([k, v]) => `${k} = ${num(v, 1)}`).join(", ");
+      .map(([k, v]) => `${k} = ${num(v, 1)} ${grid.grid.find((g) => g.name === k).unit}`)
+      .join(", ");
     const caption = `v${grid.version}, ${grid.encoding}` +
       (grid.encoding === "int32" ? ` (${num(grid.increment_mm * 1000, 1)} µm per count)` : "") +
       `, grid ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")}` +
       (fixed ? `; held at ${fixed}` : "");
-    box.replaceChildren(...grid.outputs.map((s) => el("figure", { "data-output": s.output },
+    EDNC.fill(box, ...grid.outputs.map((s) => el("figure", { "data-output": s.output },
       heatmap(grid, s), legend(s),
       el("figcaption", {}, el("b", {}, `Correction of ${s.output}`),
         ` ${num(s.min, 1)} … ${num(s.max, 1)} ${s.unit}` +
@@ -194,7 +195,7 @@
       return;
     }
     const labels = Object.keys(v.ranges_before_um);
-    box.replaceChildren(el("table", { class: "terms" },
+    EDNC.fill(box, el("table", { class: "terms" },
       el("tr", {}, el("th", {}, "Diagonal"), el("th", {}, "Range before"),
         el("th", {}, "Range after"), el("th", {}, "Improvement")),
       labels.map((k) => el("tr", {}, el("td", {}, k),
@@ -218,11 +219,11 @@
     try {
       plots = await getJSON(`${API}/verifications/latest/diagonals`);
     } catch (err) {
-      box.replaceChildren(err.status === 404 ? "" : el("p", { class: "problem" },
+      EDNC.fill(box, err.status === 404 ? null : el("p", { class: "problem" },
         `Diagonal profiles unavailable: ${err.message}`));
       return;
     }
-    box.replaceChildren(el("p", { class: "legend", style: "flex-basis: 100%" },
+    EDNC.fill(box, el("p", { class: "legend", style: "flex-basis: 100%" },
       "Mean deviation along the diagonal at each target: ",
       el("span", { class: "before" }, `before (${plots.before_set})`),
       plots.after_set ? [" and ", el("span", { class: "after" }, `after (${plots.after_set})`)]
@@ -249,7 +250,7 @@
     box.replaceChildren(kv([
       ["Effect", [d.effect, d.axis ? ` on ${d.axis}` : "", d.sensor ? ` (sensor ${d.sensor})`
         : ""].join(""), { "data-field": "effect" }],
-      ["Estimate", Object.entries(d.estimate).map(([k, v]) => `${k} = ${num(v, 3)}`)
+      ["Estimate", Object.entries(d.estimate).map(([k, v]) => EDNC.estimate(k, v))
         .join(", ") || "—"],
       ["Held-out RMS", `${qty(d.rms_before_um, "µm", 2)} → ${qty(d.rms_after_um, "µm", 2)}`],
       ["When", time(d.created_at)],
@@ -276,7 +277,7 @@
     const info = Object.entries(model.info)
       .filter(([, v]) => typeof v === "number" || typeof v === "string")
       .map(([k, v]) => `${k} = ${typeof v === "number" ? num(v, 3) : v}`).join(" · ");
-    box.replaceChildren(
+    EDNC.fill(box,
       el("p", { class: "sub" }, `Version ${model.version} (${model.source}), ` +
         `${time(model.created_at)}${info ? " · " + info : ""}`),
       el("table", { class: "terms", id: "components" },
