@@ -17,9 +17,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from machine_sim.campaign import standard_campaign
+from machine_sim.campaign import run_campaign, standard_campaign
 from machine_sim.effects import Backlash, Effects, Noise, Periodic, ThermalDrift, ThermalExpansion
 from machine_sim.instruments import SimulatedMachine
+from machine_sim.testprograms import positioning_test
 from machine_sim.thermal import default_thermal
 from machine_sim.truth import random_geometry
 from volumetric.diagnose import DiagnosisError, diagnose
@@ -145,6 +146,10 @@ def test_what_the_data_cannot_support_is_named_not_guessed() -> None:
     assert not any(c["effect"] == "backlash" and c["axis"] == "x" for c in d.candidates)
     with pytest.raises(DiagnosisError, match="too few readings"):
         diagnose(m, full.select(np.arange(20)))
+    # ISO 230-2 targets alone (11 over 800 mm) cannot resolve a ballscrew's period
+    sparse = run_campaign(sim, [positioning_test(m, a, targets=11, runs=3) for a in "XYZ"])
+    d = diagnose(m, sparse.measurements)
+    assert "periodic x" in d.not_assessed and "fine positioning" in d.not_assessed["periodic x"]
 
 
 def test_diagnose_command_prints_the_documented_json_and_writes_a_report(tmp_path: Path) -> None:

@@ -71,6 +71,8 @@ T_MIN = 5.0
 """Coefficient over its standard uncertainty that a named effect must reach."""
 """Smallest relative reduction of the held-out RMS that names an effect."""
 N_CHUNKS = 30
+SCREW_LEAD_MM = 25.0
+"""Longest usual ballscrew lead; positions that cannot resolve it are reported."""
 TIE = 0.05
 """Relative held-out RMS within which another sensor is reported as an alternative."""
 MIN_READINGS = 50
@@ -247,6 +249,12 @@ def candidates(
             missing[f"backlash {key}"] = f"one approach direction only along {key}"
         span = float(np.ptp(qk[sensed]))
         if span > 0:
+            shortest = _shortest_period(qk[sensed])
+            if shortest > SCREW_LEAD_MM:
+                missing[f"periodic {key}"] = (
+                    f"positions along {key} resolve only periods above {shortest:.0f} mm; a "
+                    f"ballscrew's lead is {SCREW_LEAD_MM:.0f} mm or less (add a fine "
+                    "positioning test)")
             period = _best_period(qk, uk, base_residual, sensed & train, span)
             if period is not None:
                 ph = 2 * np.pi * qk / period
@@ -258,17 +266,27 @@ def candidates(
     return out, missing
 
 
+def _shortest_period(q: F64) -> float:
+    """Twice the typical spacing of distinct positions (mm): the shortest period they
+    resolve (see :func:`_best_period`)."""
+    qs = np.unique(np.round(q, 6))
+    if qs.size < 2:
+        return math.inf
+    return max(2.0, 2.0 * float(np.percentile(np.diff(qs), 20)))
+
+
 def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -> float | None:
     """The period (mm) whose sinusoid along the axis best explains the residual.
 
-    A least-squares periodogram over periods from 2 mm (or twice the finest spacing of the
-    positions) to a third of the sensed span, refined on a finer grid around the peak.
+    A least-squares periodogram over periods from twice the typical spacing of the sensed
+    positions (their Nyquist limit; 2 mm at least) to a third of the sensed span, refined
+    on a finer grid around the peak. The typical spacing is the 20th percentile of the
+    gaps between distinct positions: a fine test over part of the travel resolves short
+    periods, a few stray close targets do not.
     """
-    qs = np.sort(np.unique(np.round(q[rows], 6)))
-    if qs.size < 8:
+    if np.unique(np.round(q[rows], 6)).size < 8:
         return None
-    step = float(np.min(np.diff(qs))) if qs.size > 1 else span
-    lo = max(2.0, 2.0 * step)
+    lo = _shortest_period(q[rows])
     hi = span / 3.0
     if hi <= lo:
         return None
