@@ -15,7 +15,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import select
+from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
 from ednc import __version__
@@ -31,7 +31,6 @@ from server.dashboard.schemas import (
 from server.dashboard.telemetry import live_values
 from server.db import events as event_repo
 from server.db import machines as machine_repo
-from server.db import maps as map_repo
 from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow
 from server.schemas.event import EventPublic
 from server.state import LinkState, Registry
@@ -63,32 +62,44 @@ class Facts:
     events: list[EventPublic]
 
 
-def _latest_report(session: Session, machine_id: int, kind: str) -> DiagnosisRow | None:
-    query = select(DiagnosisRow).where(DiagnosisRow.machine_id == machine_id,
-                                       DiagnosisRow.kind == kind)
-    return session.scalar(query.order_by(DiagnosisRow.id.desc()).limit(1))
+def _newest(session: Session, row: Any, query: Any, machine_id: int | None) -> dict[int, Any]:
+    """The row with the highest id per machine among ``query``'s, by machine id."""
+    newest = select(func.max(row.id)).where(*query)
+    if machine_id is not None:
+        newest = newest.where(row.machine_id == machine_id)
+    rows = session.scalars(select(row).where(row.id.in_(newest.group_by(row.machine_id))))
+    return {r.machine_id: r for r in rows}
+
+
+def load_machine_facts(session: Session, machines: list[MachineRow],
+                       machine_id: int | None = None) -> list[MachineFacts]:
+    """Facts of ``machines`` in six grouped queries, whatever their number (``machine_id``
+    restricts them to one machine)."""
+    latest_query = select(MapVersionRow.machine_id, func.max(MapVersionRow.version))
+    if machine_id is not None:
+        latest_query = latest_query.where(MapVersionRow.machine_id == machine_id)
+    latest = {mid: v for mid, v in session.execute(
+        latest_query.group_by(MapVersionRow.machine_id))}
+    sent = _newest(session, AppliedRow, (), machine_id)
+    applied = _newest(session, AppliedRow, (AppliedRow.acked,), machine_id)
+    verifications = _newest(session, DiagnosisRow, (DiagnosisRow.kind == "verification",),
+                            machine_id)
+    diagnoses = _newest(session, DiagnosisRow, (DiagnosisRow.kind == "diagnosis",), machine_id)
+    return [MachineFacts(machine=m, latest_map=latest.get(m.id), sent=sent.get(m.id),
+                         applied=applied.get(m.id), verification=verifications.get(m.id),
+                         diagnosis=diagnoses.get(m.id)) for m in machines]
 
 
 def machine_facts(session: Session, machine: MachineRow) -> MachineFacts:
-    """One machine's facts (five indexed single-row queries)."""
-    latest = session.scalar(
-        select(MapVersionRow.version).where(MapVersionRow.machine_id == machine.id)
-        .order_by(MapVersionRow.version.desc()).limit(1)
-    )
-    return MachineFacts(
-        machine=machine, latest_map=latest,
-        sent=map_repo.latest_sent(session, machine.id),
-        applied=map_repo.latest_acked(session, machine.id),
-        verification=_latest_report(session, machine.id, "verification"),
-        diagnosis=_latest_report(session, machine.id, "diagnosis"),
-    )
+    """One machine's facts."""
+    return load_machine_facts(session, [machine], machine.id)[0]
 
 
 def load_facts(session: Session, events: int = EVENTS_SHOWN) -> Facts:
     """Every machine's facts and the newest ``events`` events."""
     rows = event_repo.list_events(session, limit=events)
     return Facts(
-        machines=[machine_facts(session, m) for m in machine_repo.list_machines(session)],
+        machines=load_machine_facts(session, machine_repo.list_machines(session)),
         events=[EventPublic.model_validate(r, from_attributes=True) for r in rows],
     )
 
