@@ -163,6 +163,7 @@ class SimulatedCNC:
         self._heartbeat_s = 5.0
         self._welcomed_this_time = False
         self._release_pending = False
+        self._stopping = False
 
     # -- lifetime
     async def __aenter__(self) -> SimulatedCNC:
@@ -177,6 +178,9 @@ class SimulatedCNC:
 
     async def __aexit__(self, exc_type: type[BaseException] | None,
                         exc: BaseException | None, tb: TracebackType | None) -> None:
+        # The flag as well as the cancel: a library that turns the CancelledError into its
+        # own error (aiomqtt does, mid-publish) must not keep a loop alive.
+        self._stopping = True
         for t in self._tasks:
             t.cancel()
         results = await asyncio.gather(*self._tasks, return_exceptions=True)
@@ -186,6 +190,10 @@ class SimulatedCNC:
             if isinstance(r, Exception):
                 raise r
 
+    def stopping(self) -> bool:
+        """The context is being left: loops end at their next turn."""
+        return self._stopping
+
     def now(self) -> float:
         """Machine time since start, s."""
         return asyncio.get_running_loop().time() - self._t0
@@ -194,7 +202,7 @@ class SimulatedCNC:
     async def _plc_loop(self) -> None:
         loop = asyncio.get_running_loop()
         next_t = loop.time()
-        while True:
+        while not self.stopping():
             self.runtime.step(self.now())
             if self.runtime.controller.take_released() and self._release_pending:
                 self._release_pending = False
@@ -208,7 +216,7 @@ class SimulatedCNC:
     # -- the link
     async def _link_loop(self) -> None:
         attempt = 0
-        while True:
+        while not self.stopping():
             try:
                 await self._session()
             except (OSError, ProtocolError, _Closed, TimeoutError) as exc:
@@ -361,12 +369,15 @@ class SimulatedCNC:
                         self.machine.name)
             return
         attempt = 0
-        while True:
+        while not self.stopping():
             try:
+                # a fresh client id per connection: two simulators of one fleet (or a
+                # stale session) must not keep kicking each other off the broker
+                ident = f"edncsim-{self.machine.name}-{self._rng.getrandbits(32):08x}"
                 async with aiomqtt.Client(target.host, target.port,
-                                          identifier=f"edncsim-{self.machine.name}") as client:
+                                          identifier=ident) as client:
                     attempt = 0
-                    while True:
+                    while not self.stopping():
                         stamp = int(time.time() * 1000)
                         for sensor, value in self.runtime.temperatures(self.now()).items():
                             topic = f"{target.prefix}/{self.machine.name}/temperature/{sensor}"
@@ -376,6 +387,8 @@ class SimulatedCNC:
                             self.stats.mqtt_published += 1
                         await asyncio.sleep(self._telemetry_s)
             except aiomqtt.MqttError as exc:
+                if self.stopping():
+                    return
                 self.stats.last_error = f"MQTT: {exc}"
             await asyncio.sleep(self.backoff.delay(attempt, self._rng))
             attempt += 1

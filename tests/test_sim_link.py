@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from machine_sim.fanuc import FanucConfig
-from machine_sim.link import Backoff, SimulatedCNC
+from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from protocol import (
     NEED_DATA,
@@ -221,3 +221,30 @@ def test_backoff_grows_is_capped_and_jittered() -> None:
         base = min(60.0, 2.0 ** n)
         assert base * 0.5 <= d <= base
     assert len({round(d, 6) for d in delays[8:]}) > 1  # capped yet not in lock step
+
+
+@pytest.mark.services
+async def test_fanuc_machine_publishes_its_temperatures_to_mqtt(
+        center: MiniCenter, mqtt_broker: tuple[str, int]) -> None:
+    import json
+    import uuid
+
+    import aiomqtt
+
+    host, port = mqtt_broker
+    prefix = f"ednc-test-{uuid.uuid4().hex[:8]}"  # a topic tree of this test's own
+    m = machine("fanuc", "sim-mqtt")
+    async with asyncio.timeout(DEADLINE_S), aiomqtt.Client(host, port) as client:
+        await client.subscribe(f"{prefix}/#")
+        async with cnc(m, center.port, mqtt=MqttTarget(host, port, prefix)):
+            seen: dict[str, float] = {}
+            async for message in client.messages:
+                sensor = str(message.topic).split("/")[-1]
+                assert str(message.topic) == f"{prefix}/sim-mqtt/temperature/{sensor}"
+                assert isinstance(message.payload, bytes)
+                body = json.loads(message.payload)
+                assert set(body) == {"celsius", "timestamp_ms"}
+                seen[sensor] = body["celsius"]
+                if {"spindle", "x_screw", "air"} <= set(seen):
+                    break
+    assert all(10.0 < v < 40.0 for v in seen.values())
