@@ -1,4 +1,5 @@
-"""``ednc serve``: run the control center (REST API, and the machine services once added)."""
+"""``ednc serve``: run the control center in one process: REST API and dashboard (uvicorn),
+the machine TCP server, the push scheduler and the MQTT bridge (:mod:`server.services`)."""
 
 from __future__ import annotations
 
@@ -23,6 +24,7 @@ def register(app: typer.Typer) -> None:
         from ednc.cli import UserError
         from server.app import create_app
         from server.db import Database, DatabaseUnavailable, make_engine
+        from server.services import machine_services
         from server.settings import SettingsError, load_settings
 
         overrides: dict[str, Any] = {}
@@ -43,5 +45,5 @@ def register(app: typer.Typer) -> None:
             raise UserError(str(exc)) from None
         finally:
             db.engine.dispose()
-        uvicorn.run(create_app(settings), host=settings.http_host, port=settings.http_port,
-                    log_level="info")
+        app = create_app(settings, services=[machine_services])
+        uvicorn.run(app, host=settings.http_host, port=settings.http_port, log_level="info")

@@ -1,0 +1,367 @@
+"""The machine TCP server: handshake, authentication, refusals, then one session per machine.
+
+Per connection (one task, :meth:`MachineServer._handle`):
+
+1. **Handshake**, within ``handshake_s`` (10 s, protocol README §9) from accept: Hello;
+   the name must be registered, the peer address and Hello's ``ip`` must be the
+   registered address, the controller and a map format must match; then Challenge and
+   AuthResponse (HMAC-SHA256 with the machine's secret, compared in constant time). Any
+   failure is a Reject with its code and a text saying what was wrong, a ``refused``
+   event (the dashboard's refusal list) and a count in ``ednc_connections_refused``.
+2. **Session**, after Welcome: one receive loop dispatching with ``match``; a heartbeat
+   task; the push scheduler's worker for this machine. Nothing heard for 3 heartbeat
+   periods ends it (Error TIMEOUT), as does a bad frame (Error PROTOCOL_ERROR): that one
+   connection closes and every other keeps being served.
+
+A second session for a machine that already has one is refused (DUPLICATE_SESSION) while
+the first is alive; when the first has been silent for a heartbeat period or more (a
+half-open connection after a cable pull), the authenticated newcomer replaces it.
+
+Unauthenticated connections are bounded (``max_handshakes``): beyond that, new ones are
+closed at once, so a flood of connections or of silent peers cannot exhaust the process
+while established sessions keep running.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+from collections.abc import Callable, Coroutine
+from dataclasses import dataclass
+from types import TracebackType
+from typing import Any, Final
+
+from protocol import (
+    AuthResponse,
+    Challenge,
+    Controller,
+    Error,
+    ErrorCode,
+    HeartbeatReply,
+    Hello,
+    MapAck,
+    MapEncoding,
+    MapReject,
+    Reject,
+    Released,
+    RemoteProtocolError,
+    Telemetry,
+    Welcome,
+    clip_text,
+    new_nonce,
+    verify_mac,
+)
+from protocol.messages import Heartbeat
+from server.center import Center
+from server.db import machines as machine_repo
+from server.db.tables import MachineRow
+from server.events import EventKind
+from server.feed import Feed
+from server.link.session import LinkClosed, MachineSession
+from server.temperatures import TemperatureBoard, valid_sensor
+
+log = logging.getLogger(__name__)
+
+HANDSHAKE_S: Final = 10.0
+TELEMETRY_PERIOD_MS: Final = 1000
+DEAD_AFTER_PERIODS: Final = 3
+MAX_HANDSHAKES: Final = 2048
+"""Connections allowed between accept and Welcome at once; each costs a socket and a task."""
+
+ENCODING_OF: Final = {"fanuc": MapEncoding.INT32_INCREMENTS, "siemens": MapEncoding.FLOAT32_MM}
+
+SessionWorker = Callable[[MachineSession, MachineRow], Coroutine[Any, Any, None]]
+"""Runs alongside a session until cancelled (the push scheduler's per-machine worker)."""
+
+
+class Refused(Exception):
+    """The handshake failed: answer with Reject(code, text) and record ``reason``."""
+
+    def __init__(self, code: ErrorCode, text: str, reason: str, who: str) -> None:
+        super().__init__(text)
+        self.code = code
+        self.text = text
+        self.reason = reason
+        self.who = who
+
+
+@dataclass(frozen=True, slots=True)
+class LinkTiming:
+    """Deadlines of the machine link, s."""
+
+    handshake_s: float = HANDSHAKE_S
+    heartbeat_s: float = 10.0
+    telemetry_period_ms: int = TELEMETRY_PERIOD_MS
+
+    @property
+    def dead_after_s(self) -> float:
+        return DEAD_AFTER_PERIODS * self.heartbeat_s
+
+
+def telemetry_fields(msg: Telemetry) -> dict[str, Any]:
+    """Telemetry as the registry (and the status API) keeps it: plain JSON values."""
+    return {
+        "timestamp_ms": msg.timestamp_ms, "state": msg.state, "map_version": msg.map_version,
+        "axes": {a.name: {"position": a.position, "compensation": a.compensation}
+                 for a in msg.axes},
+        "temperatures": {s.name: s.celsius for s in msg.temperatures},
+    }
+
+
+class MachineServer:
+    """The asyncio TCP server the machines connect to; an async context manager.
+
+    Parameters
+    ----------
+    center : Center
+    feed : Feed
+        Where events go (and from there to MQTT).
+    temperatures : TemperatureBoard
+        Receives the temperatures machines report in Telemetry.
+    worker : callable, optional
+        Started for every session after Welcome, cancelled when it ends.
+    host, port : str, int
+        Where to listen (port 0: any free port, see :attr:`port`).
+    timing : LinkTiming
+    max_handshakes : int
+    """
+
+    def __init__(self, center: Center, feed: Feed, temperatures: TemperatureBoard, *,
+                 worker: SessionWorker | None = None, host: str = "0.0.0.0", port: int = 0,
+                 timing: LinkTiming | None = None,
+                 max_handshakes: int = MAX_HANDSHAKES) -> None:
+        self.center = center
+        self.feed = feed
+        self.temperatures = temperatures
+        self.worker = worker
+        self.host = host
+        self.requested_port = port
+        self.timing = timing or LinkTiming(heartbeat_s=center.settings.heartbeat_s)
+        self.max_handshakes = max_handshakes
+        self.sessions: dict[str, MachineSession] = {}
+        self._handshaking = 0
+        self._handlers: set[asyncio.Task[None]] = set()
+        self._server: asyncio.Server | None = None
+
+    @property
+    def port(self) -> int:
+        """The port actually listened on."""
+        if self._server is None or not self._server.sockets:
+            raise RuntimeError("the machine server is not running")
+        return int(self._server.sockets[0].getsockname()[1])
+
+    async def __aenter__(self) -> MachineServer:
+        self._server = await asyncio.start_server(
+            self._handle, self.host, self.requested_port, backlog=4096)
+        log.info("machine server listening on %s:%d", self.host, self.port)
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        server, self._server = self._server, None
+        if server is not None:
+            server.close()
+        for session in list(self.sessions.values()):
+            session.abort(ErrorCode.SHUTDOWN, "the control center is shutting down")
+        for task in list(self._handlers):
+            task.cancel()
+        if self._handlers:
+            await asyncio.gather(*self._handlers, return_exceptions=True)
+        if server is not None:
+            await server.wait_closed()
+
+    # -- connections
+    async def _handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        task = asyncio.current_task()
+        if task is not None:  # start_server runs each connection in a task of its own
+            self._handlers.add(task)
+            task.add_done_callback(self._handlers.discard)
+        session = MachineSession(reader, writer)
+        try:
+            await self._serve(session)
+        except asyncio.CancelledError:
+            # the server is closing: this is the connection's top task, nobody awaits it
+            session.abort(ErrorCode.SHUTDOWN, "the control center is shutting down")
+        finally:
+            await session.wait_closed()
+
+    async def _serve(self, session: MachineSession) -> None:
+        if self._handshaking >= self.max_handshakes:
+            # no Reject: the peer has not said Hello, and reading it would cost what this
+            # limit protects; count it only (a flood must not flood the events table)
+            self.center.metrics.refusals.labels(reason="busy").inc()
+            session.abort(None, "too many handshakes at once")
+            return
+        # Each refusal is recorded before the socket closes, so that a peer that saw the
+        # close finds the event in the table.
+        try:
+            self._handshaking += 1
+            try:
+                async with asyncio.timeout(self.timing.handshake_s):
+                    machine = await self._handshake(session)
+            finally:
+                self._handshaking -= 1
+        except Refused as r:
+            with contextlib.suppress(LinkClosed):
+                session.send(Reject(r.code, clip_text(r.text)))
+            await self.feed.record(EventKind.REFUSED, r.who, r.text, reason=r.reason)
+            session.abort(None, r.text)
+            return
+        except TimeoutError:
+            text = f"no Welcome within {self.timing.handshake_s:g} s of connecting"
+            await self.feed.record(EventKind.REFUSED, session.address, text, reason="timeout")
+            session.abort(ErrorCode.TIMEOUT, text)
+            return
+        except RemoteProtocolError as exc:
+            await self.feed.record(EventKind.REFUSED, session.address,
+                                   f"protocol error before Welcome: {exc}", reason="protocol")
+            session.abort(ErrorCode.PROTOCOL_ERROR, str(exc))
+            return
+        except (LinkClosed, ConnectionError, OSError) as exc:
+            log.debug("%s: closed during the handshake: %s", session.address, exc)
+            return
+        await self._run(session, machine)
+
+    async def _handshake(self, session: MachineSession) -> MachineRow:
+        hello = await session.receive()
+        match hello:
+            case Hello():
+                session.hello = hello
+            case Error(code=code, text=text):
+                raise LinkClosed(f"machine error {code.name}: {text}")
+            case _:  # the codec lets only Hello or Error through first
+                raise LinkClosed(f"unexpected {type(hello).__name__}")
+        row = await self.center.db.run(machine_repo.get_machine, hello.name)
+        peer = session.ip
+        if row is None:
+            raise Refused(ErrorCode.UNKNOWN_MACHINE,
+                          f"no machine named {hello.name!r} is registered", "unknown", peer)
+        if peer != row.ip:
+            raise Refused(ErrorCode.ADDRESS_MISMATCH,
+                          f"machine {hello.name!r} is registered at {row.ip}, this connection "
+                          f"comes from {peer}", "address", peer)
+        if hello.ip != row.ip:
+            raise Refused(ErrorCode.ADDRESS_MISMATCH,
+                          f"Hello says ip {hello.ip}, machine {hello.name!r} is registered at "
+                          f"{row.ip}", "address", peer)
+        if Controller(hello.controller).label != row.controller:
+            raise Refused(ErrorCode.UNSUPPORTED,
+                          f"Hello says controller {Controller(hello.controller).label}, "
+                          f"{hello.name!r} is registered as {row.controller}",
+                          "unsupported", row.name)
+        encoding = ENCODING_OF.get(row.controller)
+        if encoding is None or not hello.map_formats & encoding:
+            raise Refused(ErrorCode.UNSUPPORTED,
+                          f"{row.controller} maps need encoding "
+                          f"{encoding.name if encoding else '?'}, Hello accepts "
+                          f"{MapEncoding(hello.map_formats)!r}", "unsupported", row.name)
+        nonce = new_nonce()
+        session.send(Challenge(nonce))
+        answer = await session.receive()
+        if isinstance(answer, Error):
+            raise LinkClosed(f"machine error {answer.code.name}: {answer.text}")
+        assert isinstance(answer, AuthResponse)  # the codec allows nothing else here
+        try:
+            good = verify_mac(row.secret.encode("utf-8"), nonce, row.name, answer.mac)
+        except ValueError as exc:  # a registered secret the protocol cannot use
+            log.error("machine %s: %s", row.name, exc)
+            good = False
+        if not good:
+            raise Refused(ErrorCode.AUTH_FAILED, "authentication failed: wrong response to "
+                          "the challenge", "auth", row.name)
+        old = self.sessions.get(row.name)
+        if old is not None:
+            silent = asyncio.get_running_loop().time() - old.last_heard
+            if silent < self.timing.heartbeat_s:
+                raise Refused(ErrorCode.DUPLICATE_SESSION,
+                              f"machine {row.name!r} already has a live session from "
+                              f"{old.address}", "duplicate", row.name)
+            old.abort(ErrorCode.DUPLICATE_SESSION,
+                      f"replaced by a new session from {session.address}")
+        session.send(Welcome(int(self.timing.heartbeat_s * 1000),
+                             self.timing.telemetry_period_ms))
+        return row
+
+    async def _run(self, session: MachineSession, machine: MachineRow) -> None:
+        name = machine.name
+        self.sessions[name] = session
+        self.center.registry.connected(name, session.address)
+        await self.feed.record(EventKind.CONNECTED, name, f"session from {session.address}")
+        why = "session ended"
+        try:
+            async with asyncio.TaskGroup() as tg:
+                beats = tg.create_task(self._heartbeats(session), name=f"{name}:heartbeat")
+                work = (tg.create_task(self.worker(session, machine), name=f"{name}:push")
+                        if self.worker is not None else None)
+                try:
+                    why = await self._receive_loop(session)
+                finally:
+                    beats.cancel()
+                    if work is not None:
+                        work.cancel()
+        except* Exception as group:  # a worker's bug ends this session only
+            for exc in group.exceptions:
+                log.error("%s: session task failed", name, exc_info=exc)
+            why = f"internal error: {group.exceptions[0]!r}"
+            session.abort(ErrorCode.INTERNAL, "the control center failed internally")
+        finally:
+            if self.sessions.get(name) is session:
+                del self.sessions[name]
+                self.center.registry.disconnected(name)
+        await self.feed.record(EventKind.DISCONNECTED, name, why)
+
+    async def _receive_loop(self, session: MachineSession) -> str:
+        """Dispatch the machine's messages until the session ends; returns why it ended."""
+        loop = asyncio.get_running_loop()
+        dead_s = self.timing.dead_after_s
+        name = session.name
+        try:
+            async with asyncio.timeout(dead_s) as deadline:
+                while True:
+                    msg = await session.receive()
+                    deadline.reschedule(loop.time() + dead_s)
+                    match msg:
+                        case Telemetry():
+                            self.center.registry.seen(name, telemetry_fields(msg))
+                            for s in msg.temperatures:
+                                if valid_sensor(s.name):
+                                    self.temperatures.update(
+                                        name, s.name, s.celsius, source="telemetry",
+                                        at=msg.timestamp_ms / 1000.0)
+                        case HeartbeatReply():
+                            self.center.registry.seen(name)
+                        case MapAck() | MapReject():
+                            self.center.registry.seen(name)
+                            session.resolve(msg)
+                        case Released():
+                            self.center.registry.seen(name)
+                        case Error(code=code, text=text):
+                            return f"machine error {code.name}: {text}"
+                        case _:  # the codec lets no other message through in READY
+                            session.abort(ErrorCode.PROTOCOL_ERROR,
+                                          f"unexpected {type(msg).__name__}")
+                            return f"unexpected {type(msg).__name__}"
+        except TimeoutError:
+            text = f"nothing heard for {dead_s:g} s ({DEAD_AFTER_PERIODS} heartbeat periods)"
+            session.abort(ErrorCode.TIMEOUT, text)
+            return text
+        except RemoteProtocolError as exc:
+            await self.feed.record(EventKind.REFUSED, name, f"protocol error: {exc}",
+                                   reason="protocol")
+            session.abort(ErrorCode.PROTOCOL_ERROR, str(exc))
+            return f"protocol error: {exc}"
+        except LinkClosed as exc:
+            return str(exc)
+        except (ConnectionError, OSError) as exc:
+            return f"connection lost: {exc}"
+
+    async def _heartbeats(self, session: MachineSession) -> None:
+        token = 0
+        while True:
+            await asyncio.sleep(self.timing.heartbeat_s)
+            try:
+                session.send(Heartbeat(token))
+            except LinkClosed:
+                return
+            token = (token + 1) & 0xFFFFFFFF

@@ -1,0 +1,358 @@
+"""The MQTT bridge (aiomqtt 2.x): machine temperatures in, link status and events out.
+
+Topics (``<prefix>`` is ``EDNC_MQTT_TOPIC_PREFIX``, ``ednc`` by default; see README.md):
+
+* subscribes ``<prefix>/+/temperature/+``: ``<prefix>/<machine>/temperature/<sensor>``
+  with a number in °C as text (``21.43``) or JSON ``{"celsius": 21.43, "time": ...}``
+  (``time``: ISO 8601 or seconds since the epoch; ``timestamp_ms`` also accepted). The
+  sensor ``spindle`` is the model column ``T_spindle_C``. Bad payloads are counted
+  (``ednc_mqtt_bad_payloads``) and logged, never fatal;
+* publishes ``<prefix>/<machine>/status``, retained JSON: connected, map versions sent and
+  applied, last seen, the temperatures the center holds (with age and staleness);
+* publishes ``<prefix>/events``: JSON of every link event (refusals, connections, pushes,
+  applied maps, rejections).
+
+When the broker goes away the bridge keeps the last temperatures, marks those that came by
+MQTT stale, and reconnects with jittered, capped exponential backoff; statuses changed
+meanwhile are published on return, events of the outage are dropped beyond a bounded queue.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import datetime as dt
+import json
+import logging
+import math
+import random
+import time
+from collections import deque
+from dataclasses import dataclass, field
+from types import TracebackType
+from typing import Any, Final
+
+import aiomqtt
+from prometheus_client import Counter
+
+from server.center import Center
+from server.db import machines as machine_repo
+from server.db import maps as map_repo
+from server.events import EventKind
+from server.feed import Feed, Notice
+from server.temperatures import TemperatureBoard, valid_sensor
+
+log = logging.getLogger(__name__)
+
+MIN_C: Final = -60.0
+MAX_C: Final = 200.0
+"""Readings outside this are not a machine tool's temperatures: a unit or sensor fault."""
+
+EVENT_BACKLOG: Final = 1000
+"""Events kept for publishing while the broker is away (oldest dropped first)."""
+
+
+class PayloadError(ValueError):
+    """A temperature message that cannot be read; the text says why."""
+
+
+def parse_temperature(payload: bytes) -> tuple[float, float | None]:
+    """(°C, time in s since the epoch or None) from a temperature message.
+
+    Raises
+    ------
+    PayloadError
+    """
+    try:
+        text = payload.decode("utf-8").strip()
+    except UnicodeDecodeError:
+        raise PayloadError("payload is not UTF-8") from None
+    if not text:
+        raise PayloadError("payload is empty")
+    stamp: float | None = None
+    if text.startswith("{"):
+        try:
+            body = json.loads(text)
+        except json.JSONDecodeError as exc:
+            raise PayloadError(f"payload is not valid JSON: {exc.msg}") from None
+        if not isinstance(body, dict) or "celsius" not in body:
+            raise PayloadError('JSON payload needs a "celsius" key')
+        value = body["celsius"]
+        stamp = _stamp(body)
+    else:
+        value = text
+    if isinstance(value, bool):
+        raise PayloadError(f"celsius must be a number, got {value!r}")
+    try:
+        celsius = float(value)
+    except (TypeError, ValueError):
+        raise PayloadError(f"celsius must be a number, got {str(value)[:40]!r}") from None
+    if not math.isfinite(celsius) or not MIN_C <= celsius <= MAX_C:
+        raise PayloadError(f"celsius {celsius} is outside {MIN_C:g}..{MAX_C:g} °C")
+    return celsius, stamp
+
+
+def _stamp(body: dict[str, Any]) -> float | None:
+    if "timestamp_ms" in body:
+        raw = body["timestamp_ms"]
+        if isinstance(raw, int | float) and not isinstance(raw, bool) and math.isfinite(raw):
+            return float(raw) / 1000.0
+        raise PayloadError(f"timestamp_ms must be a number, got {raw!r}")
+    raw = body.get("time")
+    if raw is None:
+        return None
+    if isinstance(raw, int | float) and not isinstance(raw, bool) and math.isfinite(raw):
+        return float(raw)
+    if isinstance(raw, str):
+        try:
+            when = dt.datetime.fromisoformat(raw)
+        except ValueError:
+            raise PayloadError(f"time {raw[:40]!r} is not ISO 8601") from None
+        if when.tzinfo is None:
+            when = when.replace(tzinfo=dt.UTC)
+        return when.timestamp()
+    raise PayloadError(f"time must be ISO 8601 or seconds, got {raw!r}")
+
+
+@dataclass(frozen=True)
+class Backoff:
+    """Reconnect delays ``min(cap, initial · 2^n)`` times a random factor in [0.5, 1]."""
+
+    initial_s: float = 0.5
+    cap_s: float = 30.0
+
+    def delay(self, attempt: int, rng: random.Random) -> float:
+        return min(self.cap_s, self.initial_s * 2.0 ** min(attempt, 32)) * (
+            0.5 + 0.5 * rng.random())
+
+
+@dataclass
+class _Status:
+    connected: bool = False
+    sent: int | None = None
+    applied: int | None = None
+    rejected: int | None = None
+    seeded: bool = False
+
+
+@dataclass
+class BridgeStats:
+    connects: int = 0
+    received: int = 0
+    bad_payloads: int = 0
+    published: int = 0
+    last_error: str = ""
+    bad_examples: deque[str] = field(default_factory=lambda: deque(maxlen=20))
+
+
+class MqttBridge:
+    """Temperatures from the broker, status and events to it; an async context manager.
+
+    Parameters
+    ----------
+    center, feed, temperatures
+    host, port, prefix
+        The broker and the first topic level(s).
+    stale_check_s : float
+        How often readings are checked for age (``temperatures.stale_after_s``).
+    status_refresh_s : float
+        Every connected machine's status is republished this often (its ``last_seen``).
+    """
+
+    def __init__(self, center: Center, feed: Feed, temperatures: TemperatureBoard, *,
+                 host: str, port: int = 1883, prefix: str = "ednc",
+                 backoff: Backoff | None = None, stale_check_s: float = 5.0,
+                 status_refresh_s: float = 30.0, seed: int | None = None) -> None:
+        self.center = center
+        self.feed = feed
+        self.temperatures = temperatures
+        self.host = host
+        self.port = port
+        self.prefix = prefix
+        self.backoff = backoff or Backoff()
+        self.stale_check_s = stale_check_s
+        self.status_refresh_s = status_refresh_s
+        self.stats = BridgeStats()
+        self.connected = asyncio.Event()
+        self._rng = random.Random(seed)
+        self._status: dict[str, _Status] = {}
+        self._dirty: set[str] = set()
+        self._events: deque[dict[str, Any]] = deque(maxlen=EVENT_BACKLOG)
+        self._wake = asyncio.Event()
+        self._tasks: list[asyncio.Task[None]] = []
+        self._unsubscribe: list[Any] = []
+        self._bad = Counter("ednc_mqtt_bad_payloads", "MQTT temperature messages refused.",
+                            registry=center.metrics.registry)
+
+    async def __aenter__(self) -> MqttBridge:
+        self._unsubscribe.append(self.feed.subscribe(self._on_notice))
+        self._tasks = [asyncio.create_task(self._connection_loop(), name="mqtt:connection"),
+                       asyncio.create_task(self._stale_loop(), name="mqtt:stale")]
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        for unsubscribe in self._unsubscribe:
+            unsubscribe()
+        for task in self._tasks:
+            task.cancel()
+        await asyncio.gather(*self._tasks, return_exceptions=True)
+        self._tasks = []
+
+    def topic(self, *levels: str) -> str:
+        return "/".join((self.prefix, *levels))
+
+    # -- the connection
+    async def _connection_loop(self) -> None:
+        attempt = 0
+        while True:
+            try:
+                node = self.center.settings.node_id
+                ident = f"ednc-center-{node}-{self._rng.getrandbits(32):08x}"
+                async with aiomqtt.Client(self.host, self.port, identifier=ident,
+                                          keepalive=15, timeout=5.0) as client:
+                    attempt = 0
+                    self.stats.connects += 1
+                    await client.subscribe(self.topic("+", "temperature", "+"))
+                    self._dirty.update(self._status)  # the broker may have lost retained ones
+                    self._wake.set()
+                    self.connected.set()
+                    log.info("MQTT bridge connected to %s:%d", self.host, self.port)
+                    async with asyncio.TaskGroup() as tg:
+                        tg.create_task(self._receive(client), name="mqtt:receive")
+                        tg.create_task(self._publish(client), name="mqtt:publish")
+            except* aiomqtt.MqttError as group:
+                self.stats.last_error = str(group.exceptions[0])
+            except* (OSError, TimeoutError) as group:
+                self.stats.last_error = repr(group.exceptions[0])
+            if self.connected.is_set():
+                self.connected.clear()
+                stale = self.temperatures.mark_stale(source="mqtt")
+                log.warning("MQTT broker lost (%s); %d readings marked stale",
+                            self.stats.last_error, stale)
+            delay = self.backoff.delay(attempt, self._rng)
+            attempt += 1
+            await asyncio.sleep(delay)
+
+    async def _receive(self, client: aiomqtt.Client) -> None:
+        async for message in client.messages:
+            self.stats.received += 1
+            self.handle(message.topic.value, message.payload)
+
+    def handle(self, topic: str, payload: Any) -> bool:
+        """Take one temperature message; False (counted, logged) when it is refused."""
+        try:
+            machine, sensor = self._parse_topic(topic)
+            if not isinstance(payload, bytes | bytearray):
+                payload = str(payload).encode()
+            celsius, stamp = parse_temperature(bytes(payload))
+        except PayloadError as exc:
+            self.stats.bad_payloads += 1
+            self._bad.inc()
+            self.stats.bad_examples.append(f"{topic}: {exc}")
+            level = logging.WARNING if self.stats.bad_payloads <= 10 else logging.DEBUG
+            log.log(level, "MQTT %s refused: %s", topic, exc)
+            return False
+        return self.temperatures.update(machine, sensor, celsius, source="mqtt", at=stamp)
+
+    def _parse_topic(self, topic: str) -> tuple[str, str]:
+        head = self.prefix + "/"
+        levels = topic[len(head):].split("/") if topic.startswith(head) else []
+        if len(levels) != 3 or levels[1] != "temperature":
+            raise PayloadError(f"topic is not {head}<machine>/temperature/<sensor>")
+        machine, _, sensor = levels
+        if not machine or len(machine) > 64:
+            raise PayloadError("machine level is empty or too long")
+        if not valid_sensor(sensor):
+            raise PayloadError(f"sensor {sensor[:40]!r}: use letters, digits and '_'")
+        return machine, sensor
+
+    # -- publishing
+    def _on_notice(self, notice: Notice) -> None:
+        self._events.append({"kind": notice.kind.value, "machine": notice.machine,
+                             "detail": notice.detail, "version": notice.version,
+                             "time": notice.at.isoformat()})
+        status = self._status.get(notice.machine)
+        if status is None and notice.kind is not EventKind.REFUSED:
+            status = self._status[notice.machine] = _Status()
+        if status is not None:
+            match notice.kind:
+                case EventKind.CONNECTED:
+                    status.connected = True
+                case EventKind.DISCONNECTED:
+                    status.connected = False
+                case EventKind.PUSHED:
+                    status.sent = notice.version
+                case EventKind.APPLIED:
+                    status.applied = notice.version
+                case EventKind.REJECTED:
+                    status.rejected = notice.version
+                case _:
+                    pass
+            self._dirty.add(notice.machine)
+        self._wake.set()
+
+    async def _seed(self, name: str, status: _Status) -> None:
+        """Versions sent and applied before this process started, from the database."""
+        status.seeded = True
+
+        def versions(session: Any) -> tuple[int | None, int | None]:
+            row = machine_repo.get_machine(session, name)
+            if row is None:
+                return None, None
+            sent = map_repo.latest_sent(session, row.id)
+            acked = map_repo.latest_acked(session, row.id)
+            return (sent.map_version if sent else None, acked.map_version if acked else None)
+
+        sent, applied = await self.center.db.run(versions)
+        status.sent = status.sent if status.sent is not None else sent
+        status.applied = status.applied if status.applied is not None else applied
+
+    def status_of(self, name: str) -> dict[str, Any]:
+        """The retained status JSON of one machine."""
+        status = self._status.get(name) or _Status()
+        link = self.center.registry.get(name)
+        now_mono, now = time.monotonic(), time.time()
+        temps = {column: {"celsius": r.celsius, "age_s": round(now_mono - r.received, 3),
+                          "time": r.time, "source": r.source, "stale": r.stale}
+                 for column, r in self.temperatures.readings(name).items()}
+        return {
+            "machine": name, "connected": link.connected,
+            "map_version_sent": status.sent, "map_version_applied": status.applied,
+            "map_version_rejected": status.rejected,
+            "last_seen": link.last_seen.isoformat() if link.last_seen else None,
+            "temperatures": temps, "time": now,
+        }
+
+    async def _publish(self, client: aiomqtt.Client) -> None:
+        next_refresh = time.monotonic() + self.status_refresh_s
+        while True:
+            with contextlib.suppress(TimeoutError):
+                async with asyncio.timeout(max(0.0, next_refresh - time.monotonic())):
+                    await self._wake.wait()
+            self._wake.clear()
+            if time.monotonic() >= next_refresh:
+                next_refresh = time.monotonic() + self.status_refresh_s
+                self._dirty.update(n for n, s in self._status.items() if s.connected)
+            while self._events:
+                body = self._events[0]
+                await client.publish(self.topic("events"), json.dumps(body), qos=1)
+                self._events.popleft()
+                self.stats.published += 1
+            while self._dirty:
+                name = self._dirty.pop()
+                status = self._status.setdefault(name, _Status())
+                if not status.seeded:
+                    await self._seed(name, status)
+                try:
+                    await client.publish(self.topic(name, "status"),
+                                         json.dumps(self.status_of(name)), qos=1, retain=True)
+                except aiomqtt.MqttError:
+                    self._dirty.add(name)
+                    raise
+                self.stats.published += 1
+
+    async def _stale_loop(self) -> None:
+        while True:
+            await asyncio.sleep(self.stale_check_s)
+            self.temperatures.mark_stale()

@@ -1,0 +1,463 @@
+"""The push scheduler: every connected machine gets its current error map.
+
+One worker per session (started by the machine server after Welcome, see
+:meth:`PushScheduler.serve`) keeps that machine's map current. It wakes:
+
+* at once, when the session starts: the machine is sent its current map, so a machine
+  that reconnects has it again whatever happened meanwhile;
+* when the machine's model changes (a new upload, fit or diagnosis is committed: the
+  scheduler watches committed ``models`` rows and updated ``machines`` rows through
+  SQLAlchemy session events, so every path that stores a model is covered);
+* when a temperature that its thermal model uses moves by more than ``threshold_K`` from
+  the temperature its current map was built at (MQTT or Telemetry);
+* every ``period_s`` otherwise (catching whatever no event announced).
+
+Then it rebuilds the map if its inputs changed (model version, machine description,
+temperatures), stores the new version in ``map_versions`` with the temperatures used, and
+sends it; at a periodic wake it re-sends the current map when the machine does not have
+it applied (its last answer or its Telemetry say otherwise), except a version the machine
+rejected. A burst of wakes while a build runs gives one more build, not one per wake.
+
+Builds (:func:`volumetric.errormap.build_map`) run on a thread pool of their own, so they
+neither stall the event loop nor take the threads the database calls use.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import dataclasses
+import logging
+import os
+from collections.abc import Callable, Iterator, Mapping
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, field
+from types import TracebackType
+from typing import Any, Final
+
+from sqlalchemy import event
+from sqlalchemy.orm import Session
+
+from protocol import ErrorCode, encode_map
+from server.center import Center
+from server.db import Database
+from server.db import error_models as model_repo
+from server.db import events as event_repo
+from server.db import maps as map_repo
+from server.db.tables import MachineRow, MapVersionRow, ModelRow
+from server.events import EventKind
+from server.feed import Feed, Notice
+from server.link.session import LinkClosed, MachineSession
+from server.temperatures import TemperatureBoard
+from volumetric.errormap import ErrorMap, build_map
+from volumetric.machine import parse_machine
+from volumetric.model import MachineModel
+
+log = logging.getLogger(__name__)
+
+THRESHOLD_K: Final = 0.05
+"""A temperature change that triggers a new map: 0.05 K moves a 500 mm steel axis
+(11.5 µm/(m·K)) by 0.3 µm, about the map's own interpolation tolerance."""
+
+VERDICT_TIMEOUT_S: Final = 30.0
+"""MapAck or MapReject within 30 s of sending (protocol README §9)."""
+
+_THERMAL: Final = ("thermal_expansion", "thermal_drift")
+
+
+def thermal_sensors(body: Mapping[str, Any]) -> frozenset[str]:
+    """The temperature columns a model's thermal terms use (``MachineModel.sensors``,
+    read from its JSON without building the model)."""
+    terms = body.get("terms") or []
+    return frozenset(str(t["sensor"]) for t in terms
+                     if isinstance(t, Mapping) and t.get("effect") in _THERMAL
+                     and "sensor" in t)
+
+
+def build_for(description: Mapping[str, Any], controller: str, model_body: Mapping[str, Any],
+              temperatures: Mapping[str, float], tolerance_um: float) -> ErrorMap:
+    """Build a machine's map (synchronous, seconds at most: run it off the loop).
+
+    Raises
+    ------
+    ValueError
+        The description, the model or the build is refused (MapBuildError is one); the
+        text is the core's.
+    """
+    machine = parse_machine(description)
+    try:
+        model = MachineModel.from_json(model_body)
+    except (TypeError, KeyError) as exc:
+        raise ValueError(f"stored model cannot be read: {exc}") from None
+    return build_map(machine, model, dict(temperatures), tolerance_um=tolerance_um,
+                     controller="fanuc" if controller == "fanuc" else "siemens")
+
+
+# -- database steps (each runs in one transaction through Database.run)
+
+@dataclass(frozen=True, slots=True)
+class _Inputs:
+    machine: MachineRow | None
+    model: ModelRow | None
+    map: MapVersionRow | None
+
+
+def _load_inputs(session: Session, machine_id: int) -> _Inputs:
+    machine = session.get(MachineRow, machine_id)
+    if machine is None:
+        return _Inputs(None, None, None)
+    return _Inputs(machine, model_repo.get_model(session, machine_id),
+                   map_repo.get_map_version(session, machine_id, with_payload=False))
+
+
+def _store_map(session: Session, machine_id: int, built: ErrorMap, model_version: int,
+               temperatures: dict[str, float]) -> MapVersionRow:
+    latest = map_repo.get_map_version(session, machine_id, with_payload=False)
+    version = (latest.version if latest else 0) + 1
+    payload = encode_map(dataclasses.replace(built, version=version).to_payload())
+    row = map_repo.add_map_version(session, machine_id, payload=payload,
+                                   model_version=model_version, temperatures=temperatures)
+    if row.version != version:  # cannot happen in one transaction; the payload says `version`
+        raise RuntimeError(f"map version {row.version} stored for a payload of {version}")
+    return row
+
+
+def _payload(session: Session, machine_id: int, version: int) -> bytes | None:
+    row = map_repo.get_map_version(session, machine_id, version)
+    return None if row is None else row.payload
+
+
+def _sent(session: Session, machine_id: int, name: str, version: int, detail: str) -> int:
+    row = map_repo.record_sent(session, machine_id, version)
+    if row is None:
+        raise RuntimeError(f"{name} has no map version {version}")
+    event_repo.add_event(session, kind=EventKind.PUSHED.value, machine=name, detail=detail)
+    return row.id
+
+
+def _answered(session: Session, applied_id: int, name: str, kind: EventKind, *,
+              acked: bool, reason: str | None, detail: str) -> None:
+    map_repo.record_answer(session, applied_id, acked=acked, reject_reason=reason)
+    event_repo.add_event(session, kind=kind.value, machine=name, detail=detail)
+
+
+# -- the model-change hook
+
+class CommitWatcher:
+    """Calls ``callback(machine_ids)`` in the event loop after a transaction on ``db``
+    commits new ``models`` rows or changed ``machines`` rows."""
+
+    _KEY: Final = "ednc.push.changed"
+
+    def __init__(self, db: Database, loop: asyncio.AbstractEventLoop,
+                 callback: Callable[[set[int]], None]) -> None:
+        self.engine = db.engine
+        self.loop = loop
+        self.callback = callback
+
+    def _after_flush(self, session: Session, _context: Any) -> None:
+        if session.bind is not self.engine:
+            return
+        ids: set[int] = session.info.setdefault(self._KEY, set())
+        ids.update(o.machine_id for o in session.new if isinstance(o, ModelRow))
+        ids.update(o.id for o in session.dirty if isinstance(o, MachineRow))
+
+    def _after_commit(self, session: Session) -> None:
+        ids = session.info.pop(self._KEY, None)
+        if ids:
+            with contextlib.suppress(RuntimeError):  # loop closed: nobody to tell
+                self.loop.call_soon_threadsafe(self.callback, set(ids))
+
+    def _after_rollback(self, session: Session) -> None:
+        session.info.pop(self._KEY, None)
+
+    def __enter__(self) -> CommitWatcher:
+        event.listen(Session, "after_flush", self._after_flush)
+        event.listen(Session, "after_commit", self._after_commit)
+        event.listen(Session, "after_rollback", self._after_rollback)
+        return self
+
+    def __exit__(self, *_: object) -> None:
+        event.remove(Session, "after_flush", self._after_flush)
+        event.remove(Session, "after_commit", self._after_commit)
+        event.remove(Session, "after_rollback", self._after_rollback)
+
+
+# -- the scheduler
+
+@dataclass
+class _Target:
+    """What the scheduler knows about one connected machine."""
+
+    name: str
+    machine_id: int
+    session: MachineSession
+    wake: asyncio.Event = field(default_factory=asyncio.Event)
+    why: list[str] = field(default_factory=list)
+    sensors: frozenset[str] = frozenset()
+    built_temps: dict[str, float] = field(default_factory=dict)
+    acked: int | None = None
+    rejected: int | None = None
+    failed: tuple[Any, ...] | None = None
+    waiting_for: frozenset[str] = frozenset()
+
+    def poke(self, why: str) -> None:
+        self.why.append(why)
+        self.wake.set()
+
+
+@dataclass(frozen=True, slots=True)
+class Delivery:
+    """One push and its outcome, for observers (benchmarks, the MQTT status)."""
+
+    machine: str
+    version: int
+    outcome: str
+    """``applied``, ``rejected`` or ``failed``."""
+    latency_s: float | None
+    why: str
+
+
+class PushScheduler:
+    """Keeps every connected machine's map current; an async context manager.
+
+    Parameters
+    ----------
+    center, feed, temperatures
+        The service's collaborators.
+    period_s : float, optional
+        Periodic wake; ``center.settings.push_period_s`` by default.
+    threshold_K : float
+    tolerance_um : float
+        Interpolation tolerance of the maps built (build_map's), µm.
+    verdict_timeout_s : float
+    build_workers : int, optional
+        Threads for map builds (CPU count by default).
+    """
+
+    def __init__(self, center: Center, feed: Feed, temperatures: TemperatureBoard, *,
+                 period_s: float | None = None, threshold_K: float = THRESHOLD_K,
+                 tolerance_um: float = 0.5, verdict_timeout_s: float = VERDICT_TIMEOUT_S,
+                 build_workers: int | None = None) -> None:
+        self.center = center
+        self.db = center.db
+        self.feed = feed
+        self.temperatures = temperatures
+        self.period_s = period_s if period_s is not None else center.settings.push_period_s
+        self.threshold_K = threshold_K
+        self.tolerance_um = tolerance_um
+        self.verdict_timeout_s = verdict_timeout_s
+        self.build_workers = build_workers or os.cpu_count() or 2
+        self.observers: list[Callable[[Delivery], None]] = []
+        self._targets: dict[str, _Target] = {}
+        self._by_id: dict[int, _Target] = {}
+        self._pool: ThreadPoolExecutor | None = None
+        self._stack = contextlib.ExitStack()
+
+    async def __aenter__(self) -> PushScheduler:
+        self._pool = ThreadPoolExecutor(self.build_workers, thread_name_prefix="mapbuild")
+        self._stack.enter_context(
+            CommitWatcher(self.db, asyncio.get_running_loop(), self._on_commit))
+        self._stack.callback(self.temperatures.subscribe(self._on_temperature))
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        self._stack.close()
+        pool, self._pool = self._pool, None
+        if pool is not None:
+            pool.shutdown(wait=False, cancel_futures=True)
+
+    # -- triggers
+    def request(self, name: str, why: str = "requested") -> bool:
+        """Wake ``name``'s worker now; False when the machine is not connected."""
+        target = self._targets.get(name)
+        if target is not None:
+            target.poke(why)
+        return target is not None
+
+    def _on_commit(self, machine_ids: set[int]) -> None:
+        for machine_id in machine_ids:
+            target = self._by_id.get(machine_id)
+            if target is not None:
+                target.poke("model or machine changed")
+
+    def _on_temperature(self, machine: str, column: str, celsius: float) -> None:
+        target = self._targets.get(machine)
+        if target is None or column not in target.sensors:
+            return
+        built = target.built_temps.get(column)
+        if built is None or abs(celsius - built) > self.threshold_K:
+            target.poke(f"{column} now {celsius:.2f} °C")
+
+    # -- the worker
+    async def serve(self, session: MachineSession, machine: MachineRow) -> None:
+        """Keep ``machine`` served over ``session`` until cancelled (one per session)."""
+        target = _Target(machine.name, machine.id, session)
+        self._targets[machine.name] = target
+        self._by_id[machine.id] = target
+        try:
+            first, periodic = True, False
+            while True:
+                why = ", ".join(dict.fromkeys(target.why)) or ("period" if periodic else "")
+                target.why.clear()
+                await self._refresh(target, send_anyway=first, periodic=periodic,
+                                    why=why or "session start")
+                first = False
+                try:
+                    async with asyncio.timeout(self.period_s):
+                        await target.wake.wait()
+                    periodic = False
+                except TimeoutError:
+                    periodic = True
+                target.wake.clear()
+        finally:
+            if self._targets.get(machine.name) is target:
+                del self._targets[machine.name]
+            if self._by_id.get(machine.id) is target:
+                del self._by_id[machine.id]
+
+    async def _refresh(self, target: _Target, *, send_anyway: bool, periodic: bool,
+                       why: str) -> None:
+        inputs = await self.db.run(_load_inputs, target.machine_id)
+        machine, model, current = inputs.machine, inputs.model, inputs.map
+        if machine is None:
+            target.session.abort(ErrorCode.SHUTDOWN, "the machine is no longer registered")
+            return
+        if model is None:
+            if send_anyway:
+                log.info("%s: no model yet, no map to push", target.name)
+            return
+        target.sensors = thermal_sensors(model.body)
+        temps = self.temperatures.columns(target.name, sorted(target.sensors))
+        rebuild = self._rebuild_reason(machine, model, current, temps)
+        payload: bytes | None = None
+        if rebuild:
+            missing = target.sensors - temps.keys()
+            if missing:
+                if missing != target.waiting_for:
+                    target.waiting_for = frozenset(missing)
+                    log.warning("%s: cannot build a map (%s) without temperatures of %s",
+                                target.name, rebuild, sorted(missing))
+            else:
+                target.waiting_for = frozenset()
+                built = await self._build(target, machine, model, temps, f"{why}: {rebuild}")
+                if built is not None:
+                    current, payload = built, built.payload
+        if current is None:
+            return
+        target.built_temps = {k: float(v) for k, v in current.temperatures.items()
+                              if isinstance(v, int | float)}
+        fresh = payload is not None
+        # what the machine has: its own Telemetry when it sent one, else its last answer
+        reported = self.center.registry.get(target.name).telemetry.get("map_version")
+        on_machine = reported if isinstance(reported, int) else target.acked
+        lacking = target.acked != current.version or on_machine != current.version
+        resend = periodic and lacking and target.rejected != current.version
+        if not (send_anyway or fresh or resend):
+            return
+        if payload is None:
+            payload = await self.db.run(_payload, target.machine_id, current.version)
+            if payload is None:
+                return
+        await self._deliver(target, current.version, payload,
+                            f"{why}: {rebuild}" if fresh else f"{why}: re-send")
+
+    def _rebuild_reason(self, machine: MachineRow, model: ModelRow,
+                        current: MapVersionRow | None, temps: Mapping[str, float]) -> str:
+        if current is None:
+            return "first map"
+        if current.model_version != model.version:
+            return f"model version {model.version}"
+        if machine.updated_at > current.created_at:
+            return "machine description changed"
+        for column, celsius in temps.items():
+            was = current.temperatures.get(column)
+            if not isinstance(was, int | float) or abs(celsius - was) > self.threshold_K:
+                return f"{column} moved to {celsius:.2f} °C"
+        return ""
+
+    async def _build(self, target: _Target, machine: MachineRow, model: ModelRow,
+                     temps: dict[str, float], why: str) -> MapVersionRow | None:
+        signature = (model.version, machine.updated_at, tuple(sorted(temps.items())))
+        if signature == target.failed:
+            return None  # the same inputs failed already: wait for new ones
+        assert self._pool is not None, "PushScheduler used outside its context"
+        loop = asyncio.get_running_loop()
+        try:
+            built = await loop.run_in_executor(
+                self._pool, build_for, machine.description, machine.controller, model.body,
+                temps, self.tolerance_um)
+            row = await self.db.run(_store_map, target.machine_id, built, model.version, temps)
+        except (ValueError, ArithmeticError) as exc:
+            target.failed = signature
+            await self.feed.record(EventKind.ERROR, target.name,
+                                   f"map build failed ({why}): {exc}")
+            return None
+        target.failed = None
+        log.info("%s: built map version %d (%s)", target.name, row.version, why)
+        return row
+
+    async def _deliver(self, target: _Target, version: int, payload: bytes, why: str) -> None:
+        name = target.name
+        detail = f"map version {version} ({len(payload)} bytes): {why}"
+        applied_id = await self.db.run(_sent, target.machine_id, name, version, detail)
+        self.center.metrics.events.labels(kind=EventKind.PUSHED.value).inc()
+        self.feed.publish(Notice(EventKind.PUSHED, name, detail, version))
+        try:
+            verdict = await target.session.push_map(version, payload, self.verdict_timeout_s)
+        except TimeoutError:
+            failure = f"no answer to map version {version} within {self.verdict_timeout_s:g} s"
+            await self._failed(target, applied_id, version, failure, why)
+            target.session.abort(ErrorCode.TIMEOUT, failure)
+            return
+        except LinkClosed as exc:
+            await self._failed(target, applied_id, version,
+                               f"session ended before the answer to map version {version}: "
+                               f"{exc}", why)
+            return
+        except asyncio.CancelledError:  # the session ended under us: still say so
+            await asyncio.shield(self._failed(
+                target, applied_id, version,
+                f"session ended before the answer to map version {version}", why))
+            raise
+        if verdict.applied:
+            target.acked, kind = version, EventKind.APPLIED
+            reason, text = None, f"map version {version} applied"
+        else:
+            target.rejected, kind = version, EventKind.REJECTED
+            label = verdict.reason.name if verdict.reason is not None else "?"
+            reason = f"{label}: {verdict.text}" if verdict.text else label
+            text = f"map version {version} rejected: {reason}"
+        outcome = "applied" if verdict.applied else "rejected"
+        self.center.metrics.pushes.labels(outcome=outcome).inc()
+        self.center.metrics.push_latency.observe(verdict.latency_s)
+        self.center.metrics.events.labels(kind=kind.value).inc()
+        await self.db.run(_answered, applied_id, name, kind, acked=verdict.applied,
+                          reason=reason, detail=text)
+        self._tell(Notice(kind, name, text, version),
+                   Delivery(name, version, outcome, verdict.latency_s, why))
+
+    async def _failed(self, target: _Target, applied_id: int, version: int, failure: str,
+                      why: str) -> None:
+        self.center.metrics.pushes.labels(outcome="failed").inc()
+        self.center.metrics.events.labels(kind=EventKind.ERROR.value).inc()
+        await self.db.run(_answered, applied_id, target.name, EventKind.ERROR, acked=False,
+                          reason=failure, detail=failure)
+        self._tell(Notice(EventKind.ERROR, target.name, failure, version),
+                   Delivery(target.name, version, "failed", None, why))
+
+    def _tell(self, notice: Notice, delivery: Delivery) -> None:
+        self.feed.publish(notice)
+        for observer in list(self.observers):
+            observer(delivery)
+
+    def connected(self) -> Iterator[str]:
+        """Names of the machines with a worker now."""
+        return iter(list(self._targets))
+
+
+__all__ = ["THRESHOLD_K", "CommitWatcher", "Delivery", "PushScheduler", "build_for",
+           "thermal_sensors"]
+
+

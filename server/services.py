@@ -1,0 +1,75 @@
+"""The long-lived machine services of one control-center process, for ``create_app``.
+
+:func:`machine_services` is a service factory (``create_app(services=[machine_services])``,
+which ``ednc serve`` uses): inside it run, started in this order and stopped in reverse,
+
+1. the :class:`~server.push.PushScheduler` (it must listen before any machine arrives),
+2. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``,
+3. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
+   otherwise; a configured broker that is down does not stop start-up: the bridge keeps
+   retrying in the background).
+"""
+
+from __future__ import annotations
+
+import logging
+from collections.abc import AsyncIterator
+from contextlib import AsyncExitStack, asynccontextmanager
+from dataclasses import dataclass
+from typing import Any
+
+from server.center import Center
+from server.feed import Feed
+from server.link import LinkTiming, MachineServer
+from server.mqtt import MqttBridge
+from server.push import PushScheduler
+from server.temperatures import TemperatureBoard
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class MachineServices:
+    """The running services, for tests, benchmarks and the CLI's start-up line."""
+
+    feed: Feed
+    temperatures: TemperatureBoard
+    push: PushScheduler
+    server: MachineServer
+    mqtt: MqttBridge | None
+
+
+@asynccontextmanager
+async def machine_services(
+    center: Center, *, timing: LinkTiming | None = None, stale_after_s: float = 60.0,
+    push_options: dict[str, Any] | None = None,
+) -> AsyncIterator[MachineServices]:
+    """Run the push scheduler, the machine TCP server and (if configured) the MQTT bridge.
+
+    Parameters
+    ----------
+    center : Center
+    timing : LinkTiming, optional
+        Handshake and heartbeat deadlines (the settings' heartbeat by default).
+    stale_after_s : float
+        Age after which a temperature counts as stale.
+    push_options : dict, optional
+        Keyword arguments of :class:`PushScheduler` (``threshold_K``, ``tolerance_um``...).
+    """
+    settings = center.settings
+    feed = Feed(center)
+    temperatures = TemperatureBoard(stale_after_s)
+    async with AsyncExitStack() as stack:
+        push = await stack.enter_async_context(
+            PushScheduler(center, feed, temperatures, **(push_options or {})))
+        server = await stack.enter_async_context(MachineServer(
+            center, feed, temperatures, worker=push.serve, host=settings.machine_host,
+            port=settings.machine_port, timing=timing))
+        mqtt = None
+        if settings.mqtt_host is not None:
+            mqtt = await stack.enter_async_context(MqttBridge(
+                center, feed, temperatures, host=settings.mqtt_host, port=settings.mqtt_port,
+                prefix=settings.mqtt_topic_prefix))
+        else:
+            log.info("EDNC_MQTT_HOST is not set: MQTT is off")
+        yield MachineServices(feed, temperatures, push, server, mqtt)

@@ -1,0 +1,127 @@
+"""The last temperature of every machine's sensors, from MQTT or from Telemetry.
+
+Fanuc-style machines publish their sensors on MQTT (the bridge in :mod:`server.mqtt`);
+Siemens-style machines report them in Telemetry (:mod:`server.link`). Both land here, keyed
+by machine and by the model's column name: the sensor ``spindle`` of a topic or of
+Telemetry is the column ``T_spindle_C`` of a measurement CSV and of a thermal model term
+(formats.md §2). The push scheduler listens for changes.
+
+A reading is *stale* when it is older than ``stale_after_s`` or when its source went away
+(the broker disconnected); a stale reading is kept, and still used, until a fresh one
+replaces it: the last known temperature is a better input to a map than none.
+"""
+
+from __future__ import annotations
+
+import re
+import time
+from collections.abc import Callable, Iterable
+from dataclasses import dataclass, replace
+from typing import Literal
+
+Source = Literal["mqtt", "telemetry"]
+_SENSOR = re.compile(r"^[A-Za-z0-9_]{1,64}$")
+MAX_READINGS = 100_000
+"""Bound on (machine, sensor) pairs kept: topics come from the network, names are free."""
+
+
+def column_of(sensor: str) -> str:
+    """The model / CSV column of a sensor: ``spindle`` → ``T_spindle_C`` (kept if already
+    a column name)."""
+    if sensor.startswith("T_") and sensor.endswith("_C") and len(sensor) > 4:
+        return sensor
+    return f"T_{sensor}_C"
+
+
+def valid_sensor(sensor: str) -> bool:
+    """Sensor names are letters, digits and underscores (they become column names)."""
+    return bool(_SENSOR.match(sensor))
+
+
+@dataclass(frozen=True, slots=True)
+class Reading:
+    """One sensor's last value.
+
+    Attributes
+    ----------
+    celsius : float
+        °C.
+    time : float
+        When it was measured, s since the Unix epoch (the sender's stamp, else receipt).
+    received : float
+        When it arrived, ``time.monotonic()`` s (for the staleness check).
+    source : {"mqtt", "telemetry"}
+    stale : bool
+    """
+
+    celsius: float
+    time: float
+    received: float
+    source: Source
+    stale: bool = False
+
+
+Listener = Callable[[str, str, float], None]
+"""Called with (machine, column, °C) after every update."""
+
+
+class TemperatureBoard:
+    """Last readings per machine and column; used from the event loop only."""
+
+    def __init__(self, stale_after_s: float = 60.0) -> None:
+        if not stale_after_s > 0:
+            raise ValueError(f"stale_after_s must be > 0, got {stale_after_s}")
+        self.stale_after_s = stale_after_s
+        self._readings: dict[str, dict[str, Reading]] = {}
+        self._count = 0
+        self._listeners: list[Listener] = []
+        self.dropped = 0
+        """Readings refused because :data:`MAX_READINGS` pairs are already kept."""
+
+    def subscribe(self, listener: Listener) -> Callable[[], None]:
+        self._listeners.append(listener)
+        return lambda: self._listeners.remove(listener)
+
+    def update(self, machine: str, sensor: str, celsius: float, *, source: Source,
+               at: float | None = None) -> bool:
+        """Store a reading of ``sensor`` (a name or a column) and tell the listeners.
+
+        Returns False when it was dropped (too many distinct sensors kept).
+        """
+        column = column_of(sensor)
+        per = self._readings.get(machine)
+        if per is None or column not in per:
+            if self._count >= MAX_READINGS:
+                self.dropped += 1
+                return False
+            self._count += 1
+            per = self._readings.setdefault(machine, {})
+        now = time.monotonic()
+        per[column] = Reading(celsius, at if at is not None else time.time(), now, source)
+        for listener in list(self._listeners):
+            listener(machine, column, celsius)
+        return True
+
+    def readings(self, machine: str) -> dict[str, Reading]:
+        """The machine's readings by column (a copy)."""
+        return dict(self._readings.get(machine, {}))
+
+    def columns(self, machine: str, wanted: Iterable[str]) -> dict[str, float]:
+        """°C of the ``wanted`` columns that have a reading (stale ones included)."""
+        per = self._readings.get(machine, {})
+        return {c: per[c].celsius for c in wanted if c in per}
+
+    def mark_stale(self, *, source: Source | None = None) -> int:
+        """Mark readings stale: all of ``source`` (its feed went away), or, without
+        ``source``, those older than ``stale_after_s``. Returns how many changed."""
+        limit = time.monotonic() - self.stale_after_s
+        changed = 0
+        for per in self._readings.values():
+            for column, r in per.items():
+                if r.stale:
+                    continue
+                if (source is not None and r.source == source) or (
+                        source is None and r.received < limit):
+                    per[column] = replace(r, stale=True)
+                    changed += 1
+        return changed

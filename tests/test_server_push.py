@@ -1,0 +1,204 @@
+"""The push scheduler against simulated machines on loopback: a model change pushes a new
+version at once, a reconnect gets the current map again, a temperature its thermal model
+uses gives a new version, rejections and silence are recorded."""
+
+from __future__ import annotations
+
+import asyncio
+from pathlib import Path
+
+from protocol import (
+    MapAck,
+    MapAssembler,
+    MapBegin,
+    MapChunk,
+    MapEncoding,
+    MapEnd,
+    MapReject,
+    MapRejectReason,
+    Welcome,
+)
+from server.db import error_models as model_repo
+from server.db import maps as map_repo
+from server.events import EventKind
+from server.push import Delivery, thermal_sensors
+from tests.test_server_link import (
+    DEADLINE_S,
+    RawMachine,
+    model_body,
+    rig,
+    simulator,
+    until,
+)
+
+
+def test_thermal_sensors_reads_the_model_terms() -> None:
+    assert thermal_sensors(model_body()) == frozenset()
+    assert thermal_sensors(model_body(thermal_sensor="T_spindle_C")) == {"T_spindle_C"}
+
+
+async def test_a_new_model_is_pushed_at_once(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, period_s=600.0) as r:
+        mid = await r.register(model=model_body())
+        async with simulator(r.port) as sim:
+            await until(lambda: sim.runtime.controller.store.version == 1)
+            await r.db.run(model_repo.add_model, mid, source="fit",
+                           body=model_body(slope=0.02))
+            await until(lambda: sim.runtime.controller.store.version == 2)
+
+            async def acked_2() -> bool:
+                return await r.acked_version(mid) == 2
+
+            await until(acked_2)
+            v2 = await r.db.run(map_repo.get_map_version, mid, 2)
+            assert v2 is not None and v2.model_version == 2
+            v1 = await r.db.run(map_repo.get_map_version, mid, 1)
+            assert v1 is not None and v1.payload != v2.payload
+        pushed = await r.events(EventKind.PUSHED)
+        assert "model version 2" in pushed[0].detail
+
+
+async def test_a_burst_of_model_changes_gives_few_builds(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, period_s=600.0) as r:
+        mid = await r.register(model=model_body())
+        async with simulator(r.port) as sim:
+            await until(lambda: sim.runtime.controller.store.version == 1)
+            for i in range(10):
+                await r.db.run(model_repo.add_model, mid, source="fit",
+                               body=model_body(slope=0.02 + 0.001 * i))
+            await until(lambda: r.acked_version(mid))
+            latest = await r.db.run(model_repo.get_model, mid)
+            assert latest is not None and latest.version == 11
+
+            async def current() -> bool:
+                row = await r.db.run(map_repo.get_map_version, mid, with_payload=False)
+                return row is not None and row.model_version == 11
+
+            await until(current)
+            maps = await r.db.run(map_repo.list_map_versions, mid)
+            assert len(maps) < 11  # coalesced: not one map per stored model
+            await until(lambda: sim.runtime.controller.store.version == maps[0].version)
+
+
+async def test_a_reconnecting_machine_gets_the_current_map_again(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=model_body())
+        async with simulator(r.port) as sim:
+            await until(lambda: sim.runtime.controller.store.version == 1)
+        await until(lambda: not r.center.registry.get("vmc-01").connected)
+        async with simulator(r.port) as fresh:  # a restarted PLC: no map at all
+            await until(lambda: fresh.runtime.controller.store.version == 1)
+
+            async def both_acked() -> bool:
+                rows = await r.db.run(map_repo.list_applied, mid)
+                return len(rows) == 2 and all(d.acked for d in rows)
+
+            await until(both_acked)
+        deliveries = await r.db.run(map_repo.list_applied, mid)
+        assert [(d.map_version, d.acked) for d in deliveries] == [(1, True), (1, True)]
+        maps = await r.db.run(map_repo.list_map_versions, mid)
+        assert len(maps) == 1  # sent again, not rebuilt
+
+
+async def test_temperature_change_beyond_the_threshold_gives_a_new_version(
+        tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, threshold_K=0.05) as r:
+        mid = await r.register(model=model_body(thermal_sensor="T_spindle_C"))
+        board = r.services.temperatures
+        delivered: list[Delivery] = []
+        r.services.push.observers.append(delivered.append)
+        async with simulator(r.port) as sim:
+            await sim.ready.wait()
+            await asyncio.sleep(0.2)
+            assert await r.acked_version(mid) is None  # no temperature yet: no map
+            board.update("vmc-01", "spindle", 24.0, source="mqtt")
+            await until(lambda: sim.runtime.controller.store.version == 1)
+            board.update("vmc-01", "spindle", 24.03, source="mqtt")  # below the threshold
+            board.update("vmc-01", "T_air_C", 30.0, source="mqtt")   # not in the model
+            await asyncio.sleep(0.3)
+            assert len(await r.db.run(map_repo.list_map_versions, mid)) == 1
+            board.update("vmc-01", "spindle", 24.5, source="mqtt")
+            await until(lambda: sim.runtime.controller.store.version == 2)
+            await until(lambda: len(delivered) == 2)
+        maps = await r.db.run(map_repo.list_map_versions, mid)
+        assert [m.temperatures for m in maps] == [{"T_spindle_C": 24.5},
+                                                  {"T_spindle_C": 24.0}]
+        assert [d.outcome for d in delivered] == ["applied", "applied"]
+
+
+async def test_siemens_telemetry_temperatures_drive_its_thermal_map(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(controller="siemens",
+                               model=model_body(thermal_sensor="T_spindle_C"))
+        async with simulator(r.port, controller="siemens") as sim:
+            await until(lambda: sim.runtime.controller.store.version >= 1)
+        first = await r.db.run(map_repo.get_map_version, mid, 1)
+        assert first is not None and set(first.temperatures) == {"T_spindle_C"}
+        readings = r.services.temperatures.readings("vmc-01")
+        assert readings["T_spindle_C"].source == "telemetry"
+        # the map was built at what the machine reported (a shop-floor temperature; it may
+        # have moved on since, with a newer map)
+        assert 5.0 < first.temperatures["T_spindle_C"] < 45.0
+
+
+async def raw_session(port: int) -> tuple[RawMachine, MapBegin, bytes, int]:
+    """Log in by hand and collect the first map push up to MapEnd."""
+    raw = await RawMachine.connect(port)
+    assert isinstance(await raw.login(), Welcome)
+    assembler = MapAssembler("vmc-01", MapEncoding.INT32_INCREMENTS)
+    begin: MapBegin | None = None
+    while True:
+        msg = await raw.next()
+        match msg:
+            case MapBegin():
+                begin = msg
+                assembler.feed(msg)
+            case MapChunk():
+                assembler.feed(msg)
+            case MapEnd(version=version):
+                verdict = assembler.feed(msg)
+                assert begin is not None and verdict is not None
+                return raw, begin, getattr(verdict, "data", b""), version
+            case _:
+                continue
+
+
+async def test_a_rejected_map_is_recorded_with_its_reason(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=model_body())
+        raw, begin, data, version = await raw_session(r.port)
+        assert len(data) == begin.total_size and version == 1
+        await raw.send(MapReject(version, MapRejectReason.APPLY_FAILED, "PMC busy"))
+
+        async def answered() -> bool:
+            rows = await r.db.run(map_repo.list_applied, mid)
+            return bool(rows) and rows[0].reject_reason is not None
+
+        await until(answered)
+        rows = await r.db.run(map_repo.list_applied, mid)
+        assert rows[0].reject_reason == "APPLY_FAILED: PMC busy" and not rows[0].acked
+        rejected = await r.events(EventKind.REJECTED)
+        assert "APPLY_FAILED: PMC busy" in rejected[0].detail
+        assert r.center.metrics.pushes.labels(outcome="rejected")._value.get() == 1
+        raw.close()
+
+
+async def test_no_verdict_in_time_closes_the_session(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, verdict_timeout_s=0.3) as r:
+        mid = await r.register(model=model_body())
+        raw, _, _, _ = await raw_session(r.port)  # and never answer
+        assert await raw.reader.read() != b""  # the Error TIMEOUT, then the close
+        await until(lambda: not r.center.registry.get("vmc-01").connected)
+        rows = await r.db.run(map_repo.list_applied, mid)
+        assert rows[0].reject_reason is not None and "no answer" in rows[0].reject_reason
+        assert r.center.metrics.pushes.labels(outcome="failed")._value.get() == 1
+
+
+async def test_ack_is_recorded_for_a_hand_driven_machine(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=model_body())
+        raw, _, _, version = await raw_session(r.port)
+        await raw.send(MapAck(version))
+        await until(lambda: r.acked_version(mid))
+        assert await r.acked_version(mid) == 1
+        raw.close()
