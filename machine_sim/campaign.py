@@ -9,8 +9,9 @@ Columns beyond formats.md section 2's required ones (all documented here):
 
 * ``a_deg``, ``b_deg``, ``c_deg`` for the rotary axes the machine has;
 * ``<key>_mm`` and ``dir_<key>`` for every axis that has no standard column (the spindle
-  axes ``Z1``, ``Z2`` of a multi-spindle machine); :func:`machine_positions` and
-  :func:`machine_directions` put every column back in ``machine.axes`` order;
+  axes ``Z1``, ``Z2`` of a multi-spindle machine), and ``dir_a``/``dir_b``/``dir_c`` for
+  rotary axes; :func:`machine_positions` and :func:`machine_directions` put every column
+  back in ``machine.axes`` order;
 * ``spindle`` (the tool branch) on machines with named spindles;
 * ``spindle_rpm``: the spindle speed at the reading;
 * ``T_<sensor>_C`` for every sensor of the thermal model.
@@ -47,6 +48,9 @@ from .testprograms import (
     angular_test,
     diagonal_test,
     positioning_test,
+    rotary_positioning_test,
+    rtest,
+    rtest_balls,
     straightness_test,
     targets_along,
 )
@@ -178,6 +182,8 @@ def run_campaign(
             q6[:, STANDARD[a.name]] = q[:, j]
             if a.name in ("X", "Y", "Z"):
                 dir3[:, STANDARD[a.name]] = direction[:, j]
+            else:
+                extra[f"dir_{a.key}"] = direction[:, j].astype(float)
         else:
             extra[f"{a.key}_mm"] = q[:, j].copy()
             extra[f"dir_{a.key}"] = direction[:, j].astype(float)
@@ -300,7 +306,8 @@ def standard_programs(
     a fine positioning test (``<AX>-positioning-fine``: ``fine_step_mm`` steps over
     ``fine_length_mm`` in the middle of the travel, ``side_runs`` cycles, which resolves a
     ballscrew's periodic error) and the four body diagonals when the machine has X, Y and Z.
-    Rotary axes are not measured.
+    A rotary axis gets an angular positioning test (``<AX>-positioning``) and two R-tests
+    (``<AX>-rtest-1``, ``-2``, :func:`~machine_sim.testprograms.rtest_balls`).
 
     Returns
     -------
@@ -336,6 +343,14 @@ def standard_programs(
     if all(k in machine.axis_names for k in ("X", "Y", "Z")):
         for label in ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN"):
             others.append(diagonal_test(machine, label, points=targets, runs=diagonal_runs))
+        for a in machine.axes:
+            if a.kind != "rotary":
+                continue
+            others.append(rotary_positioning_test(machine, a.name, runs=side_runs))
+            for k, st in enumerate(rtest_balls(machine, a.name), start=1):
+                others.append(rtest(machine, a.name, st.ball_mm, label=f"{a.name}-rtest-{k}",
+                                    tool_mm=st.tool_mm, angles_deg=st.angles_deg,
+                                    runs=side_runs))
     for i, prog in enumerate(others):
         blocks[i % runs].append(prog)
     tests = [p for block in blocks for p in block]

@@ -10,7 +10,14 @@ laser positioning (ISO 230-2)  ``X-positioning``      displacement along the axi
 straightness                  ``X-straightness-Y``   displacement along the sensed direction
 angular                       ``X-angular-B``        angle about B's axis (y): X's pitch
 body diagonal (ISO 230-6)     ``diag-PPP``           displacement along the diagonal
+rotary positioning            ``C-positioning``      angle about the rotary axis
+R-test (ISO 10791-6)          ``C-rtest-1``          displacement along x, y and z of a ball
 ============================  =====================  =========================================
+
+The R-test holds the tool tip on a ball fixed to the workpiece while the rotary axis
+turns (the linear axes follow, as with RTCP: :func:`hold_tool_at`), and three sensors read
+the ball's displacement along x, y and z of the workpiece frame at every angle. Balls at
+two positions separate the rotary axis's location errors from its motion errors.
 
 Angular labels name the rotation axis: for X, ``-A`` is roll, ``-B`` pitch, ``-C`` yaw;
 for Y, ``-B`` roll, ``-A`` pitch, ``-C`` yaw; for Z, ``-C`` roll and ``-A``/``-B`` the two
@@ -31,23 +38,31 @@ Diagonal targets and directions come from :mod:`volumetric.iso230_6`.
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
 from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.iso230_6 import diagonal_targets, diagonal_unit_vectors
+from volumetric.kinematics import tool_pose
+from volumetric.linear import jacobian
 from volumetric.machine import Axis, Machine
 from volumetric.rigid import frame_from_z
 
 from .program import Instruction, Linear, Measure, Program, Rapid
 
 __all__ = [
+    "RTestSetup",
     "angular_test",
     "axis_frame",
     "default_line",
     "diagonal_test",
+    "hold_tool_at",
     "positioning_test",
+    "rotary_positioning_test",
+    "rtest",
+    "rtest_balls",
     "straightness_test",
     "targets_along",
 ]
@@ -263,3 +278,176 @@ def diagonal_test(
         prog += _cycle(pts, ["x", "y", "z"], lows, highs, setup, reads * pts.shape[0],
                        overrun_mm * u, feed_mm_min)
     return prog
+
+
+def hold_tool_at(machine: Machine, point: F64, fixed: Mapping[str, float], *,
+                 spindle: str | None = None, tool_mm: float | None = None) -> dict[str, float]:
+    """Linear axis positions that put the nominal tool tip at ``point`` (workpiece frame).
+
+    With the rotary (and any other ``fixed``) axes given, the tool tip is an affine
+    function of the base linear axes X, Y, Z, so one solve of the nominal Jacobian is
+    exact.
+
+    Raises
+    ------
+    ValueError
+        The machine lacks a base linear axis, or a solution lies outside the travel.
+    """
+    names = [k for k in ("X", "Y", "Z") if k in machine.axis_names]
+    if len(names) != 3:
+        raise ValueError(f"machine {machine.name!r} needs X, Y and Z to hold the tool at a "
+                         "point")
+    q = np.zeros(len(machine.axes))
+    for i, a in enumerate(machine.axes):
+        lo, hi = a.travel
+        q[i] = 0.0 if a.kind == "rotary" and lo <= 0 <= hi else lo
+    for key, v in fixed.items():
+        q[machine.axis_names.index(machine.axis(key).name)] = float(v)
+    cols = [machine.axis_names.index(k) for k in names]
+    p0, _ = tool_pose(machine, q[None, :], None, spindle=spindle, tool_mm=tool_mm,
+                      orientation=False)
+    full = jacobian(machine, q[None, :], spindle=spindle, tool_mm=tool_mm)[0]
+    jac = full[:3][:, cols] * 1e-3  # µm per mm → mm per mm
+    q[cols] += np.linalg.solve(jac, np.asarray(point, dtype=float) - p0[0])
+    out = {}
+    for j in cols:
+        a = machine.axes[j]
+        lo, hi = a.travel
+        if not lo - 1e-6 <= q[j] <= hi + 1e-6:
+            raise ValueError(f"holding the tool at {np.round(point, 3).tolist()} needs "
+                             f"{a.name} = {q[j]:.3f}, outside its travel [{lo}, {hi}]")
+        out[a.key] = float(min(max(q[j], lo), hi))
+    return out
+
+
+def _rotary_targets(axis: Axis, count: int, span_deg: float | None = None) -> F64:
+    """Angles over the travel (a full turn without repeating its end), or within
+    ±span_deg of 0 when given."""
+    lo, hi = axis.travel
+    if span_deg is not None:
+        lo, hi = max(lo, -span_deg), min(hi, span_deg)
+        return np.linspace(lo, hi, count)
+    if hi - lo >= 360.0 - 1e-9:  # a full turn: the last target would repeat the first
+        return np.linspace(lo, lo + 360.0, count + 1)[:-1]
+    margin = 0.05 * (hi - lo)
+    return np.linspace(lo + margin, hi - margin, count)
+
+
+def rotary_positioning_test(
+    machine: Machine, axis: str, *, targets: int = 12, runs: int = 2,
+    line: Mapping[str, float] | None = None, settle_s: float = 3.0,
+    feed_deg_min: float = 1800.0, overrun_deg: float = 3.0,
+) -> Program:
+    """Angular positioning of a rotary axis (ISO 230-2 for rotary axes, with an indexing
+    table or autocollimator): ``<AX>-positioning``, quantity ``angle`` about the axis."""
+    ax = machine.axis(axis)
+    if ax.kind != "rotary":
+        raise ValueError(f"axis {ax.name} is linear; use positioning_test")
+    setup = default_line(machine, [ax.name]) if line is None else dict(line)
+    t = _rotary_targets(ax, targets)[:, None]
+    lo, hi = np.array([ax.travel[0]]), np.array([ax.travel[1]])
+    prog: list[Instruction] = []
+    d = ax.direction
+    for run in range(1, runs + 1):
+        reads = [Measure(f"{ax.name}-positioning", run, "angle", (d[0], d[1], d[2]),
+                         settle_s)] * t.shape[0]
+        prog += _cycle(t, [ax.key], lo, hi, setup, reads, np.array([overrun_deg]),
+                       feed_deg_min)
+    return prog
+
+
+def rtest(
+    machine: Machine, axis: str, ball_mm: Sequence[float] | F64, *, label: str | None = None,
+    targets: int = 12, angles_deg: Sequence[float] | F64 | None = None, runs: int = 1,
+    line: Mapping[str, float] | None = None,
+    tool_mm: float | None = None, spindle: str | None = None, settle_s: float = 3.0,
+    feed_mm_min: float = 2000.0,
+) -> Program:
+    """R-test of a rotary axis with the ball at ``ball_mm`` (workpiece frame, mm).
+
+    At every angle (``targets`` over the travel, or ``angles_deg``; bidirectional: up
+    through them, then down) the linear axes put the nominal tool tip on the ball
+    (:func:`hold_tool_at`) and three readings follow: displacement along x, y and z.
+    Label ``<AX>-rtest`` unless given.
+
+    Raises
+    ------
+    ValueError
+        A rotary position at which the ball is out of the linear axes' reach.
+    """
+    ax = machine.axis(axis)
+    if ax.kind != "rotary":
+        raise ValueError(f"axis {ax.name} is linear; the R-test turns a rotary axis")
+    name = label or f"{ax.name}-rtest"
+    setup = default_line(machine, [ax.name, "X", "Y", "Z"]) if line is None else dict(line)
+    ball = np.asarray(ball_mm, dtype=float)
+    angles = (_rotary_targets(ax, targets) if angles_deg is None
+              else np.asarray(angles_deg, dtype=float))
+    holds = [hold_tool_at(machine, ball, {**setup, ax.key: float(a)}, spindle=spindle,
+                          tool_mm=tool_mm) for a in angles]
+    prog: list[Instruction] = [Rapid({**setup, **holds[0], ax.key: float(angles[0])})]
+    for run in range(1, runs + 1):
+        for i in [*range(len(angles)), *range(len(angles) - 2, -1, -1)]:
+            prog.append(Linear({**holds[i], ax.key: float(angles[i])}, feed_mm_min))
+            for j, u in enumerate(((1.0, 0.0, 0.0), (0.0, 1.0, 0.0), (0.0, 0.0, 1.0))):
+                # three sensors read at once: only the first waits for the settling
+                prog.append(Measure(name, run, "displacement", u, settle_s if j == 0 else 0.0,
+                                    tool_mm, spindle))
+    return prog
+
+
+@dataclass(frozen=True)
+class RTestSetup:
+    """Where an R-test's ball sits (workpiece frame, mm), the tool length probing it
+    (None: the branch's) and the rotary positions visited (degrees)."""
+
+    ball_mm: F64
+    tool_mm: float | None
+    angles_deg: F64
+
+
+def rtest_balls(machine: Machine, axis: str, *, targets: int = 12) -> list[RTestSetup]:
+    """Two R-test set-ups the machine can reach.
+
+    A rotary axis that carries the workpiece gets two balls on opposite sides of its axis
+    at different heights, near the tool tip's mid-travel position; one that carries the
+    tool gets one ball at that position, probed with two tool lengths. Radii shrink from
+    150 mm, and angle ranges from the full travel to ±60° and ±30°, until every position
+    is within reach of the linear axes.
+
+    Raises
+    ------
+    ValueError
+        Nothing down to 10 mm and ±30° fits the travels.
+    """
+    ax = machine.axis(axis)
+    d = np.asarray(ax.direction, dtype=float)
+    e1 = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
+    e1 /= np.linalg.norm(e1)
+    branch = machine.branch(None)
+    mid = default_line(machine, [ax.name], fraction=0.5)
+    q = np.array([0.0 if a.kind == "rotary" else mid.get(a.key, 0.0) for a in machine.axes])
+    tip = tool_pose(machine, q[None, :], None, orientation=False)[0][0]
+    c = np.asarray(ax.pivot_mm, dtype=float)
+    foot = c + float((tip - c) @ d) * d  # the point of the axis nearest the mid tool tip
+    spans: list[float | None] = [None, 60.0, 30.0]
+    for span in spans:
+        angles = _rotary_targets(ax, targets, span)
+        for radius in (150.0, 100.0, 50.0, 25.0, 10.0):
+            if ax.side == "workpiece":
+                setups = [RTestSetup(foot + radius * e1, None, angles),
+                          RTestSetup(foot - radius * e1 + 0.5 * radius * d, None, angles)]
+            else:
+                setups = [RTestSetup(tip, None, angles),
+                          RTestSetup(tip - radius * np.asarray(branch.tool_direction),
+                                     branch.tool_length_mm + radius, angles)]
+            try:
+                for st in setups:
+                    for a in st.angles_deg:
+                        hold_tool_at(machine, st.ball_mm, {**mid, ax.key: float(a)},
+                                     tool_mm=st.tool_mm)
+            except ValueError:
+                continue
+            return setups
+    raise ValueError(f"no R-test ball within 10 mm of axis {ax.name} over ±30° fits the "
+                     f"travels of {machine.name}")

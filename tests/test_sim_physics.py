@@ -23,14 +23,18 @@ from machine_sim.program import Dwell, Measure, Program, Rapid, SpindleOff, Spin
 from machine_sim.testprograms import (
     angular_test,
     diagonal_test,
+    hold_tool_at,
     positioning_test,
+    rotary_positioning_test,
+    rtest,
+    rtest_balls,
     straightness_test,
 )
 from machine_sim.thermal import Sensor, ShopAir, ThermalConfig, simulate_thermal
 from machine_sim.truth import random_geometry
 from volumetric.components import GeometricErrors, Polynomial, component_names
 from volumetric.iso230_2 import evaluate_positioning
-from volumetric.kinematics import volumetric_error
+from volumetric.kinematics import tool_pose, volumetric_error
 from volumetric.machine import Machine, parse_machine
 
 TRAVEL = {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}
@@ -54,6 +58,12 @@ def mixed_programs(m: Machine) -> list[Program]:
                             angular_test(m, "Z", "A", targets=5, runs=1)]
     if "Z" in m.axis_names:
         progs.append(diagonal_test(m, "diag-NPP", points=5, runs=1))
+    for a in m.axes:
+        if a.kind == "rotary":
+            progs.append(rotary_positioning_test(m, a.name, targets=5, runs=1))
+            st = rtest_balls(m, a.name, targets=5)[1]
+            progs.append(rtest(m, a.name, st.ball_mm, angles_deg=st.angles_deg,
+                               tool_mm=st.tool_mm))
     return progs
 
 
@@ -289,3 +299,23 @@ def test_effect_on_a_missing_axis_or_sensor_is_named() -> None:
         Backlash("x", -1.0)
     with pytest.raises(ValueError, match="period_mm must be > 0"):
         Periodic("x", 1.0, 0.0)
+
+
+@pytest.mark.parametrize("chain", ["w C X Y b Z A t", "w C A X b Y Z t", "w Y b X Z C A t"])
+def test_rtest_holds_the_nominal_tool_tip_on_the_ball(chain: str) -> None:
+    m = parse_machine({"name": "r", "chain": chain, "tool_length_mm": 100.0,
+                       "travel_mm": {**TRAVEL, "a": [-120, 30]},
+                       "pivots_mm": {"C": [250, 150, -200], "A": [250, 150, -150]}})
+    for a in ("A", "C"):
+        for st in rtest_balls(m, a, targets=7):
+            prog = rtest(m, a, st.ball_mm, angles_deg=st.angles_deg, tool_mm=st.tool_mm)
+            res = run_campaign(SimulatedMachine(m, GeometricErrors()), [prog])
+            q = machine_positions(m, res.measurements)
+            tip, _ = tool_pose(m, q, None, tool_mm=res.measurements.tool_mm,
+                               orientation=False)
+            np.testing.assert_allclose(tip, np.broadcast_to(st.ball_mm, tip.shape),
+                                       rtol=0, atol=1e-9)
+            turned = np.unique(np.round(q[:, m.axis_names.index(a)], 9))
+            assert turned.size == 7  # every angle visited
+    with pytest.raises(ValueError, match="outside its travel"):
+        hold_tool_at(m, np.array([2000.0, 0.0, 0.0]), {})
