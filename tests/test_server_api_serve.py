@@ -31,8 +31,9 @@ def environment(**values: str) -> dict[str, str]:
 @pytest.fixture
 def served(tmp_path: Path) -> Iterator[str]:
     port = free_port()
+    # Port 0 for the machine TCP server too: a fixed port could collide with other tests.
     env = environment(EDNC_DATABASE_URL=f"sqlite:///{tmp_path / 'ednc.db'}",
-                      EDNC_API_KEY="serve-key-123")
+                      EDNC_API_KEY="serve-key-123", EDNC_MACHINE_PORT="0")
     proc = subprocess.Popen([str(EDNC), "serve", "--port", str(port)], env=env,
                             stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
     base = f"http://127.0.0.1:{port}"
