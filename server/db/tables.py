@@ -102,7 +102,7 @@ class ModelRow(Base):
 
 
 class MeasurementSetRow(Base):
-    """A measurement CSV (formats.md §2) as uploaded, byte for byte (decoded as UTF-8)."""
+    """A measurement CSV (formats.md §2) as uploaded, decoded from UTF-8 (a BOM dropped)."""
 
     __tablename__ = "measurement_sets"
     __table_args__ = (UniqueConstraint("machine_id", "name"),)
