@@ -118,6 +118,7 @@ class SiemensNC(Compensator):
         }
         self.sd: dict[int, F64] = {k: np.zeros(n) for k in _SETTING_DATA}
         self.applied = np.zeros(n)
+        self._last_desired = np.zeros(n)
         self.cycles = 0
         self.alarms: list[str] = []
 
@@ -174,7 +175,7 @@ class SiemensNC(Compensator):
             return "alarm"
         if self.releasing:
             return "releasing"
-        if np.any(np.abs(self.applied - self._desired()) > 1e-12):
+        if np.any(np.abs(self.applied - self._last_desired) > 1e-12):
             return "ramping"
         return "compensating" if self.store.active is not None else "idle"
 
@@ -202,6 +203,7 @@ class SiemensNC(Compensator):
         desired = self._desired() + np.where(
             comp_type & 2, self.sd[SD_SLOPE] * (pos - self.sd[SD_REF_POSITION]), 0.0)
         step = self.max_step_mm()
+        self._last_desired = desired
         self.applied = self.applied + np.clip(desired - self.applied, -step, step)
         self.cycles += 1
         return self.applied

@@ -305,3 +305,13 @@ def test_fleet_ladder_scans_like_each_fanuc_pmc() -> None:
         for i, pmc in enumerate(pmcs):
             one = pmc.scan(k * 0.008, {"x": q[i, 0], "y": q[i, 1]})
             np.testing.assert_array_equal(fleet[i], one)
+
+
+def test_siemens_reports_ramping_until_the_slope_part_is_reached() -> None:
+    nc = siemens(temp_comp_type=3, velo_factor=0.003)  # 2 µm per cycle
+    nc.write_sd(43910, "x", 1e-4)  # 0.1 µm per mm from the reference 0
+    assert nc.ipo_cycle(0.0, {"x": 100.0})[0] == pytest.approx(0.002)  # wants 0.01 mm
+    assert nc.state == "ramping"
+    for i in range(1, 6):
+        nc.ipo_cycle(i * 0.004, {"x": 100.0})
+    assert nc.applied[0] == pytest.approx(0.01) and nc.state == "idle"  # no map: idle
