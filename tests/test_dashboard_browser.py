@@ -25,10 +25,12 @@ from typing import Any, TypeVar
 import httpx
 import pytest
 import uvicorn
+from fastapi import FastAPI
 
 from protocol.codes import MapEncoding
 from server.app import create_app
 from server.center import Center
+from server.dashboard.live import LiveFeed
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.events import EventKind
@@ -64,6 +66,26 @@ class Live:
     loop: asyncio.AbstractEventLoop | None = None
     center: Center | None = None
     moving: dict[str, float] = field(default_factory=dict)
+    app: FastAPI | None = None
+    server: uvicorn.Server | None = None
+    thread: threading.Thread | None = None
+
+    @property
+    def stopped(self) -> bool:
+        return self.thread is not None and not self.thread.is_alive()
+
+    def stop(self) -> None:
+        """Ask uvicorn to exit (as on Ctrl+C) and wait for it, at most 40 s."""
+        assert self.server is not None and self.thread is not None
+        self.server.should_exit = True
+        self.thread.join(timeout=40)
+
+    def feed(self) -> LiveFeed:
+        """The app's live feed (made by the first ``/api/live``)."""
+        assert self.app is not None
+        feed = self.app.state.dashboard_feed
+        assert isinstance(feed, LiveFeed)
+        return feed
 
     def call(self, coro: Coroutine[Any, Any, T]) -> T:
         """Run a coroutine on the server's loop and wait for its result."""
@@ -108,6 +130,7 @@ def live_server(tmp_path: Path) -> Iterator[Live]:
     app = create_app(settings, services=[driver(live)])
     server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=0, log_level="warning"))
     thread = threading.Thread(target=server.run, name="uvicorn", daemon=True)
+    live.app, live.server, live.thread = app, server, thread
     thread.start()
     while not server.started and thread.is_alive():
         time.sleep(0.05)
@@ -117,9 +140,9 @@ def live_server(tmp_path: Path) -> Iterator[Live]:
     try:
         yield live
     finally:
-        server.should_exit = True
-        thread.join(timeout=40)
-        assert not thread.is_alive(), "uvicorn did not stop (an open stream held it?)"
+        if not live.stopped:
+            live.stop()
+        assert live.stopped, "uvicorn did not stop (an open stream held it?)"
 
 
 def seed(live: Live) -> None:
