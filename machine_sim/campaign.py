@@ -30,6 +30,7 @@ from numpy.typing import NDArray
 from volumetric.machine import Machine
 from volumetric.measurement import Measurements, write_measurements
 
+from .effects import lagged_key
 from .instruments import SimulatedMachine
 from .lookup import GridMap
 from .program import (
@@ -54,7 +55,7 @@ from .testprograms import (
     straightness_test,
     targets_along,
 )
-from .thermal import ThermalHistory, simulate_thermal
+from .thermal import ThermalHistory, lag_series, simulate_thermal
 
 __all__ = [
     "CampaignResult",
@@ -161,6 +162,9 @@ def run_campaign(
     tool = np.array([machine.branch(mk.measure.spindle).tool_length_mm
                      if mk.measure.tool_mm is None else mk.measure.tool_mm for mk in marks])
     true_temps = history.true_at(time_s)
+    for sensor, lag in sim.effects.lags():
+        lagged = lag_series(history.time_s, history.true_C[sensor], lag)
+        true_temps[lagged_key(sensor, lag)] = np.interp(time_s, history.time_s, lagged)
     starts = history.start()
     true_value = np.empty(n)
     for name in dict.fromkeys(branch):
@@ -168,7 +172,8 @@ def run_campaign(
         temps = {k: v[rows] for k, v in true_temps.items()}
         shift = None if compensation is None else compensation(q[rows], direction[rows])
         err = sim.true_error(q[rows], direction[rows], temps, starts, spindle=name,
-                             tool_mm=tool[rows], compensation=shift)
+                             tool_mm=tool[rows], compensation=shift,
+                             time_s=time_s[rows] - t0)
         true_value[rows] = sim.read(err, u[rows], is_angle[rows], None)
     noise = np.where(is_angle, sim.effects.noise.angle_urad, sim.effects.noise.displacement_um)
     value = true_value + np.random.default_rng([sim.seed, 2]).normal(0.0, 1.0, n) * noise

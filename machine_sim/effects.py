@@ -19,7 +19,14 @@ Backlash               -(B / 2) · d                                        ``ba
 Periodic               A · sin(2π (q - q_min) / P + φ)                     ``periodic``,
                                                                            ``amplitude_um`` = A,
                                                                            ``period_mm`` = P
+TimeDrift              r · t / 3600  (t: s since the campaign start)       ``time_drift``,
+                                                                           ``um_per_h`` = r
 =====================  ==================================================  =============
+
+A thermal drift with ``lag_s > 0`` follows the sensor place's temperature through a
+first-order lag of that time constant (a structure that deforms later than its surface
+warms): ``T`` is then the lagged temperature, which :func:`lagged_key` names in the
+``temperatures`` mapping (:func:`machine_sim.campaign.run_campaign` provides it).
 
 Backlash sign: the tool lags behind the command by half the reversal, against the
 direction of the last motion, so an approach from below (d = +1) stops B/2 short and one
@@ -52,7 +59,9 @@ __all__ = [
     "Periodic",
     "ThermalDrift",
     "ThermalExpansion",
+    "TimeDrift",
     "axis_offsets",
+    "lagged_key",
 ]
 
 F64 = NDArray[np.float64]
@@ -101,17 +110,51 @@ class ThermalDrift:
         k, µm per kelvin along the axis's +direction (signed; realistic |k| 0.5 to 5).
     reference_C : float or None
         T_0; None for the sensor's temperature at the start of the campaign.
+    lag_s : float
+        First-order lag of the deformation behind the sensor place's temperature, s
+        (0: none).
     """
 
     axis: str
     sensor: str
     um_per_K: float
     reference_C: float | None = None
+    lag_s: float = 0.0
 
     def __post_init__(self) -> None:
         _finite("ThermalDrift.um_per_K", self.um_per_K)
         if self.reference_C is not None:
             _finite("ThermalDrift.reference_C", self.reference_C)
+        if not (np.isfinite(self.lag_s) and self.lag_s >= 0):
+            raise ValueError(f"ThermalDrift.lag_s must be >= 0, got {self.lag_s!r}")
+
+    @property
+    def key(self) -> str:
+        """The ``temperatures`` key this drift reads: the sensor, or its lagged series."""
+        return self.sensor if self.lag_s == 0 else lagged_key(self.sensor, self.lag_s)
+
+
+def lagged_key(sensor: str, lag_s: float) -> str:
+    """Name of a sensor place's temperature lagged by ``lag_s`` (``"spindle~600s"``)."""
+    return f"{sensor}~{lag_s:g}s"
+
+
+@dataclass(frozen=True)
+class TimeDrift:
+    """A drift along an axis growing with time: r·t/3600 (t since campaign start, s).
+
+    Attributes
+    ----------
+    axis : str
+    um_per_h : float
+        r, µm per hour along the axis's +direction (signed).
+    """
+
+    axis: str
+    um_per_h: float
+
+    def __post_init__(self) -> None:
+        _finite("TimeDrift.um_per_h", self.um_per_h)
 
 
 @dataclass(frozen=True)
@@ -183,7 +226,7 @@ class Effects:
 
     Attributes
     ----------
-    expansion, drift, backlash, periodic : tuple
+    expansion, drift, backlash, periodic, time : tuple
         Any number of each (several axes); empty tuples switch them off.
     noise : Noise
     """
@@ -193,6 +236,17 @@ class Effects:
     backlash: tuple[Backlash, ...] = ()
     periodic: tuple[Periodic, ...] = ()
     noise: Noise = field(default_factory=Noise)
+    time: tuple[TimeDrift, ...] = ()
+
+    @property
+    def active(self) -> bool:
+        """Any effect besides noise."""
+        return bool(self.expansion or self.drift or self.backlash or self.periodic
+                    or self.time)
+
+    def lags(self) -> tuple[tuple[str, float], ...]:
+        """(sensor, lag_s) of every lagged thermal drift."""
+        return tuple(dict.fromkeys((d.sensor, d.lag_s) for d in self.drift if d.lag_s > 0))
 
     def sensors(self) -> tuple[str, ...]:
         """The temperature sensors the thermal effects read, in order of first use."""
@@ -205,9 +259,10 @@ class Effects:
 
     def check(self, machine: Machine, sensors: tuple[str, ...] | None = None) -> None:
         """Raise ``ValueError`` naming the effect whose axis (or sensor) does not exist."""
-        groups: dict[str, tuple[ThermalExpansion | ThermalDrift | Backlash | Periodic, ...]]
+        groups: dict[str, tuple[ThermalExpansion | ThermalDrift | Backlash | Periodic
+                                | TimeDrift, ...]]
         groups = {"expansion": self.expansion, "drift": self.drift,
-                  "backlash": self.backlash, "periodic": self.periodic}
+                  "backlash": self.backlash, "periodic": self.periodic, "time": self.time}
         for group, items in groups.items():
             for i, e in enumerate(items):
                 try:
@@ -233,6 +288,7 @@ def axis_offsets(
     direction: NDArray[np.integer],
     temperatures: Mapping[str, F64],
     start_temperatures: Mapping[str, float],
+    time_s: F64 | None = None,
 ) -> F64:
     """The effects' error along each axis at given readings (module docstring formulas).
 
@@ -245,10 +301,13 @@ def axis_offsets(
     direction : ndarray of int, shape (N, n_axes)
         Direction each axis last moved: -1, 0 or +1.
     temperatures : mapping of str to ndarray, shape (N,)
-        True temperature at each sensor's place at the reading times, °C.
+        True temperature at each sensor's place at the reading times, °C; lagged drifts
+        read their :func:`lagged_key`.
     start_temperatures : mapping of str to float
         Each sensor's temperature at the start of the campaign, °C (for drifts without
         ``reference_C``).
+    time_s : ndarray, shape (N,), optional
+        Seconds since the campaign start (needed by time drifts).
 
     Returns
     -------
@@ -265,7 +324,7 @@ def axis_offsets(
     for d in effects.drift:
         j = machine.axis_names.index(machine.axis(d.axis).name)
         t0 = start_temperatures[d.sensor] if d.reference_C is None else d.reference_C
-        out[:, j] += d.um_per_K * (temperatures[d.sensor] - t0)
+        out[:, j] += d.um_per_K * (temperatures[d.key] - t0)
     for b in effects.backlash:
         j = machine.axis_names.index(machine.axis(b.axis).name)
         out[:, j] += -0.5 * b.reversal_um * np.sign(direction[:, j])
@@ -274,4 +333,9 @@ def axis_offsets(
         lo = machine.axes[j].travel[0]
         out[:, j] += p.amplitude_um * np.sin(2 * np.pi * (q[:, j] - lo) / p.period_mm
                                              + p.phase_rad)
+    for r in effects.time:
+        if time_s is None:
+            raise ValueError(f"a time drift on axis {r.axis} needs the reading times")
+        j = machine.axis_names.index(machine.axis(r.axis).name)
+        out[:, j] += r.um_per_h * np.asarray(time_s, dtype=float) / 3600.0
     return out

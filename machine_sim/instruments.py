@@ -88,6 +88,7 @@ class SimulatedMachine:
         spindle: str | None = None,
         tool_mm: ArrayLike | None = None,
         compensation: ArrayLike | None = None,
+        time_s: ArrayLike | None = None,
     ) -> VolumetricError:
         """The tool tip's true error relative to the workpiece, noise-free.
 
@@ -110,6 +111,8 @@ class SimulatedMachine:
         tool_mm : float or array_like (N,), optional
         compensation : array_like, shape (N, n_axes), optional
             Shift the controller applies per axis, mm or degrees.
+        time_s : array_like, shape (N,), optional
+            Seconds since the campaign start (time drifts).
 
         Returns
         -------
@@ -130,19 +133,22 @@ class SimulatedMachine:
             rigid = VolumetricError((p_act - p_nom) * 1e3,
                                     rotation_vector(r_act @ np.swapaxes(r_nom, 1, 2)) * 1e6)
         e = self.effects
-        if not (e.expansion or e.drift or e.backlash or e.periodic):
+        if not e.active:
             return rigid
         n = qa.shape[0]
         d = (np.zeros(qa.shape, dtype=np.int8) if direction is None
              else np.asarray(direction).reshape(qa.shape))
         temps: dict[str, F64] = {}
-        for s in e.sensors():
+        keys = [*e.sensors(), *(d.key for d in e.drift)]
+        for s in dict.fromkeys(keys):
             if temperatures is None or s not in temperatures:
-                raise ValueError(f"a thermal effect reads sensor {s!r}: pass its temperatures")
+                raise ValueError(f"a thermal effect reads {s!r}: pass its temperatures")
             temps[s] = np.broadcast_to(np.asarray(temperatures[s], dtype=float), (n,))
         starts = dict(start_temperatures) if start_temperatures is not None else {
             k: float(v[0]) for k, v in temps.items()}
-        offsets = axis_offsets(self.machine, e, qa, d, temps, starts)
+        times = None if time_s is None else np.broadcast_to(
+            np.asarray(time_s, dtype=float), (n,))
+        offsets = axis_offsets(self.machine, e, qa, d, temps, starts, times)
         p_rigid, _ = tool_pose(self.machine, qa, self.geometry, spindle=spindle,
                                tool_mm=tool_mm, orientation=False)
         branch = self.machine.branch(spindle)

@@ -35,6 +35,7 @@ __all__ = [
     "ThermalConfig",
     "ThermalHistory",
     "default_thermal",
+    "lag_series",
     "simulate_thermal",
 ]
 
@@ -192,6 +193,14 @@ def _lag(x: F64, tau_s: float, dt: float, y0: float) -> F64:
     y, _ = lfilter([0.0, 1.0 - a], [1.0, -a], x, zi=[y0])
     out: F64 = np.asarray(y, dtype=float)
     return out
+
+
+def lag_series(time_s: F64, values: F64, lag_s: float) -> F64:
+    """A series sampled on a regular grid passed through a first-order lag of ``lag_s``,
+    starting in equilibrium with its first value."""
+    if time_s.size < 2:
+        return values.copy()
+    return _lag(values, lag_s, float(time_s[1] - time_s[0]), float(values[0]))
 
 
 def simulate_thermal(

@@ -17,6 +17,7 @@ from machine_sim.effects import (
     Periodic,
     ThermalDrift,
     ThermalExpansion,
+    TimeDrift,
 )
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.program import Dwell, Measure, Program, Rapid, SpindleOff, SpindleOn
@@ -213,6 +214,39 @@ def test_thermal_drift_alone_follows_the_temperature_change() -> None:
     np.testing.assert_allclose(meas.value, -2.0 * (true_t - res.thermal.start()["spindle"]),
                                atol=1e-9)
     assert meas.value[-1] < -10.0  # 1.5 K/krpm * 8 krpm * (1 - e^-4) * -2 µm/K
+
+
+def test_lagged_thermal_drift_follows_the_lagged_temperature() -> None:
+    m = vmc()
+    thermal = quiet_thermal(Sensor("spindle", 1200.0, spindle_K_per_krpm=1.5),
+                            Sensor("air", 0.0))
+    eff = Effects(drift=(ThermalDrift("z", "spindle", -2.0, lag_s=900.0),))
+    sim = SimulatedMachine(m, GeometricErrors(), eff, thermal, seed=5)
+    spot = [Measure("Z-drift", 1, "displacement", (0.0, 0.0, 1.0), settle_s=60.0)] * 120
+    res = run_campaign(sim, [[SpindleOn(8000.0)], spot[:60], [SpindleOff()], spot[60:]])
+    h = res.thermal
+    # an independent first-order lag: explicit Euler on a 0.1 s grid of the true series
+    fine_t = np.arange(h.time_s[0], h.time_s[-1], 0.1)
+    fine_x = np.interp(fine_t, h.time_s, h.true_C["spindle"])
+    lagged = np.empty_like(fine_x)
+    lagged[0] = fine_x[0]
+    for i in range(1, fine_t.size):
+        lagged[i] = lagged[i - 1] + 0.1 / 900.0 * (fine_x[i - 1] - lagged[i - 1])
+    want = -2.0 * (np.interp(res.measurements.time_s, fine_t, lagged) - lagged[0])
+    # the model holds each 1 s step's temperature where Euler interpolates it: they part
+    # by at most k * (largest change over one step, ~0.01 K) / 2 = 0.01 µm
+    np.testing.assert_allclose(res.measurements.value, want, rtol=0, atol=0.01)
+    unlagged = -2.0 * (h.true_at(res.measurements.time_s)["spindle"] - h.start()["spindle"])
+    assert np.max(np.abs(unlagged - want)) > 1.0  # the lag matters at this size
+
+
+def test_time_drift_alone_grows_with_time() -> None:
+    m = vmc()
+    sim = SimulatedMachine(m, GeometricErrors(), Effects(time=(TimeDrift("y", 1.5),)))
+    spot = [Measure("Y-drift", 1, "displacement", (0.0, 1.0, 0.0), settle_s=600.0)] * 12
+    meas = run_campaign(sim, [spot]).measurements
+    np.testing.assert_allclose(meas.value, 1.5 * meas.time_s / 3600.0, rtol=0, atol=1e-12)
+    assert meas.value[-1] == pytest.approx(3.0)  # 2 h at 1.5 µm/h
 
 
 def test_noise_has_its_standard_deviation() -> None:

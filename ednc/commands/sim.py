@@ -56,7 +56,8 @@ def register(app: typer.Typer) -> None:
         effect: Annotated[list[str] | None, typer.Option(
             "--effect", help="For --campaign, repeatable: backlash:AXIS:B_um, "
                              "periodic:AXIS:A_um:P_mm, expansion:AXIS:SENSOR:um_per_m_K, "
-                             "drift:AXIS:SENSOR:um_per_K, noise:UM[:URAD].")] = None,
+                             "drift:AXIS:SENSOR:um_per_K[:LAG_S], time:AXIS:um_per_h, "
+                             "noise:UM[:URAD].")] = None,
         truth: Annotated[Path | None, typer.Option(
             "--truth", help="For --campaign: write the true geometry and effects (JSON).")
         ] = None,
@@ -139,10 +140,11 @@ def _effects(specs: list[str], sensors: tuple[str, ...]) -> Any:
         Periodic,
         ThermalDrift,
         ThermalExpansion,
+        TimeDrift,
     )
 
     parts: dict[str, list[Any]] = {"expansion": [], "drift": [], "backlash": [],
-                                   "periodic": []}
+                                   "periodic": [], "time": []}
     noise = Noise()
     for spec in specs:
         kind, *args = spec.split(":")
@@ -155,21 +157,27 @@ def _effects(specs: list[str], sensors: tuple[str, ...]) -> Any:
                                                   phase))
             elif kind == "expansion" and len(args) == 3:
                 parts["expansion"].append(ThermalExpansion(args[0], args[1], float(args[2])))
-            elif kind == "drift" and len(args) == 3:
-                parts["drift"].append(ThermalDrift(args[0], args[1], float(args[2])))
+            elif kind == "drift" and len(args) in (3, 4):
+                lag = float(args[3]) if len(args) == 4 else 0.0
+                parts["drift"].append(ThermalDrift(args[0], args[1], float(args[2]),
+                                                   lag_s=lag))
+            elif kind == "time" and len(args) == 2:
+                parts["time"].append(TimeDrift(args[0], float(args[1])))
             elif kind == "noise" and len(args) in (1, 2):
                 noise = Noise(float(args[0]), float(args[1]) if len(args) == 2 else 0.0)
             else:
                 raise UserError(f"--effect {spec!r}: expected backlash:AXIS:B_um, "
                                 "periodic:AXIS:A_um:P_mm[:PHASE], expansion:AXIS:SENSOR:ALPHA, "
-                                "drift:AXIS:SENSOR:K or noise:UM[:URAD]")
+                                "drift:AXIS:SENSOR:K[:LAG_S], time:AXIS:UM_PER_H or "
+                                "noise:UM[:URAD]")
         except ValueError as exc:
             raise UserError(f"--effect {spec!r}: {exc}") from exc
         if kind in ("expansion", "drift") and args[1] not in sensors:
             raise UserError(f"--effect {spec!r}: no sensor {args[1]!r}; the simulated "
                             f"machine has {', '.join(sensors)}")
     return Effects(tuple(parts["expansion"]), tuple(parts["drift"]),
-                   tuple(parts["backlash"]), tuple(parts["periodic"]), noise)
+                   tuple(parts["backlash"]), tuple(parts["periodic"]), noise,
+                   tuple(parts["time"]))
 
 
 def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
