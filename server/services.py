@@ -42,7 +42,7 @@ class MachineServices:
 @asynccontextmanager
 async def machine_services(
     center: Center, *, timing: LinkTiming | None = None, stale_after_s: float = 60.0,
-    push_options: dict[str, Any] | None = None,
+    push_options: dict[str, Any] | None = None, mqtt_options: dict[str, Any] | None = None,
 ) -> AsyncIterator[MachineServices]:
     """Run the push scheduler, the machine TCP server and (if configured) the MQTT bridge.
 
@@ -55,6 +55,8 @@ async def machine_services(
         Age after which a temperature counts as stale.
     push_options : dict, optional
         Keyword arguments of :class:`PushScheduler` (``threshold_K``, ``tolerance_um``...).
+    mqtt_options : dict, optional
+        Keyword arguments of :class:`MqttBridge` (``backoff``, ``stale_check_s``...).
     """
     settings = center.settings
     feed = Feed(center)
@@ -69,7 +71,7 @@ async def machine_services(
         if settings.mqtt_host is not None:
             mqtt = await stack.enter_async_context(MqttBridge(
                 center, feed, temperatures, host=settings.mqtt_host, port=settings.mqtt_port,
-                prefix=settings.mqtt_topic_prefix))
+                prefix=settings.mqtt_topic_prefix, **(mqtt_options or {})))
         else:
             log.info("EDNC_MQTT_HOST is not set: MQTT is off")
         yield MachineServices(feed, temperatures, push, server, mqtt)

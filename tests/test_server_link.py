@@ -113,7 +113,7 @@ class Rig:
 @asynccontextmanager
 async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 2.0,
               mqtt: tuple[str, int] | None = None, prefix: str = "ednc",
-              **push: Any) -> AsyncIterator[Rig]:
+              mqtt_options: dict[str, Any] | None = None, **push: Any) -> AsyncIterator[Rig]:
     settings = load_settings(
         database_url=f"sqlite:///{tmp_path / 'center.db'}", machine_host="127.0.0.1",
         machine_port=0, heartbeat_s=heartbeat_s, push_period_s=push.pop("period_s", 600.0),
@@ -123,8 +123,10 @@ async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 
         center = Center(settings=settings, db=db)
         timing = LinkTiming(handshake_s=handshake_s, heartbeat_s=heartbeat_s,
                             telemetry_period_ms=50)
+        stale_after_s = push.pop("stale_after_s", 60.0)
         async with machine_services(center, timing=timing, push_options=push,
-                                    stale_after_s=push.pop("stale_after_s", 60.0)) as svc:
+                                    mqtt_options=mqtt_options,
+                                    stale_after_s=stale_after_s) as svc:
             yield Rig(center, svc)
 
 

@@ -1,0 +1,247 @@
+"""The MQTT bridge: temperature payloads, and against the real Mosquitto (each test on a
+topic prefix of its own): a published temperature gives the machine a new map, bad
+payloads are counted, status and events are published, a broker outage keeps the last
+temperatures (stale) and the bridge comes back by itself."""
+
+from __future__ import annotations
+
+import asyncio
+import json
+import uuid
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager, suppress
+from pathlib import Path
+from typing import Any
+
+import aiomqtt
+import pytest
+
+from server.db import maps as map_repo
+from server.mqtt import Backoff, PayloadError, parse_temperature
+from server.temperatures import TemperatureBoard, column_of
+from tests.test_server_link import DEADLINE_S, model_body, rig, simulator, until
+
+pytestmark = pytest.mark.services
+
+FAST = {"backoff": Backoff(0.05, 0.2), "stale_check_s": 0.05}
+
+
+@pytest.mark.parametrize(("payload", "celsius", "stamp"), [
+    (b"21.4", 21.4, None),
+    (b" 21.4\n", 21.4, None),
+    (b"-5", -5.0, None),
+    (b'{"celsius": 21.4}', 21.4, None),
+    (b'{"celsius": "21.4", "time": 1763820000.5}', 21.4, 1763820000.5),
+    (b'{"celsius": 20, "time": "2025-11-22T14:00:00Z"}', 20.0, 1763820000.0),
+    (b'{"celsius": 20, "timestamp_ms": 1763820000000}', 20.0, 1763820000.0),
+])
+def test_good_temperature_payloads(payload: bytes, celsius: float,
+                                   stamp: float | None) -> None:
+    assert parse_temperature(payload) == (pytest.approx(celsius), stamp)
+
+
+@pytest.mark.parametrize(("payload", "why"), [
+    (b"", "empty"),
+    (b"warm", "must be a number"),
+    (b"nan", "outside"),
+    (b"1e9", "outside"),
+    (b"\xff\xfe", "UTF-8"),
+    (b"[21.4]", "must be a number"),
+    (b'{"temp": 21.4}', '"celsius"'),
+    (b'{"celsius": true}', "must be a number"),
+    (b'{"celsius": 21.4', "not valid JSON"),
+    (b'{"celsius": 20, "time": "yesterday"}', "ISO 8601"),
+    (b'{"celsius": 20, "timestamp_ms": "now"}', "timestamp_ms"),
+])
+def test_bad_temperature_payloads_say_why(payload: bytes, why: str) -> None:
+    with pytest.raises(PayloadError, match=why):
+        parse_temperature(payload)
+
+
+def test_sensor_names_become_model_columns() -> None:
+    assert column_of("spindle") == "T_spindle_C"
+    assert column_of("T_spindle_C") == "T_spindle_C"
+
+
+async def test_old_readings_turn_stale_and_are_kept() -> None:
+    board = TemperatureBoard(stale_after_s=0.05)
+    board.update("m", "spindle", 22.0, source="mqtt")
+    board.update("m", "air", 20.0, source="telemetry")
+    assert board.mark_stale() == 0
+    await asyncio.sleep(0.1)
+    board.update("m", "air", 20.5, source="telemetry")
+    assert board.mark_stale() == 1
+    readings = board.readings("m")
+    assert readings["T_spindle_C"].stale and readings["T_spindle_C"].celsius == 22.0
+    assert not readings["T_air_C"].stale
+    assert board.mark_stale(source="telemetry") == 1
+    assert board.columns("m", ["T_air_C", "T_x_C"]) == {"T_air_C": 20.5}
+
+
+def prefix() -> str:
+    return f"ednc-test-{uuid.uuid4().hex[:12]}"
+
+
+@asynccontextmanager
+async def publisher(broker: tuple[str, int]) -> AsyncIterator[aiomqtt.Client]:
+    async with aiomqtt.Client(broker[0], broker[1],
+                              identifier=f"test-{uuid.uuid4().hex[:8]}") as client:
+        yield client
+
+
+async def test_published_temperature_gives_the_machine_a_new_map(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    top = prefix()
+    async with asyncio.timeout(DEADLINE_S), \
+            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
+            publisher(mqtt_broker) as pub:
+        mid = await r.register(model=model_body(thermal_sensor="T_spindle_C"))
+        bridge = r.services.mqtt
+        assert bridge is not None
+        await bridge.connected.wait()
+        async with simulator(r.port) as sim:
+            await sim.ready.wait()
+            await pub.publish(f"{top}/vmc-01/temperature/spindle", "23.5")
+            await until(lambda: sim.runtime.controller.store.version == 1)
+            await pub.publish(f"{top}/vmc-01/temperature/spindle",
+                              json.dumps({"celsius": 25.0, "time": 1763820000}))
+            await until(lambda: sim.runtime.controller.store.version == 2)
+        maps = await r.db.run(map_repo.list_map_versions, mid)
+        assert [m.temperatures for m in maps] == [{"T_spindle_C": 25.0},
+                                                  {"T_spindle_C": 23.5}]
+
+
+async def test_bad_payloads_are_counted_and_the_bridge_goes_on(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    top = prefix()
+    async with asyncio.timeout(DEADLINE_S), \
+            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
+            publisher(mqtt_broker) as pub:
+        bridge = r.services.mqtt
+        assert bridge is not None
+        await bridge.connected.wait()
+        for body in (b"warm", b"nan", b'{"celsius": null}', b"\xff"):
+            await pub.publish(f"{top}/vmc-01/temperature/spindle", body)
+        await pub.publish(f"{top}/vmc-01/temperature/bad-name!", b"20")
+        await pub.publish(f"{top}/vmc-01/temperature/spindle", b"21.25")
+        await until(lambda: "T_spindle_C" in r.services.temperatures.readings("vmc-01"))
+        assert r.services.temperatures.readings("vmc-01")["T_spindle_C"].celsius == 21.25
+        assert bridge.stats.bad_payloads == 5
+        assert r.center.metrics.registry.get_sample_value(
+            "ednc_mqtt_bad_payloads_total") == 5
+        assert any("bad-name!" in e for e in bridge.stats.bad_examples)
+
+
+async def test_status_and_events_are_published(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    top = prefix()
+    async with asyncio.timeout(DEADLINE_S), publisher(mqtt_broker) as watch:
+        await watch.subscribe(f"{top}/#", qos=1)
+        async with rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r:
+            await r.register(model=model_body())
+            async with simulator(r.port) as sim:
+                await until(lambda: sim.runtime.controller.store.version == 1)
+                events: list[dict[str, Any]] = []
+                status: dict[str, Any] = {}
+                async for message in watch.messages:
+                    assert isinstance(message.payload, bytes)
+                    body = json.loads(message.payload)
+                    if message.topic.value == f"{top}/events":
+                        events.append(body)
+                    elif message.topic.value == f"{top}/vmc-01/status":
+                        status = body
+                    if status.get("map_version_applied") == 1 and any(
+                            e["kind"] == "applied" for e in events):
+                        break
+        assert status["connected"] is True and status["map_version_sent"] == 1
+        assert status["last_seen"] is not None
+        kinds = [e["kind"] for e in events]
+        assert kinds[:3] == ["connected", "pushed", "applied"]
+        assert events[1]["version"] == 1 and events[1]["machine"] == "vmc-01"
+        # retained: a late subscriber gets the status at once
+        async with publisher(mqtt_broker) as late:
+            await late.subscribe(f"{top}/vmc-01/status")
+            async for message in late.messages:
+                assert message.retain
+                break
+            await late.publish(f"{top}/vmc-01/status", b"", retain=True)  # clean up
+
+
+class TcpProxy:
+    """A loopback TCP forwarder that can be switched off (the broker 'goes away') and on
+    again on the same port."""
+
+    def __init__(self, target: tuple[str, int]) -> None:
+        self.target = target
+        self.port = 0
+        self._server: asyncio.Server | None = None
+        self._writers: set[asyncio.StreamWriter] = set()
+
+    async def start(self) -> None:
+        self._server = await asyncio.start_server(self._handle, "127.0.0.1", self.port)
+        self.port = self._server.sockets[0].getsockname()[1]
+
+    async def stop(self) -> None:
+        if self._server is not None:
+            self._server.close()
+            await self._server.wait_closed()
+            self._server = None
+        for w in list(self._writers):
+            w.close()
+
+    async def _pipe(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        with suppress(OSError, ConnectionError):
+            while data := await reader.read(65536):
+                writer.write(data)
+                await writer.drain()
+        writer.close()
+
+    async def _handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        up_reader, up_writer = await asyncio.open_connection(*self.target)
+        self._writers |= {writer, up_writer}
+        try:
+            await asyncio.gather(self._pipe(reader, up_writer), self._pipe(up_reader, writer))
+        finally:
+            self._writers -= {writer, up_writer}
+
+
+async def test_broker_outage_keeps_temperatures_stale_and_recovers(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    top = prefix()
+    proxy = TcpProxy(mqtt_broker)
+    await proxy.start()
+    try:
+        async with asyncio.timeout(DEADLINE_S), \
+                rig(tmp_path, mqtt=("127.0.0.1", proxy.port), prefix=top,
+                    mqtt_options=FAST) as r, publisher(mqtt_broker) as pub:
+            bridge = r.services.mqtt
+            board = r.services.temperatures
+            assert bridge is not None
+            await bridge.connected.wait()
+            await pub.publish(f"{top}/vmc-01/temperature/spindle", b"22.0")
+            await until(lambda: "T_spindle_C" in board.readings("vmc-01"))
+            assert not board.readings("vmc-01")["T_spindle_C"].stale
+
+            await proxy.stop()  # the broker goes away
+            await until(lambda: not bridge.connected.is_set())
+            reading = board.readings("vmc-01")["T_spindle_C"]
+            assert reading.stale and reading.celsius == 22.0
+            await asyncio.sleep(0.3)  # a few failed reconnects
+            assert not bridge.connected.is_set()
+
+            await proxy.start()  # and comes back on the same port
+            await bridge.connected.wait()
+            assert bridge.stats.connects == 2
+            await pub.publish(f"{top}/vmc-01/temperature/spindle", b"22.5")
+            await until(lambda: board.readings("vmc-01")["T_spindle_C"].celsius == 22.5)
+            assert not board.readings("vmc-01")["T_spindle_C"].stale
+    finally:
+        await proxy.stop()
+
+
+async def test_without_a_broker_mqtt_is_off_and_machines_are_served(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        assert r.services.mqtt is None
+        await r.register(model=model_body())
+        async with simulator(r.port) as sim:
+            await until(lambda: sim.runtime.controller.store.version == 1)
