@@ -112,14 +112,28 @@ const EDNC = (() => {
    * stream after a while, see server/dashboard/live.py).
    */
   function follow(onSnapshot, onState) {
-    const source = new EventSource("/api/live");
-    source.addEventListener("open", () => onState("live"));
-    source.addEventListener("error", () => onState("down"));
-    source.addEventListener("snapshot", (e) => {
+    // The server ends every stream after a while and the browser reconnects within a
+    // second: only a link that stays down for a few seconds is shown as down. A reply that
+    // is not a stream (a 5xx) makes EventSource give up: start a new one after a pause.
+    let pending = null;
+    const up = () => {
+      clearTimeout(pending);
+      pending = null;
       onState("live");
-      onSnapshot(JSON.parse(e.data));
-    });
-    return source;
+    };
+    const open = () => {
+      const source = new EventSource("/api/live");
+      source.addEventListener("open", up);
+      source.addEventListener("error", () => {
+        if (pending === null) pending = setTimeout(() => onState("down"), 3000);
+        if (source.readyState === EventSource.CLOSED) setTimeout(open, 5000);
+      });
+      source.addEventListener("snapshot", (e) => {
+        up();
+        onSnapshot(JSON.parse(e.data));
+      });
+    };
+    open();
   }
 
   /** The live indicator in the page header. */
