@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from machine_sim.fanuc import FanucConfig
+from machine_sim.fleet import Fleet, generated_fleet
 from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from protocol import (
@@ -248,3 +249,22 @@ async def test_fanuc_machine_publishes_its_temperatures_to_mqtt(
                 if {"spindle", "x_screw", "air"} <= set(seen):
                     break
     assert all(10.0 < v < 40.0 for v in seen.values())
+
+
+async def test_a_generated_fleet_all_connect_and_sum_up(center: MiniCenter) -> None:
+    entries = generated_fleet(6, SECRET.decode(), seed=3)
+    async with asyncio.timeout(DEADLINE_S), Fleet(entries, ("127.0.0.1", center.port),
+                                                  cycle_s=0.02) as fleet:
+        names = set()
+        while len(names) < 6:
+            s = await center.sessions.get()
+            assert s.hello is not None
+            names.add(s.hello.name)
+            formats = {"fanuc": MapEncoding.INT32_INCREMENTS,
+                       "siemens": MapEncoding.FLOAT32_MM}
+            kind = next(e.machine.controller for e in entries if e.machine.name == s.hello.name)
+            assert s.hello.map_formats == formats[kind]
+        await asyncio.gather(*(c.ready.wait() for c in fleet.machines))
+        summary = fleet.summary()
+    assert names == {f"sim-{i:03d}" for i in range(1, 7)}
+    assert summary["machines"] == 6 and summary["welcomes"] >= 6 and summary["refused"] == 0
