@@ -319,6 +319,11 @@ def standard_programs(
     list of Program
         Set-up dwells and tests alternating.
     """
+    if runs < 1 or side_runs < 1 or diagonal_runs < 1:
+        raise ValueError(f"runs, side_runs and diagonal_runs must be >= 1, got {runs}, "
+                         f"{side_runs}, {diagonal_runs}")
+    if not (setup_s >= 0 and warmup_rpm >= 0 and 0 <= warm_fraction <= 1):
+        raise ValueError("setup_s and warmup_rpm must be >= 0, warm_fraction in [0, 1]")
     linear = [a for a in machine.axes if a.kind == "linear"]
     # one set of ISO 230-2 targets per axis, kept for all its runs
     spread = {a.name: targets_along(a, targets, rng=rng) for a in linear}
