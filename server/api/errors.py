@@ -39,6 +39,8 @@ NOT_FOUND: _Responses = {
 """Documented on every route under a machine's name."""
 
 WRITE: _Responses = {
+    400: {"model": Problem,
+          "description": "A body that cannot be parsed (malformed JSON or multipart)."},
     401: {"model": Problem, "description": "API key missing or wrong (X-API-Key)."},
     403: {"model": Problem, "description": "The service runs read-only (no API key set)."},
 }
