@@ -16,8 +16,8 @@ import datetime as dt
 import re
 import threading
 import time
-from collections.abc import AsyncIterator, Callable, Coroutine, Iterator
-from contextlib import asynccontextmanager
+from collections.abc import AsyncIterator, Callable, Coroutine, Iterator, Sequence
+from contextlib import asynccontextmanager, contextmanager
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, TypeVar
@@ -28,7 +28,7 @@ import uvicorn
 from fastapi import FastAPI
 
 from protocol.codes import MapEncoding
-from server.app import create_app
+from server.app import ServiceFactory, create_app
 from server.center import Center
 from server.dashboard.live import LiveFeed
 from server.db import machines as machine_repo
@@ -123,11 +123,10 @@ def driver(live: Live) -> Callable[[Center], Any]:
     return service
 
 
-@pytest.fixture
-def live_server(tmp_path: Path) -> Iterator[Live]:
-    live = Live()
-    settings = Settings(database_url=f"sqlite:///{tmp_path / 'ednc.db'}", api_key=API_KEY)
-    app = create_app(settings, services=[driver(live)])
+@contextmanager
+def serving(settings: Settings, services: Sequence[ServiceFactory], live: Live) -> Iterator[Live]:
+    """The app on a real uvicorn (127.0.0.1, port 0) in a thread; stopped on exit."""
+    app = create_app(settings, services=services)
     server = uvicorn.Server(uvicorn.Config(app, host="127.0.0.1", port=0, log_level="warning"))
     thread = threading.Thread(target=server.run, name="uvicorn", daemon=True)
     live.app, live.server, live.thread = app, server, thread
@@ -143,6 +142,14 @@ def live_server(tmp_path: Path) -> Iterator[Live]:
         if not live.stopped:
             live.stop()
         assert live.stopped, "uvicorn did not stop (an open stream held it?)"
+
+
+@pytest.fixture
+def live_server(tmp_path: Path) -> Iterator[Live]:
+    live = Live()
+    settings = Settings(database_url=f"sqlite:///{tmp_path / 'ednc.db'}", api_key=API_KEY)
+    with serving(settings, [driver(live)], live):
+        yield live
 
 
 def seed(live: Live) -> None:

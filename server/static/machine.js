@@ -126,6 +126,17 @@
     return root;
   }
 
+  /** A map over one grid axis: the correction along it, as a line. */
+  function profile(grid, slice) {
+    const gu = grid.grid.find((g) => g.name === grid.u);
+    const x = slice.values[0].map((_, i) => gu.start + i * gu.step);
+    const chart = EDNC.lineChart([{ name: slice.output, cls: "curve", x, y: slice.values[0] }],
+      { xLabel: `${grid.u} (${gu.unit})`, yLabel: `correction (${slice.unit})` });
+    chart.setAttribute("data-output", slice.output);
+    chart.classList.add("map-profile");
+    return chart;
+  }
+
   function legend(slice) {
     const limit = Math.max(Math.abs(slice.min), Math.abs(slice.max));
     const bar = svg("svg", { viewBox: "0 0 360 24", class: "heatmap" });
@@ -151,15 +162,20 @@
           g.name)));
       s.addEventListener("change", () => {
         shown[which] = s.value;
-        loadMap();
+        loadMap(shown.mapLatest);
       });
       return s;
     };
     box.replaceChildren("horizontal", select("u", grid.u), "vertical", select("v", grid.v));
   }
 
-  async function loadMap() {
+  async function loadMap(latest) {
     const box = document.getElementById("map");
+    if (latest === null) {
+      document.getElementById("map-controls").replaceChildren();
+      box.replaceChildren(el("p", { class: "sub" }, "No error map built for this machine yet."));
+      return;
+    }
     const params = new URLSearchParams();
     if (shown.u) params.set("u", shown.u);
     if (shown.v) params.set("v", shown.v);
@@ -180,7 +196,7 @@
       `, grid ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")}` +
       (fixed ? `; held at ${fixed}` : "");
     EDNC.fill(box, ...grid.outputs.map((s) => el("figure", { "data-output": s.output },
-      heatmap(grid, s), legend(s),
+      grid.v ? [heatmap(grid, s), legend(s)] : profile(grid, s),
       el("figcaption", {}, el("b", {}, `Correction of ${s.output}`),
         ` ${num(s.min, 1)} … ${num(s.max, 1)} ${s.unit}` +
         (s.reversal !== null ? `; reversal ${signed(s.reversal, s.unit, 1)}` : "")))),
@@ -309,13 +325,14 @@
     const latestMap = card.maps.latest;
     if (shown.mapLatest !== undefined && latestMap !== shown.mapLatest) {
       shown.mapLatest = latestMap;
-      loadMap();
+      loadMap(latestMap);
     }
     const vid = card.verification ? card.verification.id : null;
     if (vid !== shown.verification) {
       shown.verification = vid;
       renderVerificationSummary(card.verification);
-      loadDiagonals();
+      if (vid === null) document.getElementById("diagonals").replaceChildren();
+      else loadDiagonals();
     }
   }
 
@@ -331,7 +348,7 @@
     renderModel(detail);
     onCard(detail.card);
     shown.mapLatest = detail.card.maps.latest;
-    await loadMap();
+    await loadMap(shown.mapLatest);
     const indicator = document.getElementById("live");
     EDNC.follow((snapshot) => {
       const card = snapshot.machines.find((c) => c.name === NAME);
