@@ -14,9 +14,11 @@ Fleet file (JSON, or YAML when the name ends in ``.yaml``/``.yml``)::
 
 ``machine`` is a path (relative to the fleet file) or an inline description; ``ip``
 overrides the address announced in Hello; ``seed`` (default: the position in the list)
-seeds motion and temperatures. Generated fleets (:func:`generated_fleet`) are vertical
+seeds motion and temperatures. A machine whose address is a loopback one (127.x.y.z)
+connects from that address, so that several simulated machines on one host are told
+apart by address as real ones are. Generated fleets (:func:`generated_fleet`) are vertical
 machining centres ``sim-001``, ``sim-002``, ... alternating Fanuc and Siemens (or all of
-one kind), announcing 127.0.0.1, all with the one given secret.
+one kind), at 127.0.1.1, 127.0.1.2, ..., all with the one given secret.
 """
 
 from __future__ import annotations
@@ -123,6 +125,14 @@ def load_fleet(path: str | Path) -> tuple[list[FleetEntry], dict[str, Any]]:
     return entries, settings
 
 
+def loopback_address(i: int) -> str:
+    """The ``i``-th distinct loopback address, 127.0.1.1, 127.0.1.2, ... (64,000 of them):
+    generated machines each connect from their own, as real CNCs have their own."""
+    if not 0 <= i < 250 * 256:
+        raise FleetSpecError(f"no distinct loopback address for machine {i}")
+    return f"127.0.{1 + i // 250}.{1 + i % 250}"
+
+
 def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0
                     ) -> list[FleetEntry]:
     """``n`` vertical machining centres (module docstring)."""
@@ -134,7 +144,8 @@ def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int
     out = []
     for i in range(n):
         kind = controller if controller != "mixed" else ("fanuc", "siemens")[i % 2]
-        m = parse_machine({"name": f"sim-{i + 1:03d}", "controller": kind, "ip": "127.0.0.1",
+        m = parse_machine({"name": f"sim-{i + 1:03d}", "controller": kind,
+                           "ip": loopback_address(i),
                            "chain": "w X Y b Z t",
                            "travel_mm": {"x": [0, 600], "y": [0, 400], "z": [-400, 0]},
                            "tool_length_mm": 100.0})

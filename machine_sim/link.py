@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import ipaddress
 import json
 import logging
 import random
@@ -70,6 +71,13 @@ log = logging.getLogger(__name__)
 READ_BYTES = 65536
 HANDSHAKE_S = 10.0  # protocol README section 9
 DEAD_PEER_PERIODS = 3
+
+
+def _is_loopback(address: str) -> bool:
+    try:
+        return ipaddress.ip_address(address).is_loopback
+    except ValueError:
+        return address == "localhost"
 
 
 @dataclass(frozen=True)
@@ -262,8 +270,12 @@ class SimulatedCNC:
     async def _session(self) -> None:
         self._welcomed_this_time = False
         host, port = self.center
-        reader, writer = await asyncio.wait_for(asyncio.open_connection(host, port),
-                                                HANDSHAKE_S)
+        # The center knows machines by their address. On one host every 127.x.y.z address
+        # is the loopback, so a simulated machine with such an ip connects *from* it, as a
+        # real CNC connects from its own address.
+        local = (self.ip, 0) if _is_loopback(self.ip) and _is_loopback(host) else None
+        reader, writer = await asyncio.wait_for(
+            asyncio.open_connection(host, port, local_addr=local), HANDSHAKE_S)
         self.stats.connects += 1
         self._conn, self._writer = Connection(Role.MACHINE), writer
         self._release_pending = False

@@ -3,7 +3,7 @@
 The lifespan is the one place where long-lived services start and stop, in an
 :class:`~contextlib.AsyncExitStack` (last started, first stopped):
 
-1. the database (tables created if missing),
+1. the database (tables created if missing) and the machines of ``EDNC_MACHINES_FILE``,
 2. the :class:`~server.center.Center` stored as ``app.state.center``,
 3. the built-in services (:class:`~server.retention.EventRetention`), then each factory
    in ``services``, called with the Center; the machine TCP server, the push scheduler and
@@ -26,6 +26,7 @@ from fastapi.responses import JSONResponse
 from ednc import __version__
 from server.api.main import api_router, root_router
 from server.api.routes.measurements import MAX_UPLOAD_BYTES
+from server.bootstrap import read_machines_file, register_machines
 from server.center import Center
 from server.db import Database
 from server.retention import EventRetention
@@ -79,6 +80,10 @@ def create_app(
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         async with AsyncExitStack() as stack:
             db = await stack.enter_async_context(Database.open(settings.database_url))
+            if settings.machines_file is not None:
+                machines = read_machines_file(settings.machines_file)
+                counts = await db.run(register_machines, machines)
+                log.info("machines file %s: %s", settings.machines_file, counts)
             center = Center(settings=settings, db=db)
             app.state.center = center
             stack.callback(delattr, app.state, "center")

@@ -16,6 +16,7 @@ variable                        default                    meaning
 ``EDNC_PUSH_PERIOD_S``          60                         error-map push period, s
 ``EDNC_HEARTBEAT_S``            10                         machine heartbeat period, s
 ``EDNC_NODE_ID``                ``<host>-<pid>``           this process, for leases
+``EDNC_MACHINES_FILE``          unset                      machines registered at start-up
 ``EDNC_EVENT_RETENTION_DAYS``   30                         events older are deleted
 ==============================  =========================  ===============================
 """
@@ -106,6 +107,18 @@ class Settings(BaseSettings):
     heartbeat_s: float = Field(default=10.0, gt=0.0, le=3600.0)
     node_id: str = Field(default_factory=_default_node_id)
     event_retention_days: float = Field(default=30.0, gt=0.0, le=36500.0)
+    machines_file: Path | None = Field(
+        default=None,
+        description="JSON/YAML file of machines (descriptions and secrets) registered at "
+                    "start-up; see server/bootstrap.py.",
+    )
+
+    @field_validator("machines_file")
+    @classmethod
+    def _machines_file(cls, value: Path | None) -> Path | None:
+        if value is not None and not value.is_file():
+            raise ValueError(f"{str(value)!r} is not a file")
+        return value
 
     @field_validator("database_url")
     @classmethod

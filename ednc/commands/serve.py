@@ -36,6 +36,13 @@ def register(app: typer.Typer) -> None:
             settings = load_settings(env_file, **overrides)
         except SettingsError as exc:
             raise UserError(str(exc).replace("\n  ", " ")) from None
+        if settings.machines_file is not None:
+            from server.bootstrap import MachinesFileError, read_machines_file
+
+            try:
+                read_machines_file(settings.machines_file)
+            except MachinesFileError as exc:
+                raise UserError(str(exc)) from None
         # Open the database (and create its tables) before serving, so that a wrong URL
         # or a stopped PostgreSQL is one clear line rather than a failed lifespan.
         db = Database(make_engine(settings.database_url))

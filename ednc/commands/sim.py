@@ -62,6 +62,9 @@ def register(app: typer.Typer) -> None:
             "--truth", help="For --campaign: write the true geometry and effects (JSON).")
         ] = None,
         seed: Annotated[int, typer.Option("--seed", help="Random seed.")] = 0,
+        only: Annotated[list[str] | None, typer.Option(
+            "--only", help="With --fleet, run only these machines (repeatable): one "
+                           "container per machine, each with its own address.")] = None,
     ) -> None:
         """Run simulated machines against a center, or write a simulated campaign."""
         if campaign is not None:
@@ -70,12 +73,13 @@ def register(app: typer.Typer) -> None:
                                 "--machines or --fleet")
             write_campaign_file(campaign, machine, effect or [], truth, seed)
             return
-        run_fleet(center, machines, fleet, secret, controller, mqtt, cycle_ms, duration, seed)
+        run_fleet(center, machines, fleet, secret, controller, mqtt, cycle_ms, duration, seed,
+                  only or [])
 
 
 def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret: str | None,
               controller: str, mqtt: str | None, cycle_ms: float | None,
-              duration: float | None, seed: int) -> None:
+              duration: float | None, seed: int, only: list[str]) -> None:
     """The network mode (module docstring)."""
     from machine_sim.fleet import (
         Fleet,
@@ -92,6 +96,12 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
             if machines:
                 raise UserError("give either --fleet or --machines, not both")
             entries, settings = load_fleet(fleet_file)
+            if only:
+                unknown = sorted(set(only) - {e.machine.name for e in entries})
+                if unknown:
+                    raise UserError(f"--only {', '.join(unknown)}: not in {fleet_file} "
+                                    f"({', '.join(e.machine.name for e in entries)})")
+                entries = [e for e in entries if e.machine.name in only]
         elif machines:
             if secret is None:
                 raise UserError("--machines needs --secret (or EDNC_SIM_SECRET): the secret "
