@@ -57,3 +57,15 @@ def test_json_round_trip_keeps_every_term() -> None:
     again = MachineModel.from_json(json.loads(json.dumps(model.to_json())))
     assert again == model
     assert again.reversal_um() == {"x": 6.0}
+
+
+@pytest.mark.parametrize("body", [
+    {"components": [1, 2]}, {"locations": "EC0Y"}, {"terms": {"a": 1}}, {"terms": [3]},
+    {"info": []}, {"components": {"EXX": {"type": "polynomial"}}},
+    {"components": {"EXX": {"type": "table", "positions": [0, 1], "values": [0]}}}, [],
+])
+def test_malformed_models_raise_the_one_documented_error(body: object) -> None:
+    from volumetric.errors import ComponentErrorSpecError
+
+    with pytest.raises(ComponentErrorSpecError):
+        MachineModel.from_json(body)  # type: ignore[arg-type]

@@ -386,6 +386,11 @@ class GeometricErrors:
     @staticmethod
     def from_json(data: Mapping[str, Any]) -> GeometricErrors:
         """Inverse of :meth:`to_json`; errors name the entry."""
+        if not isinstance(data, Mapping):
+            raise ComponentErrorSpecError("expected an object with 'components' and 'locations'")
+        for key in ("components", "locations"):
+            if not isinstance(data.get(key, {}), Mapping):
+                raise ComponentErrorSpecError(f"{key}: expected an object keyed by ISO names")
         comps: dict[str, Component] = {}
         for name, spec in dict(data.get("components", {})).items():
             parse_name(name)

@@ -167,7 +167,15 @@ class MachineModel:
             raise ComponentErrorSpecError("a model must be a JSON object")
         geometry = GeometricErrors.from_json(data)
         terms: list[Term] = []
-        for i, t in enumerate(data.get("terms", [])):
+        raw_terms = data.get("terms", [])
+        if not isinstance(raw_terms, list):
+            raise ComponentErrorSpecError("terms: expected a list")
+        info = data.get("info", {})
+        if not isinstance(info, Mapping):
+            raise ComponentErrorSpecError("info: expected an object")
+        for i, t in enumerate(raw_terms):
+            if not isinstance(t, Mapping):
+                raise ComponentErrorSpecError(f"terms[{i}]: expected an object")
             try:
                 effect = t["effect"]
                 if effect in ("thermal_expansion", "thermal_drift"):
@@ -186,5 +194,4 @@ class MachineModel:
                 if isinstance(exc, ComponentErrorSpecError):
                     raise
                 raise ComponentErrorSpecError(f"terms[{i}]: {exc!r}") from None
-        return MachineModel(str(data.get("machine", "")), geometry, tuple(terms),
-                            dict(data.get("info", {})))
+        return MachineModel(str(data.get("machine", "")), geometry, tuple(terms), dict(info))
