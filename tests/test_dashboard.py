@@ -260,6 +260,35 @@ async def test_health_names_the_first_thing_to_act_on(
     assert await health() == ("offline", "not connected")
 
 
+async def test_temperatures_from_the_service_board_join_the_telemetry(
+    api: tuple[FastAPI, httpx.AsyncClient]
+) -> None:
+    from server.temperatures import TemperatureBoard
+
+    app, client = api
+    await register(client, VMC)
+    center = center_of(app)
+    center.registry.connected("vmc-01", "10.0.0.21:1")
+    center.registry.seen("vmc-01", telemetry(1.0, temp=21.5))  # sensor "spindle"
+    board = TemperatureBoard(stale_after_s=30.0)
+    board.update("vmc-01", "column", 19.25, source="mqtt")
+    board.update("vmc-01", "spindle", 21.75, source="mqtt")  # newer than the telemetry's
+    center.temperatures = board  # type: ignore[attr-defined]  # as the services hand it over
+
+    async def temperatures() -> list[tuple[str, float, bool, str]]:
+        card = (await client.get("/api/dashboard")).json()["machines"][0]
+        return [(t["name"], t["celsius"], t["stale"], t["source"])
+                for t in card["temperatures"]]
+
+    assert await temperatures() == [("column", 19.25, False, "mqtt"),
+                                    ("spindle", 21.75, False, "mqtt")]
+    board.mark_stale(source="mqtt")  # the broker went away
+    assert await temperatures() == [("column", 19.25, True, "mqtt"),
+                                    ("spindle", 21.75, True, "mqtt")]
+    detail = (await client.get("/api/machines/vmc-01/dashboard")).json()
+    assert [t["name"] for t in detail["card"]["temperatures"]] == ["column", "spindle"]
+
+
 async def test_stored_reports_with_odd_keys_do_not_break_the_dashboard(
     api: tuple[FastAPI, httpx.AsyncClient]
 ) -> None:

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import re
 import threading
 from collections.abc import AsyncIterator, Iterator
 from contextlib import AsyncExitStack, asynccontextmanager
@@ -136,6 +137,8 @@ def center_with_fleet(tmp_path: Path) -> Iterator[Live]:
         timing = LinkTiming(heartbeat_s=1.0, telemetry_period_ms=250)
         async with machine_services(center, timing=timing) as svc:
             found["svc"] = svc
+            # What the services would do to show MQTT temperatures on the dashboard.
+            center.temperatures = svc.temperatures  # type: ignore[attr-defined]
             yield
 
     settings = load_settings(database_url=f"sqlite:///{tmp_path / 'center.db'}",
@@ -200,7 +203,9 @@ def test_real_machines_on_the_dashboard(center_with_fleet: Live, tmp_path: Path)
                 first = position.inner_text()
                 expect(position).not_to_have_text(first, timeout=10_000)  # the axis moves
             dmu = page.locator('tr[data-machine="dmu-02"]')
-            expect(dmu.locator('[data-field^="temp-"]').first).to_contain_text("°C")
+            temperature = dmu.locator('[data-field^="temp-"]').first
+            expect(temperature).to_contain_text("°C")
+            expect(temperature).to_have_attribute("title", re.compile(r"^telemetry, \d+ s ago$"))
             refused = page.locator('tr[data-machine="vmc-03"]')
             expect(refused).to_have_class("health-offline")
             refusal = page.locator('#events tr[data-kind="refused"]').first

@@ -41,13 +41,20 @@ from server.dashboard.schemas import (
     MachineDetail,
     MapGrid,
 )
-from server.dashboard.snapshot import build_snapshot, load_facts, machine_card, machine_facts
+from server.dashboard.snapshot import (
+    build_snapshot,
+    load_facts,
+    machine_card,
+    machine_facts,
+    with_board,
+)
 from server.db import error_models as model_repo
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.db import measurements as measurement_repo
 from server.db import reports as report_repo
 from server.db.tables import DiagnosisRow, MachineRow
+from server.temperatures import TemperatureBoard
 from volumetric.iso230_6 import DiagonalTestError
 from volumetric.measurement import MeasurementFormatError, read_measurements
 
@@ -63,10 +70,18 @@ AxisQuery = Annotated[str | None, Query(pattern=r"^[A-Za-z][A-Za-z0-9]{0,3}$",
                                         description="A grid axis of the map, e.g. X.")]
 
 
+def temperature_board(center: Center) -> TemperatureBoard | None:
+    """The machine services' temperature board, when they run and hand it to the Center
+    (as ``center.temperatures``); without it the dashboard shows telemetry temperatures."""
+    board = getattr(center, "temperatures", None)
+    return board if isinstance(board, TemperatureBoard) else None
+
+
 async def snapshot_of(center: Center) -> DashboardSnapshot:
     """The dashboard now."""
     facts = await center.db.run(load_facts)
-    return build_snapshot(facts, center.registry, node_id=center.settings.node_id)
+    return build_snapshot(facts, center.registry, node_id=center.settings.node_id,
+                          temperatures=temperature_board(center))
 
 
 def live_feed(request: Request, center: Center) -> LiveFeed:
@@ -100,8 +115,8 @@ async def machine_detail(center: CenterDep, machine: MachineDep) -> MachineDetai
     """A machine's page: description, live row and its newest model's terms."""
     facts = await center.db.run(machine_facts, machine)
     model = await center.db.run(model_repo.get_model, machine.id)
-    card = machine_card(facts, center.registry.get(machine.name),
-                        now=dt.datetime.now(dt.UTC))
+    card = with_board(machine_card(facts, center.registry.get(machine.name),
+                               now=dt.datetime.now(dt.UTC)), temperature_board(center))
     view, problem = None, None
     if model is not None:
         try:

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import datetime as dt
 import math
+import time
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -34,6 +35,7 @@ from server.db import machines as machine_repo
 from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow
 from server.schemas.event import EventPublic
 from server.state import LinkState, Registry
+from server.temperatures import TemperatureBoard
 
 STALE_AFTER_S = 10.0
 """Telemetry older than this is stale: ten default telemetry periods (1 s, protocol §9),
@@ -212,14 +214,52 @@ def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
     return MachineCard(health=health, health_reason=reason, **fields)
 
 
+def board_temperatures(board: TemperatureBoard, machine: str, telemetry_stale: bool
+                       ) -> list[TemperatureLive]:
+    """The machine's readings on the service's temperature board (MQTT and telemetry).
+
+    A reading is stale when the board says so, when it is older than the board's limit,
+    or, for one from telemetry, when the telemetry is.
+    """
+    now = time.monotonic()
+    out = []
+    for column, r in sorted(board.readings(machine).items()):
+        name = column[2:-2] if column.startswith("T_") and column.endswith("_C") else column
+        age = max(0.0, now - r.received)
+        stale = r.stale or age > board.stale_after_s or (
+            r.source == "telemetry" and telemetry_stale)
+        out.append(TemperatureLive(name=name, celsius=r.celsius, stale=stale,
+                                   source=r.source, age_s=age))
+    return out
+
+
+def with_board(card: MachineCard, board: TemperatureBoard | None) -> MachineCard:
+    """The card with the board's readings in place of (or added to) the telemetry's."""
+    if board is None:
+        return card
+    extra = board_temperatures(board, card.name, card.telemetry_stale)
+    if not extra:
+        return card
+    names = {t.name for t in extra}
+    merged = [t for t in card.temperatures if t.name not in names] + extra
+    return card.model_copy(update={"temperatures": merged})
+
+
 def build_snapshot(facts: Facts, registry: Registry, *, node_id: str,
-                   now: dt.datetime | None = None,
-                   stale_after_s: float = STALE_AFTER_S) -> DashboardSnapshot:
-    """The whole dashboard: every registered machine, live or not, and recent events."""
+                   now: dt.datetime | None = None, stale_after_s: float = STALE_AFTER_S,
+                   temperatures: TemperatureBoard | None = None) -> DashboardSnapshot:
+    """The whole dashboard: every registered machine, live or not, and recent events.
+
+    ``temperatures`` is the service's board (:mod:`server.temperatures`), when it runs:
+    Fanuc-style machines report their sensors over MQTT, not in telemetry.
+    """
     now = now or dt.datetime.now(dt.UTC)
     return DashboardSnapshot(
         generated_at=now, version=__version__, node_id=node_id, stale_after_s=stale_after_s,
-        machines=[machine_card(f, registry.get(f.machine.name), now, stale_after_s)
-                  for f in facts.machines],
+        machines=[
+            with_board(machine_card(f, registry.get(f.machine.name), now, stale_after_s),
+                       temperatures)
+            for f in facts.machines
+        ],
         events=facts.events,
     )

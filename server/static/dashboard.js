@@ -55,7 +55,9 @@
     return el("td", {}, el("table", { class: "axes" }, card.temperatures.map((t) =>
       el("tr", { class: t.stale ? "stale" : null },
         el("th", {}, t.name),
-        el("td", { class: "num", "data-field": `temp-${t.name}` }, qty(t.celsius, "°C", 1)),
+        el("td", { class: "num", "data-field": `temp-${t.name}`,
+          title: `${t.source}${t.age_s === null ? "" : ", " + age(t.age_s)}` },
+        qty(t.celsius, "°C", 1)),
         t.stale ? el("td", { class: "stale-tag" }, "stale") : null))));
   }
 
