@@ -501,6 +501,24 @@ async def test_live_feed_builds_once_for_all_viewers_and_closes() -> None:
     assert [s async for s in sse_stream(feed)] == ["retry: 1000\n\n"]
 
 
+async def test_live_feed_sends_a_keep_alive_when_nothing_changes(
+    monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.setattr(live_module, "KEEPALIVE_S", 0.2)
+
+    async def same() -> DashboardSnapshot:
+        return DashboardSnapshot(generated_at=dt.datetime.now(dt.UTC), version="t",
+                                 node_id="n", stale_after_s=10.0, machines=[], events=[])
+
+    feed = LiveFeed(same, period_s=0.05)
+    stream = sse_stream(feed, max_stream_s=0.5)
+    parts = [part async for part in stream]
+    assert parts[0] == "retry: 1000\n\n" and parts[1].startswith("event: snapshot\n")
+    assert ": keep-alive\n\n" in parts[2:]  # only the timestamp changed: no new snapshot
+    assert not any(p.startswith("event:") for p in parts[2:])
+    assert feed.viewers == 0
+
+
 # --- pages ------------------------------------------------------------------------------------
 
 async def test_pages_load_only_what_the_app_serves(api: tuple[FastAPI, httpx.AsyncClient]) -> None:

@@ -27,8 +27,10 @@ from server.dashboard.schemas import DashboardSnapshot
 log = logging.getLogger(__name__)
 
 PERIOD_S = 1.0
-KEEPALIVE_S = 15.0
-MAX_STREAM_S = 20.0
+KEEPALIVE_S = 5.0
+MAX_STREAM_S = 10.0
+"""Longest life of one stream, s: the most an open dashboard can delay a shutdown. A
+reconnect costs one request and one snapshot, which a viewer gets every second anyway."""
 RETRY_MS = 1000
 
 SnapshotSource = Callable[[], Awaitable[DashboardSnapshot]]
