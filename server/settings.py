@@ -16,6 +16,8 @@ variable                        default                    meaning
 ``EDNC_PUSH_PERIOD_S``          60                         error-map push period, s
 ``EDNC_HEARTBEAT_S``            10                         machine heartbeat period, s
 ``EDNC_NODE_ID``                ``<host>-<pid>``           this process, for leases
+``EDNC_LEASE_TTL_S``            15                         machine lease life, s (renewed
+                                                           every third of it)
 ``EDNC_MACHINES_FILE``          unset                      machines registered at start-up
 ``EDNC_EVENT_RETENTION_DAYS``   30                         events older are deleted
 ==============================  =========================  ===============================
@@ -106,6 +108,10 @@ class Settings(BaseSettings):
     push_period_s: float = Field(default=60.0, gt=0.0, le=86400.0)
     heartbeat_s: float = Field(default=10.0, gt=0.0, le=3600.0)
     node_id: str = Field(default_factory=_default_node_id)
+    lease_ttl_s: float = Field(
+        default=15.0, ge=0.3, le=3600.0,
+        description="How long a machine's lease outlives its node's last renewal; the "
+                    "node renews every third of it (server/leasing.py).")
     event_retention_days: float = Field(default=30.0, gt=0.0, le=36500.0)
     machines_file: Path | None = Field(
         default=None,

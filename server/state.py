@@ -38,6 +38,9 @@ class LinkState:
         When the current session opened; when the machine last sent anything (UTC).
     telemetry : mapping
         The machine's last telemetry fields (positions, temperatures, ...), as received.
+    owner : str or None
+        The node (``EDNC_NODE_ID``) serving the machine now, in the plant-wide view
+        (:mod:`server.plant`); None in a node's own registry and when nobody serves it.
     """
 
     name: str
@@ -46,6 +49,7 @@ class LinkState:
     connected_since: dt.datetime | None = None
     last_seen: dt.datetime | None = None
     telemetry: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
+    owner: str | None = None
 
 
 class Registry:

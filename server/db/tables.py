@@ -180,3 +180,40 @@ class EventRow(Base):
     machine: Mapped[str] = mapped_column(String(128), index=True)
     kind: Mapped[str] = mapped_column(String(32))
     detail: Mapped[str] = mapped_column(Text, default="")
+
+
+class LeaseRow(Base):
+    """Which control-center process (node) serves a machine: one row per machine at most.
+
+    The node that holds an unexpired lease is the only one that keeps a session with the
+    machine and pushes it maps; it renews the lease while the session lasts and deletes
+    the row when the session ends. A node that dies stops renewing, and another node may
+    take the lease once ``expires_at`` has passed (:mod:`server.db.leases`).
+    """
+
+    __tablename__ = "leases"
+
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), primary_key=True)
+    owner: Mapped[str] = mapped_column(String(64), index=True)
+    acquired_at: Mapped[dt.datetime]
+    expires_at: Mapped[dt.datetime]
+
+
+class LiveLinkRow(Base):
+    """The live link of a machine as the node serving it last wrote it, so that every
+    node's dashboard shows the whole plant (:mod:`server.db.live_links`).
+
+    Keyed by machine name, as the in-memory registry is; whether the link is live now is
+    read together with the lease (a node that died leaves ``connected`` true behind).
+    """
+
+    __tablename__ = "live_links"
+
+    machine: Mapped[str] = mapped_column(String(64), primary_key=True)
+    node: Mapped[str] = mapped_column(String(64))
+    connected: Mapped[bool]
+    address: Mapped[str | None] = mapped_column(String(64))
+    connected_since: Mapped[dt.datetime | None]
+    last_seen: Mapped[dt.datetime | None]
+    telemetry: Mapped[dict[str, Any]]
+    updated_at: Mapped[dt.datetime]
