@@ -4,8 +4,12 @@
 which ``ednc serve`` uses): inside it run, started in this order and stopped in reverse,
 
 1. the :class:`~server.push.PushScheduler` (it must listen before any machine arrives),
-2. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``,
-3. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
+2. the :class:`~server.leasing.LeaseKeeper` (this node's machine leases: released after
+   the sessions closed) and the :class:`~server.plant.LinkPublisher` (this node's live
+   links in the database for every node's dashboard; its last write comes after the
+   sessions closed),
+3. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``,
+4. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
    otherwise; a configured broker that is down does not stop start-up: the bridge keeps
    retrying in the background).
 """
@@ -20,8 +24,10 @@ from typing import Any
 
 from server.center import Center
 from server.feed import Feed
+from server.leasing import LeaseKeeper
 from server.link import LinkTiming, MachineServer
 from server.mqtt import MqttBridge
+from server.plant import LinkPublisher
 from server.push import PushScheduler
 from server.temperatures import TemperatureBoard
 
@@ -37,12 +43,15 @@ class MachineServices:
     push: PushScheduler
     server: MachineServer
     mqtt: MqttBridge | None
+    leases: LeaseKeeper | None = None
+    links: LinkPublisher | None = None
 
 
 @asynccontextmanager
 async def machine_services(
     center: Center, *, timing: LinkTiming | None = None, stale_after_s: float = 60.0,
     push_options: dict[str, Any] | None = None, mqtt_options: dict[str, Any] | None = None,
+    publish_period_s: float = 1.0,
 ) -> AsyncIterator[MachineServices]:
     """Run the push scheduler, the machine TCP server and (if configured) the MQTT bridge.
 
@@ -57,6 +66,8 @@ async def machine_services(
         Keyword arguments of :class:`PushScheduler` (``threshold_K``, ``tolerance_um``...).
     mqtt_options : dict, optional
         Keyword arguments of :class:`MqttBridge` (``backoff``, ``stale_check_s``...).
+    publish_period_s : float
+        How often this node's changed live links are written for the other nodes, s.
     """
     settings = center.settings
     feed = Feed(center)
@@ -64,9 +75,12 @@ async def machine_services(
     async with AsyncExitStack() as stack:
         push = await stack.enter_async_context(
             PushScheduler(center, feed, temperatures, **(push_options or {})))
+        leases = await stack.enter_async_context(LeaseKeeper(center))
+        links = await stack.enter_async_context(
+            LinkPublisher(center, period_s=publish_period_s))
         server = await stack.enter_async_context(MachineServer(
             center, feed, temperatures, worker=push.serve, host=settings.machine_host,
-            port=settings.machine_port, timing=timing))
+            port=settings.machine_port, timing=timing, leases=leases))
         mqtt = None
         if settings.mqtt_host is not None:
             mqtt = await stack.enter_async_context(MqttBridge(
@@ -74,4 +88,4 @@ async def machine_services(
                 prefix=settings.mqtt_topic_prefix, **(mqtt_options or {})))
         else:
             log.info("EDNC_MQTT_HOST is not set: MQTT is off")
-        yield MachineServices(feed, temperatures, push, server, mqtt)
+        yield MachineServices(feed, temperatures, push, server, mqtt, leases, links)

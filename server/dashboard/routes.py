@@ -54,6 +54,7 @@ from server.db import maps as map_repo
 from server.db import measurements as measurement_repo
 from server.db import reports as report_repo
 from server.db.tables import DiagnosisRow, MachineRow
+from server.plant import plant_view
 from server.temperatures import TemperatureBoard
 from volumetric.iso230_6 import DiagonalTestError
 from volumetric.measurement import MeasurementFormatError, read_measurements
@@ -80,7 +81,7 @@ def temperature_board(center: Center) -> TemperatureBoard | None:
 async def snapshot_of(center: Center) -> DashboardSnapshot:
     """The dashboard now."""
     facts = await center.db.run(load_facts)
-    return build_snapshot(facts, center.registry, node_id=center.settings.node_id,
+    return build_snapshot(facts, await plant_view(center), node_id=center.settings.node_id,
                           temperatures=temperature_board(center))
 
 
@@ -115,7 +116,8 @@ async def machine_detail(center: CenterDep, machine: MachineDep) -> MachineDetai
     """A machine's page: description, live row and its newest model's terms."""
     facts = await center.db.run(machine_facts, machine)
     model = await center.db.run(model_repo.get_model, machine.id)
-    card = with_board(machine_card(facts, center.registry.get(machine.name),
+    links = await plant_view(center)
+    card = with_board(machine_card(facts, links.get(machine.name),
                                now=dt.datetime.now(dt.UTC)), temperature_board(center))
     view, problem = None, None
     if model is not None:

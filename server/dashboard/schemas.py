@@ -93,6 +93,9 @@ class MachineCard(BaseModel):
     health: Health
     health_reason: str = Field(description="Why the row has its colour, for the operator.")
     connected: bool
+    owner: str | None = Field(
+        default=None,
+        description="The node (EDNC_NODE_ID) serving the machine now; null when offline.")
     address: str | None
     connected_since: dt.datetime | None
     last_seen: dt.datetime | None

@@ -1,5 +1,9 @@
 """The dashboard snapshot: the database's facts per machine joined with the live registry.
 
+The live half is the whole plant's (:class:`server.plant.PlantView`: this node's registry
+merged with the links other nodes store), so every node's dashboard shows every machine
+and the node serving it (``owner``).
+
 The database half (:func:`load_facts`) runs in one transaction on a worker thread; the
 registry half (:func:`build_snapshot`) runs on the event loop, which owns the registry.
 Stored reports are JSON that the format may extend and old rows may lack keys, so the
@@ -33,6 +37,7 @@ from server.dashboard.telemetry import live_values
 from server.db import events as event_repo
 from server.db import machines as machine_repo
 from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow
+from server.plant import PlantView
 from server.schemas.event import EventPublic
 from server.state import LinkState, Registry
 from server.temperatures import TemperatureBoard
@@ -199,7 +204,7 @@ def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
     fields: dict[str, Any] = {
         "name": m.name, "controller": m.controller, "ip": m.ip,
         "chain": chain_text(m.description if isinstance(m.description, Mapping) else {}),
-        "connected": link.connected, "address": link.address,
+        "connected": link.connected, "owner": link.owner, "address": link.address,
         "connected_since": link.connected_since, "last_seen": link.last_seen,
         "telemetry_age_s": age, "telemetry_stale": stale,
         "state": live.state, "axes": list(live.axes),
@@ -245,7 +250,7 @@ def with_board(card: MachineCard, board: TemperatureBoard | None) -> MachineCard
     return card.model_copy(update={"temperatures": merged})
 
 
-def build_snapshot(facts: Facts, registry: Registry, *, node_id: str,
+def build_snapshot(facts: Facts, registry: Registry | PlantView, *, node_id: str,
                    now: dt.datetime | None = None, stale_after_s: float = STALE_AFTER_S,
                    temperatures: TemperatureBoard | None = None) -> DashboardSnapshot:
     """The whole dashboard: every registered machine, live or not, and recent events.

@@ -17,6 +17,11 @@ A second session for a machine that already has one is refused (DUPLICATE_SESSIO
 the first is alive; when the first has been silent for a heartbeat period or more (a
 half-open connection after a cable pull), the authenticated newcomer replaces it.
 
+With a :class:`~server.leasing.LeaseKeeper` (several nodes on one database), the node takes
+the machine's lease after authentication and before Welcome; a machine whose lease another
+node holds is refused (DUPLICATE_SESSION, "machine 'm' is owned by node X") and tries its
+next center. A session whose lease is lost is closed; its end gives the lease back.
+
 Unauthenticated connections are bounded (``max_handshakes``): beyond that, new ones are
 closed at once, so a flood of connections or of silent peers cannot exhaust the process
 while established sessions keep running.
@@ -58,6 +63,7 @@ from server.db import machines as machine_repo
 from server.db.tables import MachineRow
 from server.events import EventKind
 from server.feed import Feed
+from server.leasing import LeaseKeeper
 from server.link.session import LinkClosed, MachineSession
 from server.temperatures import TemperatureBoard, valid_sensor
 
@@ -125,12 +131,15 @@ class MachineServer:
         Where to listen (port 0: any free port, see :attr:`port`).
     timing : LinkTiming
     max_handshakes : int
+    leases : LeaseKeeper, optional
+        Machine leases of this node, when several nodes share the database.
     """
 
     def __init__(self, center: Center, feed: Feed, temperatures: TemperatureBoard, *,
                  worker: SessionWorker | None = None, host: str = "0.0.0.0", port: int = 0,
                  timing: LinkTiming | None = None,
-                 max_handshakes: int = MAX_HANDSHAKES) -> None:
+                 max_handshakes: int = MAX_HANDSHAKES,
+                 leases: LeaseKeeper | None = None) -> None:
         self.center = center
         self.feed = feed
         self.temperatures = temperatures
@@ -139,6 +148,7 @@ class MachineServer:
         self.requested_port = port
         self.timing = timing or LinkTiming(heartbeat_s=center.settings.heartbeat_s)
         self.max_handshakes = max_handshakes
+        self.leases = leases
         self.sessions: dict[str, MachineSession] = {}
         self._handshaking = 0
         self._handlers: set[asyncio.Task[None]] = set()
@@ -279,8 +289,19 @@ class MachineServer:
                               f"{old.address}", "duplicate", row.name)
             old.abort(ErrorCode.DUPLICATE_SESSION,
                       f"replaced by a new session from {session.address}")
-        session.send(Welcome(int(self.timing.heartbeat_s * 1000),
-                             self.timing.telemetry_period_ms))
+        if self.leases is not None:
+            refusal = await self.leases.claim(
+                row.id, row.name, session,
+                lambda why: session.abort(ErrorCode.DUPLICATE_SESSION, why))
+            if refusal is not None:
+                raise Refused(ErrorCode.DUPLICATE_SESSION, refusal, "owned", row.name)
+        try:
+            session.send(Welcome(int(self.timing.heartbeat_s * 1000),
+                                 self.timing.telemetry_period_ms))
+        except LinkClosed:
+            if self.leases is not None:
+                self.leases.release(row.id, session)
+            raise
         return row
 
     async def _run(self, session: MachineSession, machine: MachineRow) -> None:
@@ -309,6 +330,8 @@ class MachineServer:
             if self.sessions.get(name) is session:
                 del self.sessions[name]
                 self.center.registry.disconnected(name)
+            if self.leases is not None:
+                self.leases.release(machine.id, session)
         await self.feed.record(EventKind.DISCONNECTED, name, why)
 
     async def _receive_loop(self, session: MachineSession) -> str:

@@ -17,6 +17,9 @@ class MachineStatus(BaseModel):
     connected_since: dt.datetime | None
     last_seen: dt.datetime | None
     telemetry: dict[str, Any] = Field(description="The machine's last telemetry, as sent.")
+    owner: str | None = Field(
+        default=None,
+        description="The node (EDNC_NODE_ID) serving the machine now; null when offline.")
     map_version_latest: int | None = Field(description="Newest map built for the machine.")
     map_version_sent: int | None = Field(description="Newest map sent to the machine.")
     map_version_applied: int | None = Field(description="Newest map the machine applied.")
@@ -34,5 +37,5 @@ class ServiceStatus(BaseModel):
     writes_enabled: bool
     mqtt_enabled: bool
     machines: int
-    connected: int
+    connected: int = Field(description="Machines some node of the plant serves now.")
     machine_status: list[MachineStatus]

@@ -1,4 +1,7 @@
-"""``/api/status`` and ``/api/machines/{name}/status``: live links and map versions."""
+"""``/api/status`` and ``/api/machines/{name}/status``: live links and map versions.
+
+Links are the whole plant's (:mod:`server.plant`): a machine served by another node of
+the same database shows as connected, with that node as its ``owner``."""
 
 from __future__ import annotations
 
@@ -12,8 +15,8 @@ from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.db.maps import MapState
 from server.db.tables import MachineRow
+from server.plant import PlantView, plant_view
 from server.schemas.status import MachineStatus, ServiceStatus
-from server.state import Registry
 
 router = APIRouter(tags=["status"])
 
@@ -22,12 +25,12 @@ def _all_map_states(session: Session) -> tuple[list[MachineRow], dict[int, MapSt
     return machine_repo.list_machines(session), map_repo.map_states(session)
 
 
-def _status(registry: Registry, name: str, maps: MapState) -> MachineStatus:
-    link = registry.get(name)
+def _status(links: PlantView, name: str, maps: MapState) -> MachineStatus:
+    link = links.get(name)
     return MachineStatus(
         name=name, connected=link.connected, address=link.address,
         connected_since=link.connected_since, last_seen=link.last_seen,
-        telemetry=dict(link.telemetry), map_version_latest=maps.latest,
+        telemetry=dict(link.telemetry), owner=link.owner, map_version_latest=maps.latest,
         map_version_sent=maps.sent, map_version_applied=maps.applied,
         last_reject_reason=maps.reject_reason,
     )
@@ -37,7 +40,8 @@ def _status(registry: Registry, name: str, maps: MapState) -> MachineStatus:
 async def service_status(center: CenterDep) -> ServiceStatus:
     """The service and every machine's status."""
     machines, states = await center.db.run(_all_map_states)
-    machine_status = [_status(center.registry, m.name, states.get(m.id, MapState()))
+    links = await plant_view(center)
+    machine_status = [_status(links, m.name, states.get(m.id, MapState()))
                       for m in machines]
     return ServiceStatus(
         version=__version__, node_id=center.settings.node_id, started_at=center.started_at,
@@ -52,4 +56,4 @@ async def service_status(center: CenterDep) -> ServiceStatus:
 async def machine_status(center: CenterDep, machine: MachineDep) -> MachineStatus:
     """One machine's link and map versions."""
     states = await center.db.run(map_repo.map_states, machine.id)
-    return _status(center.registry, machine.name, states.get(machine.id, MapState()))
+    return _status(await plant_view(center), machine.name, states.get(machine.id, MapState()))
