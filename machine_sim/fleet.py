@@ -12,6 +12,9 @@ Fleet file (JSON, or YAML when the name ends in ``.yaml``/``.yml``)::
       ]
     }
 
+``center`` may name several centers of one plant, as ``"HOST:PORT,HOST:PORT"`` or a list
+of ``"HOST:PORT"``: each machine tries them in turn (the next after a refusal or a failed
+connection, see :class:`~machine_sim.link.SimulatedCNC`).
 ``machine`` is a path (relative to the fleet file) or an inline description; ``ip``
 overrides the address announced in Hello; ``seed`` (default: the position in the list)
 seeds motion and temperatures. A machine whose address is a loopback one (127.x.y.z)
@@ -40,7 +43,7 @@ from volumetric.machine import Machine, load_machine, parse_machine
 from .link import Backoff, MqttTarget, SimulatedCNC
 
 __all__ = ["Fleet", "FleetEntry", "FleetSpecError", "generated_fleet", "load_fleet",
-           "parse_center"]
+           "parse_center", "parse_centers"]
 
 
 class FleetSpecError(ValueError):
@@ -64,6 +67,20 @@ def parse_center(text: str) -> tuple[str, int]:
     if not sep or not host or not port.isdigit() or not 0 < int(port) < 65536:
         raise FleetSpecError(f"center {text!r}: expected HOST:PORT such as 127.0.0.1:7070")
     return host, int(port)
+
+
+def parse_centers(value: Any) -> list[tuple[str, int]]:
+    """``HOST:PORT[,HOST:PORT...]`` or a list of ``HOST:PORT`` to (host, port) pairs."""
+    if isinstance(value, str):
+        parts = [p.strip() for p in value.split(",")]
+    elif isinstance(value, list) and all(isinstance(p, str) for p in value):
+        parts = [p.strip() for p in value]
+    else:
+        raise FleetSpecError(f"center {value!r}: expected 'HOST:PORT', 'HOST:PORT,HOST:PORT' "
+                             "or a list of 'HOST:PORT'")
+    if not parts or "" in parts:
+        raise FleetSpecError(f"center {value!r}: an empty entry; expected HOST:PORT[,HOST:PORT]")
+    return [parse_center(p) for p in parts]
 
 
 def _secret(value: Any, where: str) -> bytes:
@@ -159,7 +176,8 @@ class Fleet:
     Parameters
     ----------
     entries : sequence of FleetEntry
-    center : (host, port)
+    center : (host, port) or sequence of them
+        Several centers of one plant are tried in turn by every machine.
     mqtt : MqttTarget, optional
     cycle_s : float, optional
         Controller cycle for every machine (their own by default; a coarser one lets a
@@ -167,7 +185,8 @@ class Fleet:
     backoff : Backoff, optional
     """
 
-    def __init__(self, entries: Sequence[FleetEntry], center: tuple[str, int], *,
+    def __init__(self, entries: Sequence[FleetEntry],
+                 center: tuple[str, int] | Sequence[tuple[str, int]], *,
                  mqtt: MqttTarget | None = None, cycle_s: float | None = None,
                  backoff: Backoff | None = None) -> None:
         self.machines = [SimulatedCNC(e.machine, center, e.secret, ip=e.ip, seed=e.seed,

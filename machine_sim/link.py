@@ -10,6 +10,9 @@
   ReleaseCompensation → ramp, Error/close → reconnect). Telemetry goes out every period
   Welcome gave; a Siemens-style machine adds its temperatures to it. After any failure it
   reconnects with jittered, capped exponential backoff (:class:`Backoff`);
+  given several centers (one plant served by several center processes), it tries the next
+  one at once after a refusal (another node owns the machine), a connection failure or a
+  lost session, and waits the backoff only once every center has failed in turn;
 * ``mqtt`` (Fanuc-style machines, when a broker is given): publishes every sensor to
   ``<prefix>/<machine>/temperature/<sensor>`` as JSON ``{"celsius": 21.4,
   "timestamp_ms": 1763820000000}`` every telemetry period (aiomqtt; reconnects likewise).
@@ -26,9 +29,10 @@ import json
 import logging
 import random
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from types import TracebackType
-from typing import Any
+from typing import Any, cast
 
 from protocol import (
     CONNECTION_CLOSED,
@@ -120,6 +124,18 @@ class LinkStats:
     rejects: list[str] = field(default_factory=list)
 
 
+def _centers(center: tuple[str, int] | Sequence[tuple[str, int]]
+             ) -> tuple[tuple[str, int], ...]:
+    """One (host, port) or several, as a non-empty tuple of pairs."""
+    if len(center) == 2 and isinstance(center[0], str):
+        return ((center[0], int(cast(int, center[1]))),)
+    pairs = cast("Sequence[tuple[str, int]]", center)
+    out = tuple((str(h), int(p)) for h, p in pairs)
+    if not out:
+        raise ValueError("a simulated machine needs at least one center")
+    return out
+
+
 class _Closed(Exception):
     """The session ended (peer closed, Reject or Error); reconnect."""
 
@@ -130,7 +146,8 @@ class SimulatedCNC:
     Parameters
     ----------
     machine : Machine
-    center : (host, port)
+    center : (host, port) or sequence of them
+        The center's machine port, or several centers of one plant, tried in turn.
     secret : bytes
         The machine's secret, as registered at the center (>= 16 bytes).
     runtime : MachineRuntime, optional
@@ -146,13 +163,17 @@ class SimulatedCNC:
     software_version : str
     """
 
-    def __init__(self, machine: Machine, center: tuple[str, int], secret: bytes, *,
+    def __init__(self, machine: Machine,
+                 center: tuple[str, int] | Sequence[tuple[str, int]], secret: bytes, *,
                  runtime: MachineRuntime | None = None, ip: str | None = None,
                  cycle_s: float | None = None, backoff: Backoff | None = None,
                  mqtt: MqttTarget | None = None, seed: int = 0,
                  software_version: str = "edncsim-1") -> None:
         self.machine = machine
-        self.center = center
+        self.centers = _centers(center)
+        self._which = 0
+        self.connected_to: tuple[str, int] | None = None
+        """The center of the current session (after Welcome), None between sessions."""
         self.secret = secret
         self.runtime = runtime or MachineRuntime(machine, seed=seed)
         self.ip = ip or machine.ip
@@ -198,6 +219,11 @@ class SimulatedCNC:
             if isinstance(r, Exception):
                 raise r
 
+    @property
+    def center(self) -> tuple[str, int]:
+        """The center the machine connects to now (the next is tried after a failure)."""
+        return self.centers[self._which]
+
     def stopping(self) -> bool:
         """The context is being left: loops end at their next turn."""
         return self._stopping
@@ -224,6 +250,7 @@ class SimulatedCNC:
     # -- the link
     async def _link_loop(self) -> None:
         attempt = 0
+        failed_in_turn = 0  # centers that failed one after the other since the last sleep
         while not self.stopping():
             try:
                 await self._session()
@@ -232,9 +259,15 @@ class SimulatedCNC:
                 log.info("%s: link down (%s)", self.machine.name, self.stats.last_error)
             finally:
                 self.ready.clear()
+                self.connected_to = None
                 await self._close_writer()
             if self.stats.welcomes and self._welcomed_this_time:
-                attempt = 0
+                attempt, failed_in_turn = 0, 0
+            self._which = (self._which + 1) % len(self.centers)
+            failed_in_turn += 1
+            if failed_in_turn < len(self.centers):
+                continue  # another center may serve us now: no reason to wait
+            failed_in_turn = 0
             await asyncio.sleep(self.backoff.delay(attempt, self._rng))
             attempt += 1
 
@@ -327,6 +360,7 @@ class SimulatedCNC:
                 self._heartbeat_s = hb / 1000.0
                 self._telemetry_s = tm / 1000.0
                 self._welcomed_this_time = True
+                self.connected_to = self.center
                 self.stats.welcomes += 1
                 self.ready.set()
             case Reject(code=code, text=text):

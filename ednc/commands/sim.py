@@ -29,7 +29,8 @@ def register(app: typer.Typer) -> None:
     @app.command("sim")
     def sim(
         center: Annotated[str | None, typer.Option(
-            "--center", help="HOST:PORT of the center's machine port.")] = None,
+            "--center", help="HOST:PORT of the center's machine port; several centers of "
+                             "one plant as HOST:PORT,HOST:PORT (tried in turn).")] = None,
         machines: Annotated[int, typer.Option(
             "--machines", help="Generate this many machines (sim-001, ...).")] = 0,
         fleet: Annotated[Path | None, typer.Option(
@@ -87,6 +88,7 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
         generated_fleet,
         load_fleet,
         parse_center,
+        parse_centers,
     )
     from machine_sim.link import MqttTarget
 
@@ -111,9 +113,9 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
             raise UserError("give --machines N (with --secret) or --fleet FILE, "
                             "or --campaign OUT.csv")
         where = center or settings.get("center")
-        if not isinstance(where, str):
+        if where is None:
             raise UserError("give --center HOST:PORT (or 'center' in the fleet file)")
-        address = parse_center(where)
+        addresses = parse_centers(where)
         target = None
         mq = settings.get("mqtt")
         if mqtt is not None:
@@ -129,9 +131,9 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
     cycle_s = None if cycle_ms is None else cycle_ms / 1000.0
 
     async def main() -> dict[str, int]:
-        async with Fleet(entries, address, mqtt=target, cycle_s=cycle_s) as f:
+        async with Fleet(entries, addresses, mqtt=target, cycle_s=cycle_s) as f:
             typer.echo(f"{len(entries)} simulated machines connecting to "
-                       f"{address[0]}:{address[1]}")
+                       + ", ".join(f"{host}:{port}" for host, port in addresses))
             with contextlib.suppress(TimeoutError):
                 async with asyncio.timeout(duration):
                     await asyncio.Event().wait()
