@@ -400,6 +400,41 @@ async def test_diagonal_profiles_match_the_report_and_the_readings(
     assert r.status_code == 404
 
 
+def test_diagonal_profiles_agree_with_the_core_ranges_whatever_the_sensing_sign() -> None:
+    import io
+
+    from server.dashboard.diagonals import diagonal_profiles
+    from volumetric.iso230_6 import DiagonalTestError, diagonal_ranges
+    from volumetric.measurement import read_measurements
+
+    def read(text: str) -> Any:
+        return read_measurements(io.StringIO(text))
+
+    rng = np.random.default_rng(3)
+    text = diagonals_csv(7.0)
+    lines = text.splitlines()
+    flipped = [lines[0]]
+    for line in lines[1:]:  # a laser reading against the run direction reads -value
+        f = line.split(",")
+        if rng.random() < 0.5:
+            f[11:15] = [str(-float(v)) for v in f[11:15]]  # u and value: columns 11..14
+        flipped.append(",".join(f))
+    straight = diagonal_profiles(read(text))
+    for data in (read(text), read("\n".join(flipped) + "\n")):
+        profiles = diagonal_profiles(data)
+        ranges = diagonal_ranges(data)
+        assert list(profiles) == list(ranges)
+        for label, profile in profiles.items():
+            assert profile.range_um == pytest.approx(ranges[label])
+            np.testing.assert_allclose(profile.mean_um, straight[label].mean_um, atol=1e-9)
+    first_point = [row for row in lines[1:] if row.startswith("diag-PPP,1,0,")]
+    single = "\n".join([CSV_HEADER, *first_point])
+    with pytest.raises(DiagonalTestError, match="diag-PPP: only one target point"):
+        diagonal_profiles(read(single + "\n"))
+    with pytest.raises(DiagonalTestError, match="no body-diagonal readings"):
+        diagonal_profiles(read(CSV_HEADER + "\nX-pos,1,0,0,0,0,1,0,0,100,displacement,1,0,0,1\n"))
+
+
 # --- machine page data ------------------------------------------------------------------------
 
 async def test_machine_detail_has_description_live_row_and_model_terms(

@@ -69,6 +69,8 @@ def diagonal_profiles(m: Measurements, *, target_tol_mm: float = 1e-3) -> dict[s
     out: dict[str, Profile] = {}
     for label in labels:
         d = m.select((m.test == label) & ~m.is_angle)
+        if len(d) == 0:
+            raise DiagonalTestError(f"{label}: no displacement readings")
         xyz = d.xyz
         # Direction from the first commanded point to the farthest one: the run direction,
         # so that "along" starts at 0 at the start corner.

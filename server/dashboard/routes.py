@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import asyncio
 import datetime as dt
+import html
 import io
 import mimetypes
 from pathlib import Path
@@ -251,12 +252,8 @@ async def dashboard_page() -> FileResponse:
 async def machine_page(db: DatabaseDep, name: str) -> FileResponse | HTMLResponse:
     if await db.run(machine_repo.get_machine, name) is None:
         return HTMLResponse(f"<!doctype html><title>No machine</title><p>No machine named "
-                            f"{_escape(name)}. <a href='/'>Dashboard</a></p>", status_code=404)
+                            f"{html.escape(name)}. <a href='/'>Dashboard</a></p>", status_code=404)
     return _page("machine.html")
-
-
-def _escape(text: str) -> str:
-    return text.replace("&", "&amp;").replace("<", "&lt;").replace(">", "&gt;")
 
 
 @pages.get("/static/{path:path}")
