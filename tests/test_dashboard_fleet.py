@@ -39,6 +39,7 @@ from volumetric.machine import parse_machine
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 SECRET = "machine-secret-0123456789"
+NODE = "center-a"
 TRAVEL = {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}
 MACHINES = [  # name, controller, address, secret it uses
     ("vmc-01", "fanuc", "127.0.0.2", SECRET),
@@ -143,7 +144,7 @@ def center_with_fleet(tmp_path: Path) -> Iterator[Live]:
 
     settings = load_settings(database_url=f"sqlite:///{tmp_path / 'center.db'}",
                              api_key=API_KEY, machine_host="127.0.0.1", machine_port=0,
-                             heartbeat_s=1.0)
+                             heartbeat_s=1.0, node_id=NODE)
     with serving(settings, [services], live):
         with httpx.Client(base_url=live.url, headers=WRITE, timeout=30) as client:
             for name, controller, ip, _ in MACHINES:
@@ -198,6 +199,8 @@ def test_real_machines_on_the_dashboard(center_with_fleet: Live, tmp_path: Path)
                 expect(row).to_have_class("health-ok", timeout=30_000)
                 expect(row.locator('[data-field="connected"]')).to_have_text("connected")
                 expect(row.locator('[data-field="maps"]')).to_have_text("v1 / v1 / v1")
+                expect(row.locator('[data-field="owner"]')).to_have_text(
+                    f"served by {NODE}")
                 position = row.locator('[data-field="pos-X"]')
                 expect(position).to_have_text(MM)
                 first = position.inner_text()

@@ -27,6 +27,8 @@
     return el("td", {},
       el("div", { "data-field": "connected" }, card.connected ? "connected" : "disconnected"),
       el("div", { class: "sub" }, card.address || "no address yet"),
+      card.owner ? el("div", { class: "sub", "data-field": "owner" }, `served by ${card.owner}`)
+        : null,
       el("div", { class: card.telemetry_stale ? "sub stale" : "sub" }, tele));
   }
 

@@ -44,6 +44,7 @@
     EDNC.fill(document.getElementById("live-values"),
       kv([
         ["Link", card.connected ? `connected from ${card.address}` : "disconnected"],
+        card.owner ? ["Served by", card.owner, { "data-field": "owner" }] : null,
         ["Connected since", time(card.connected_since)],
         ["Telemetry", card.telemetry_age_s === null ? "none"
           : age(card.telemetry_age_s) + (card.telemetry_stale ? " (stale)" : ""),
