@@ -105,7 +105,8 @@ w X b Y Z t)."""
 THERMAL = Spec({"name": "hot-07", "controller": "fanuc", "ip": "127.0.2.7",
                 "chain": "w X Y b Z t", "travel_mm": TRAVEL, "tool_length_mm": 100.0},
                "secret-of-hot-07-0123456789", 17,
-               Effects(drift=(ThermalDrift("z", "spindle", -2.5),), noise=NOISE))
+               Effects(drift=(ThermalDrift("z", "spindle", -2.5, reference_C=20.0),),
+                       noise=NOISE))
 """A Fanuc machine whose spindle grows along z (-2.5 µm/K), for the thermal tests."""
 
 
@@ -222,6 +223,14 @@ class Plant:
     async def applied_version(self, name: str) -> int | None:
         v = (await self.status(name))["map_version_applied"]
         return None if v is None else int(v)
+
+    def applied(self, name: str, version: int) -> Callable[[], Awaitable[bool]]:
+        """A check for :func:`until`: the database shows ``version`` applied by ``name``."""
+
+        async def check() -> bool:
+            return await self.applied_version(name) == version
+
+        return check
 
 
 @asynccontextmanager

@@ -1,0 +1,139 @@
+"""A machine whose spindle grows with heat, end to end: the center's diagnosis model (a
+thermal drift along z on ``T_spindle_C``, found by ``volumetric.diagnose`` in a simulated
+campaign) is uploaded through the REST API; spindle temperatures published on MQTT give
+the machine new map versions, pushed and acknowledged, whose z correction moves by the
+model's coefficient × ΔT, and the machine stays compensated as it warms."""
+
+from __future__ import annotations
+
+import asyncio
+import uuid
+from contextlib import AsyncExitStack
+from pathlib import Path
+
+import aiomqtt
+import numpy as np
+import pytest
+
+from machine_sim.lookup import GridMap
+from server.mqtt import Backoff
+from server.numeric import plain_json
+from tests.integration_support import (
+    DEADLINE_S,
+    THERMAL,
+    campaign,
+    center,
+    cnc,
+    require_loopback_aliases,
+    until,
+)
+from volumetric.diagnose import diagnose
+from volumetric.model import MachineModel, ThermalTerm
+
+pytestmark = [pytest.mark.services, pytest.mark.slow]
+
+FAST_MQTT = {"backoff": Backoff(0.05, 0.2), "stale_check_s": 0.05}
+
+
+def diagnosed_model() -> MachineModel:
+    sim, readings, _ = campaign(THERMAL.name)
+    d = diagnose(sim.machine, readings)
+    assert (d.effect, d.axis, d.sensor) == ("thermal_drift", "z", "T_spindle_C"), d
+    return d.model
+
+
+def _thermal_term(model: MachineModel) -> ThermalTerm:
+    terms = [t for t in model.terms if isinstance(t, ThermalTerm)]
+    assert len(terms) == 1 and terms[0].sensor == "T_spindle_C"
+    return terms[0]
+
+
+async def test_mqtt_temperature_moves_the_map_by_the_model(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    require_loopback_aliases()
+    model = await asyncio.to_thread(diagnosed_model)
+    term = _thermal_term(model)
+    top = f"ednc-it-{uuid.uuid4().hex[:12]}"
+    name = THERMAL.name
+    topic = f"{top}/{name}/temperature/spindle"
+    t1, t2 = round(term.t_ref_C + 2.0, 3), round(term.t_ref_C + 8.0, 3)  # as published
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        plant = await stack.enter_async_context(center(
+            f"sqlite:///{tmp_path / 'center.db'}", mqtt=mqtt_broker, prefix=top,
+            mqtt_options=FAST_MQTT))
+        pub = await stack.enter_async_context(aiomqtt.Client(
+            *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
+        assert plant.services.mqtt is not None
+        await plant.services.mqtt.connected.wait()
+        await plant.register(THERMAL)
+        await plant.post_model(name, plain_json(model.to_json()))
+        sim = await stack.enter_async_context(cnc(THERMAL, plant.port))
+        store = sim.runtime.controller.store
+        await sim.ready.wait()
+        await asyncio.sleep(0.3)
+        assert store.version == 0  # a thermal model waits for its temperature
+
+        await pub.publish(topic, f"{t1:.3f}")
+        await until(lambda: store.version == 1)
+        await until(plant.applied(name, 1))
+        grid1 = store.active
+        await pub.publish(topic, f"{t2:.3f}")
+        await until(lambda: store.version == 2)
+        await until(plant.applied(name, 2))
+        grid2 = store.active
+        maps = await plant.maps(name)
+        pushed = await plant.events(kind="pushed", machine=name)
+    assert [m["temperatures"] for m in maps] == [{"T_spindle_C": pytest.approx(t2)},
+                                                 {"T_spindle_C": pytest.approx(t1)}]
+    assert len(pushed) == 2
+    assert isinstance(grid1, GridMap) and isinstance(grid2, GridMap)
+    _check_shift(grid1, grid2, term, t2 - t1)
+    _check_still_compensated(grid1, grid2, t1, t2)
+
+
+def _check_shift(grid1: GridMap, grid2: GridMap, term: ThermalTerm, dt_K: float) -> None:
+    """The two maps differ by the drift term alone: z by -k·ΔT, x and y not at all (each
+    within one Fanuc increment, the rounding of either map)."""
+    assert grid1.grid == grid2.grid and grid1.outputs == grid2.outputs
+    rng = np.random.default_rng(3)
+    lo = grid1.start
+    hi = grid1.start + grid1.step * (grid1.count - 1)
+    q = rng.uniform(lo, hi, size=(500, lo.size))
+    delta = (grid2.lookup(q) - grid1.lookup(q)) * 1e3  # µm
+    expected_z = -term.coefficient * dt_K  # the correction opposes the tool's growth
+    z = grid1.outputs.index("Z")
+    print(f"\nthermal: k = {term.coefficient:.3f} µm/K, ΔT = {dt_K:.1f} K: map z moved "
+          f"{delta[:, z].mean():+.2f} µm (expected {expected_z:+.2f}), spread "
+          f"{np.ptp(delta[:, z]):.2f} µm")
+    increment_um = 1.0  # Fanuc IS-B
+    assert abs(expected_z) > 5 * increment_um  # a shift the test can see
+    np.testing.assert_allclose(delta[:, z], expected_z, rtol=0, atol=increment_um)
+    others = [k for k in range(len(grid1.outputs)) if k != z]
+    np.testing.assert_allclose(delta[:, others], 0.0, rtol=0, atol=increment_um)
+
+
+def _check_still_compensated(grid1: GridMap, grid2: GridMap, t1: float, t2: float) -> None:
+    """On the true machine: warmed from t1 to t2, the tool tip drifts along z; with the
+    map of t2 the compensated tool tip stays where the map of t1 held it at t1."""
+    from machine_sim.campaign import map_compensation
+
+    sim, _, _ = campaign(THERMAL.name)
+    m = sim.machine
+    rng = np.random.default_rng(4)
+    q = np.column_stack([rng.uniform(*a.travel, 300) for a in m.axes])
+    still = np.zeros(q.shape, dtype=np.int8)
+    start = {"spindle": 20.0}  # the drift's reference (THERMAL's effect)
+
+    def z_bias(grid: GridMap, t: float) -> float:
+        shift = map_compensation(m, grid, increment_mm=0.001)(q, still)
+        e = sim.true_error(q, temperatures={"spindle": t}, start_temperatures=start,
+                           compensation=shift).position_um
+        return float(e[:, 2].mean())
+
+    held = z_bias(grid1, t1)
+    uncorrected = z_bias(grid1, t2) - held
+    corrected = z_bias(grid2, t2) - held
+    print(f"thermal: z drift from {t1:.1f} to {t2:.1f} °C: {uncorrected:+.2f} µm with the old "
+          f"map, {corrected:+.2f} µm with the new one")
+    assert abs(uncorrected) > 10.0
+    assert abs(corrected) < 0.1 * abs(uncorrected)
