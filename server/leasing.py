@@ -164,9 +164,13 @@ class LeaseKeeper:
         if not asked:
             return
         try:
-            kept = await self.db.run(lease_repo.renew, list(asked), self.node, self.ttl_s)
-        except SQLAlchemyError as exc:
-            log.error("node %s: lease renewal failed: %s", self.node, exc)
+            # a database that hangs must not keep sessions past their lease: stop waiting
+            # after a renewal period (the statement may still finish on its thread)
+            async with asyncio.timeout(self.renew_s):
+                kept = await self.db.run(lease_repo.renew, list(asked), self.node,
+                                         self.ttl_s)
+        except (SQLAlchemyError, TimeoutError) as exc:
+            log.error("node %s: lease renewal failed: %r", self.node, exc)
             now = loop.time()
             for mid, holding in asked.items():
                 if self._held.get(mid) is holding and now >= holding.valid_until:
