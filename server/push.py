@@ -49,7 +49,7 @@ from server.events import EventKind
 from server.feed import Feed, Notice
 from server.link.session import LinkClosed, MachineSession
 from server.temperatures import TemperatureBoard
-from volumetric.errormap import ErrorMap, build_map
+from volumetric.errormap import ErrorMap, build_map_within
 from volumetric.machine import parse_machine
 from volumetric.model import MachineModel
 
@@ -89,8 +89,9 @@ def build_for(description: Mapping[str, Any], controller: str, model_body: Mappi
         model = MachineModel.from_json(model_body)
     except (TypeError, KeyError) as exc:
         raise ValueError(f"stored model cannot be read: {exc}") from None
-    return build_map(machine, model, dict(temperatures), tolerance_um=tolerance_um,
-                     controller="fanuc" if controller == "fanuc" else "siemens")
+    # the tightest tolerance that fits the map memory (five-axis maps can need a coarser one)
+    return build_map_within(machine, model, dict(temperatures), tolerance_um=tolerance_um,
+                            controller="fanuc" if controller == "fanuc" else "siemens")
 
 
 # -- database steps (each runs in one transaction through Database.run)
@@ -125,6 +126,20 @@ def _store_map(session: Session, machine_id: int, built: ErrorMap, model_version
 def _payload(session: Session, machine_id: int, version: int) -> bytes | None:
     row = map_repo.get_map_version(session, machine_id, version)
     return None if row is None else row.payload
+
+
+def _detail(version: int, size: int, why: str) -> str:
+    return f"map version {version} ({size} bytes): {why}"
+
+
+def _store_and_send(session: Session, machine_id: int, name: str, built: ErrorMap,
+                    model_version: int, temperatures: dict[str, float],
+                    why: str) -> tuple[MapVersionRow, int]:
+    """Store a new map and note its delivery in one transaction (one commit saved on the
+    way from a temperature change to the machine)."""
+    row = _store_map(session, machine_id, built, model_version, temperatures)
+    detail = _detail(row.version, row.size_bytes, why)
+    return row, _sent(session, machine_id, name, row.version, detail)
 
 
 def _sent(session: Session, machine_id: int, name: str, version: int, detail: str) -> int:
@@ -200,9 +215,11 @@ class _Target:
     rejected: int | None = None
     failed: tuple[Any, ...] | None = None
     waiting_for: frozenset[str] = frozenset()
+    resend: bool = False
 
-    def poke(self, why: str) -> None:
+    def poke(self, why: str, *, resend: bool = False) -> None:
         self.why.append(why)
+        self.resend = self.resend or resend
         self.wake.set()
 
 
@@ -269,11 +286,12 @@ class PushScheduler:
             pool.shutdown(wait=False, cancel_futures=True)
 
     # -- triggers
-    def request(self, name: str, why: str = "requested") -> bool:
-        """Wake ``name``'s worker now; False when the machine is not connected."""
+    def request(self, name: str, why: str = "requested", *, resend: bool = False) -> bool:
+        """Wake ``name``'s worker now (rebuilding if its inputs changed); ``resend`` sends
+        the current map even if the machine has it. False when it is not connected."""
         target = self._targets.get(name)
         if target is not None:
-            target.poke(why)
+            target.poke(why, resend=resend)
         return target is not None
 
     def _on_commit(self, machine_ids: set[int]) -> None:
@@ -301,7 +319,8 @@ class PushScheduler:
             while True:
                 why = ", ".join(dict.fromkeys(target.why)) or ("period" if periodic else "")
                 target.why.clear()
-                await self._refresh(target, send_anyway=first, periodic=periodic,
+                resend, target.resend = target.resend, False
+                await self._refresh(target, send_anyway=first or resend, periodic=periodic,
                                     why=why or "session start")
                 first = False
                 try:
@@ -332,6 +351,7 @@ class PushScheduler:
         temps = self.temperatures.columns(target.name, sorted(target.sensors))
         rebuild = self._rebuild_reason(machine, model, current, temps)
         payload: bytes | None = None
+        applied_id: int | None = None
         if rebuild:
             missing = target.sensors - temps.keys()
             if missing:
@@ -343,7 +363,7 @@ class PushScheduler:
                 target.waiting_for = frozenset()
                 built = await self._build(target, machine, model, temps, f"{why}: {rebuild}")
                 if built is not None:
-                    current, payload = built, built.payload
+                    (current, applied_id), payload = built, built[0].payload
         if current is None:
             return
         target.built_temps = {k: float(v) for k, v in current.temperatures.items()
@@ -361,7 +381,7 @@ class PushScheduler:
             if payload is None:
                 return
         await self._deliver(target, current.version, payload,
-                            f"{why}: {rebuild}" if fresh else f"{why}: re-send")
+                            f"{why}: {rebuild}" if fresh else f"{why}: re-send", applied_id)
 
     def _rebuild_reason(self, machine: MachineRow, model: ModelRow,
                         current: MapVersionRow | None, temps: Mapping[str, float]) -> str:
@@ -378,7 +398,7 @@ class PushScheduler:
         return ""
 
     async def _build(self, target: _Target, machine: MachineRow, model: ModelRow,
-                     temps: dict[str, float], why: str) -> MapVersionRow | None:
+                     temps: dict[str, float], why: str) -> tuple[MapVersionRow, int] | None:
         signature = (model.version, machine.updated_at, tuple(sorted(temps.items())))
         if signature == target.failed:
             return None  # the same inputs failed already: wait for new ones
@@ -388,7 +408,8 @@ class PushScheduler:
             built = await loop.run_in_executor(
                 self._pool, build_for, machine.description, machine.controller, model.body,
                 temps, self.tolerance_um)
-            row = await self.db.run(_store_map, target.machine_id, built, model.version, temps)
+            row, applied_id = await self.db.run(_store_and_send, target.machine_id, target.name,
+                                                built, model.version, temps, why)
         except (ValueError, ArithmeticError) as exc:
             target.failed = signature
             await self.feed.record(EventKind.ERROR, target.name,
@@ -396,12 +417,16 @@ class PushScheduler:
             return None
         target.failed = None
         log.info("%s: built map version %d (%s)", target.name, row.version, why)
-        return row
+        return row, applied_id
 
-    async def _deliver(self, target: _Target, version: int, payload: bytes, why: str) -> None:
+    async def _deliver(self, target: _Target, version: int, payload: bytes, why: str,
+                       applied_id: int | None = None) -> None:
+        """Send a map and record the answer; ``applied_id``: its delivery row, if the
+        build already wrote it."""
         name = target.name
-        detail = f"map version {version} ({len(payload)} bytes): {why}"
-        applied_id = await self.db.run(_sent, target.machine_id, name, version, detail)
+        detail = _detail(version, len(payload), why)
+        if applied_id is None:
+            applied_id = await self.db.run(_sent, target.machine_id, name, version, detail)
         self.center.metrics.events.labels(kind=EventKind.PUSHED.value).inc()
         self.feed.publish(Notice(EventKind.PUSHED, name, detail, version))
         try:

@@ -189,12 +189,14 @@ class MachineServer:
             task.add_done_callback(self._handlers.discard)
         session = MachineSession(reader, writer)
         try:
-            await self._serve(session)
+            try:
+                await self._serve(session)
+            finally:
+                await session.wait_closed()
         except asyncio.CancelledError:
-            # the server is closing: this is the connection's top task, nobody awaits it
+            # the server is closing: this is the connection's top task and nobody awaits
+            # it (asyncio's stream callback would log the cancellation as an error)
             session.abort(ErrorCode.SHUTDOWN, "the control center is shutting down")
-        finally:
-            await session.wait_closed()
 
     async def _serve(self, session: MachineSession) -> None:
         if self._handshaking >= self.max_handshakes:

@@ -1,0 +1,99 @@
+"""Map push latency at 1,000 machines: from MapBegin sent to MapAck received, p50/p99.
+
+    .venv/bin/python benchmarks/push_latency.py [--machines 1000] [--rounds 2]
+
+Each machine is registered with a model and a stored map (built once with
+``build_map`` and re-encoded per machine name), so no build runs during the measurement.
+The fake fleet (raw protocol clients, benchmarks/center_connections.py) runs in a
+separate process; each fake machine checks every map with ``MapAssembler`` (sizes,
+SHA-256, decode) before acking. Round 1 is the push every machine gets at Welcome, all
+1,000 connecting at once; further rounds re-push to all at once (``PushScheduler.request``
+``resend=True``). Latency is what the center's session
+measures (``Verdict.latency_s``): it includes the machine's checks and the center's event
+loop being busy with the 999 other pushes.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import dataclasses
+import os
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from center_connections import (
+    Fleet,
+    center,
+    description,
+    name_of,
+    percentiles,
+    register,
+)
+
+from protocol import encode_map
+from server.push import Delivery
+from volumetric.errormap import build_map
+from volumetric.machine import parse_machine
+from volumetric.model import MachineModel
+
+MODEL = {"format": "ednc-model/1", "machine": name_of(0),
+         "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, 0.01, 1e-5],
+                                "origin": 0.0, "scale": 1.0},
+                        "EYY": {"type": "polynomial", "coefficients": [0.0, -0.02, 3e-5],
+                                "origin": 0.0, "scale": 1.0}},
+         "locations": {}, "terms": [], "info": {}}
+
+
+async def main(count: int, rounds: int, tolerance_um: float) -> None:
+    built = build_map(parse_machine(description(0)), MachineModel.from_json(MODEL),
+                      tolerance_um=tolerance_um)
+
+    def payload(name: str) -> bytes:
+        return encode_map(dataclasses.replace(built, machine=name, version=1).to_payload())
+
+    size = len(payload(name_of(0)))
+    with tempfile.TemporaryDirectory() as tmp:
+        async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
+            await c.db.run(register, count, MODEL, payload)
+            got: list[Delivery] = []
+            services.push.observers.append(got.append)
+            fleet = Fleet(services.server.port, count)
+            t0 = time.perf_counter()
+            ready = await fleet.ready()
+            while len(got) < ready:
+                await asyncio.sleep(0.01)
+            results = [("round 1 (at Welcome, all connecting)", list(got),
+                        time.perf_counter() - t0)]
+            for r in range(2, rounds + 1):
+                got.clear()
+                t0 = time.perf_counter()
+                for name in list(services.push.connected()):
+                    services.push.request(name, "benchmark", resend=True)
+                while len(got) < ready:
+                    await asyncio.sleep(0.01)
+                results.append((f"round {r} (re-push to all at once)", list(got),
+                                time.perf_counter() - t0))
+            await fleet.finish()
+    print(f"machines {count}, map payload {size} bytes ({len(built.grid)} grid axes), "
+          f"center on one event loop, fleet in another process")
+    for label, deliveries, wall in results:
+        lat = [d.latency_s for d in deliveries if d.latency_s is not None]
+        bad = sum(d.outcome != "applied" for d in deliveries)
+        p50, p99, pmax = percentiles(lat, 50, 99, 100)
+        print(f"{label}: {len(lat)} acks in {wall:.2f} s, MapBegin->MapAck "
+              f"p50 {1000 * p50:.1f} ms, p99 {1000 * p99:.1f} ms, max {1000 * pmax:.1f} ms"
+              f"{f', {bad} not applied' if bad else ''}")
+
+
+if __name__ == "__main__":
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--machines", type=int, default=1000)
+    p.add_argument("--rounds", type=int, default=2)
+    p.add_argument("--tolerance-um", type=float, default=0.5)
+    a = p.parse_args()
+    os.environ.setdefault("EDNC_NODE_ID", "bench")
+    asyncio.run(main(a.machines, a.rounds, a.tolerance_um))
