@@ -26,6 +26,7 @@ from server.center import Center
 from server.feed import Feed
 from server.leasing import LeaseKeeper
 from server.link import LinkTiming, MachineServer
+from server.link.server import MAX_HANDSHAKES
 from server.mqtt import MqttBridge
 from server.plant import LinkPublisher
 from server.push import PushScheduler
@@ -51,7 +52,7 @@ class MachineServices:
 async def machine_services(
     center: Center, *, timing: LinkTiming | None = None, stale_after_s: float = 60.0,
     push_options: dict[str, Any] | None = None, mqtt_options: dict[str, Any] | None = None,
-    publish_period_s: float = 1.0,
+    publish_period_s: float = 1.0, max_handshakes: int = MAX_HANDSHAKES,
 ) -> AsyncIterator[MachineServices]:
     """Run the push scheduler, the machine TCP server and (if configured) the MQTT bridge.
 
@@ -64,6 +65,8 @@ async def machine_services(
         Age after which a temperature counts as stale.
     push_options : dict, optional
         Keyword arguments of :class:`PushScheduler` (``threshold_K``, ``tolerance_um``...).
+    max_handshakes : int
+        Connections allowed between accept and Welcome at once.
     mqtt_options : dict, optional
         Keyword arguments of :class:`MqttBridge` (``backoff``, ``stale_check_s``...).
     publish_period_s : float
@@ -80,7 +83,8 @@ async def machine_services(
             LinkPublisher(center, period_s=publish_period_s))
         server = await stack.enter_async_context(MachineServer(
             center, feed, temperatures, worker=push.serve, host=settings.machine_host,
-            port=settings.machine_port, timing=timing, leases=leases))
+            port=settings.machine_port, timing=timing, leases=leases,
+            max_handshakes=max_handshakes))
         mqtt = None
         if settings.mqtt_host is not None:
             mqtt = await stack.enter_async_context(MqttBridge(

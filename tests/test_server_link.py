@@ -113,7 +113,8 @@ class Rig:
 @asynccontextmanager
 async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 2.0,
               mqtt: tuple[str, int] | None = None, prefix: str = "ednc",
-              mqtt_options: dict[str, Any] | None = None, **push: Any) -> AsyncIterator[Rig]:
+              mqtt_options: dict[str, Any] | None = None, max_handshakes: int = 2048,
+              **push: Any) -> AsyncIterator[Rig]:
     settings = load_settings(
         database_url=f"sqlite:///{tmp_path / 'center.db'}", machine_host="127.0.0.1",
         machine_port=0, heartbeat_s=heartbeat_s, push_period_s=push.pop("period_s", 600.0),
@@ -125,7 +126,7 @@ async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 
                             telemetry_period_ms=50)
         stale_after_s = push.pop("stale_after_s", 60.0)
         async with machine_services(center, timing=timing, push_options=push,
-                                    mqtt_options=mqtt_options,
+                                    mqtt_options=mqtt_options, max_handshakes=max_handshakes,
                                     stale_after_s=stale_after_s) as svc:
             yield Rig(center, svc)
 
@@ -374,3 +375,28 @@ async def test_machine_that_stops_answering_is_dropped(tmp_path: Path) -> None:
         assert isinstance(events[-1], Error) and events[-1].code is ErrorCode.TIMEOUT
         assert "3 heartbeat periods" in events[-1].text
         assert not r.center.registry.get("vmc-01").connected
+
+
+async def test_a_flood_of_connections_is_cut_off_and_machines_still_get_in(
+        tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, handshake_s=5.0,
+                                               max_handshakes=8) as r:
+        await r.register(model=model_body())
+        await r.register("vmc-02", ip="127.0.0.2", model=model_body("vmc-02"))
+        async with simulator(r.port) as sim:
+            await sim.ready.wait()
+            flood = [await RawMachine.connect(r.port) for _ in range(8)]  # silent, holding
+            await until(lambda: r.services.server.handshaking == 8)
+            extra = [await RawMachine.connect(r.port) for _ in range(20)]
+            for peer in extra:  # beyond the limit: closed at once, nothing sent
+                assert await peer.closed() == b""
+            assert r.center.metrics.refusals.labels(reason="busy")._value.get() == 20
+            await served(r, "vmc-01")  # the established session never noticed
+            for peer in flood:
+                peer.close()
+            await until(lambda: r.services.server.handshaking == 0)
+            reader, writer = await asyncio.open_connection("127.0.0.1", r.port,
+                                                           local_addr=("127.0.0.2", 0))
+            late = RawMachine(reader, writer)
+            assert isinstance(await late.login("vmc-02", ip="127.0.0.2"), Welcome)
+            late.close()

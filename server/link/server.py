@@ -155,6 +155,11 @@ class MachineServer:
         self._server: asyncio.Server | None = None
 
     @property
+    def handshaking(self) -> int:
+        """Connections now between accept and Welcome."""
+        return self._handshaking
+
+    @property
     def port(self) -> int:
         """The port actually listened on."""
         if self._server is None or not self._server.sockets:
