@@ -26,11 +26,12 @@ from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
 from protocol import decode_map, encode_map
 from volumetric.compensate import Weights, compensate
-from volumetric.diagnose import diagnose
-from volumetric.errormap import ErrorMap, build_map
+from volumetric.diagnose import Diagnosis, diagnose
+from volumetric.errormap import ErrorMap, build_map, build_map_within
 from volumetric.fit import fit
 from volumetric.iso230_6 import diagonal_ranges
 from volumetric.machine import Machine, parse_machine
+from volumetric.measurement import Measurements
 from volumetric.model import MachineModel
 
 DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
@@ -65,6 +66,8 @@ class Prepared:
     model: MachineModel
     emap: ErrorMap
     result: MachineResult
+    readings: Measurements
+    diagnosis: Diagnosis
 
 
 def prepare(fm: FleetMachine, console: Console) -> Prepared:
@@ -94,11 +97,12 @@ def prepare(fm: FleetMachine, console: Console) -> Prepared:
     temps = None
     if model.sensors:
         temps = {s: float(readings.temperatures[s[2:-2]].mean()) for s in model.sensors}
-    emap = build_map(m, model, temps, tolerance_um=0.5)  # the controller of the machine
+    emap = build_map_within(m, model, temps, tolerance_um=0.5)  # the machine's controller
     assert emap.report is not None
     res.map_nodes, res.map_worst_um = emap.report.nodes, emap.report.worst_error_um
     console.print(f"  error map: {emap.report.nodes} nodes, {emap.report.bytes} bytes, worst "
-                  f"{emap.report.worst_error_um:.2f} µm as sent ({m.controller})")
+                  f"{emap.report.worst_error_um:.2f} µm as sent ({m.controller}, tolerance "
+                  f"{emap.report.tolerance_um:g} µm)")
     if all(a in m.axis_names for a in "XYZ"):
         grid = GridMap.from_payload(decode_map(encode_map(emap.to_payload())))
         inc = emap.increment
@@ -113,7 +117,7 @@ def prepare(fm: FleetMachine, console: Console) -> Prepared:
     else:
         _shared_axes(m, model, res, console)
     console.print(f"  ({time.perf_counter() - t0:.1f} s)")
-    return Prepared(fm, m, sim, model, emap, res)
+    return Prepared(fm, m, sim, model, emap, res, readings, d)
 
 
 def _shared_axes(m: Machine, model: MachineModel, res: MachineResult, console: Console) -> None:
@@ -176,12 +180,12 @@ def summary_table(results: list[MachineResult]) -> Table:
     return t
 
 
-def run_numeric_demo(console: Console) -> list[Prepared]:
+def run_numeric_demo(console: Console, *, warm: bool = True) -> list[Prepared]:
     prepared = []
     for fm in demo_fleet():
         prepared.append(prepare(fm, console))
     hot = next((p for p in prepared if p.model.sensors), None)
-    if hot is not None:
+    if hot is not None and warm:
         warm_up(hot, console)
     console.print(summary_table([p.result for p in prepared]))
     return prepared

@@ -78,12 +78,18 @@ class MachineRuntime:
     thermal : ThermalConfig, optional
     fanuc, siemens : config, optional
         Controller settings for the machine's controller family.
+    thermal_speedup : float
+        Machine-temperature seconds per second of run time: a demo shows an hour of
+        warm-up in a minute with 60; motion and controller keep real time.
     """
 
     def __init__(self, machine: Machine, *, seed: int = 0, thermal: ThermalConfig | None = None,
-                 fanuc: FanucConfig | None = None, siemens: SiemensConfig | None = None
-                 ) -> None:
+                 fanuc: FanucConfig | None = None, siemens: SiemensConfig | None = None,
+                 thermal_speedup: float = 1.0) -> None:
+        if not thermal_speedup > 0:
+            raise ValueError(f"thermal_speedup must be > 0, got {thermal_speedup!r}")
         self.machine = machine
+        self.thermal_speedup = float(thermal_speedup)
         rng = np.random.default_rng(seed)
         self.motion = Motion.random(machine, rng)
         self.thermal = duty_cycle_thermal(thermal or default_thermal(machine), seed=seed)
@@ -110,5 +116,5 @@ class MachineRuntime:
     def temperatures(self, now_s: float) -> dict[str, float]:
         """Sensor readings at ``now_s`` (wrapping around the precomputed span), °C."""
         span = float(self.thermal.time_s[-1])
-        t = np.array([now_s % span])
+        t = np.array([(now_s * self.thermal_speedup) % span])
         return {k: float(v[0]) for k, v in self.thermal.read_at(t, self._noise).items()}

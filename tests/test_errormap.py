@@ -354,3 +354,19 @@ def test_commands_refuse_a_model_with_nan_naming_the_entry(files: tuple[Path, Pa
     r = ednc("map", "--machine", mach, "--model", model, "--temperature", "T_x_C=20")
     assert r.returncode == 2
     assert "components.EXX" in r.stderr and "finite" in r.stderr
+
+
+def test_build_map_within_relaxes_the_tolerance_until_the_map_fits() -> None:
+    from volumetric.errormap import MapTooLargeError, build_map_within
+
+    mach, model = vmc(), vmc_model()
+    tight = build_map(mach, model, tolerance_um=0.5, controller="siemens")
+    assert tight.report is not None
+    limit = tight.report.bytes - 1  # the 0.5 µm map no longer fits
+    with pytest.raises(MapTooLargeError):
+        build_map(mach, model, tolerance_um=0.5, controller="siemens", max_bytes=limit)
+    relaxed = build_map_within(mach, model, tolerance_um=0.5, controller="siemens",
+                               max_bytes=limit)
+    assert relaxed.report is not None
+    assert relaxed.report.tolerance_um == 1.0 and relaxed.report.bytes <= limit
+    assert relaxed.report.worst_interpolation_um <= 1.0

@@ -72,6 +72,10 @@ class MapBuildError(ValueError):
     """A map that cannot be built as asked (bad parameters, tolerance out of reach)."""
 
 
+class MapTooLargeError(MapBuildError):
+    """The tolerance asked for needs more nodes than the controller's map memory holds."""
+
+
 @dataclass(frozen=True)
 class GridDim:
     """One grid dimension: ``count`` nodes at ``start + i·step`` of machine axis ``name``.
@@ -570,7 +574,7 @@ def build_map(
             counts[i] = _interval_count(counts[i])
             nodes = math.prod(counts)
             if payload_bytes(len(names), n_out, nodes) > max_bytes:
-                raise MapBuildError(
+                raise MapTooLargeError(
                     f"machine {machine.name!r}: {tolerance_um} µm needs more than {nodes} "
                     f"nodes ({' x '.join(map(str, counts))}), over the {max_bytes}-byte map "
                     "limit; ask for a larger tolerance"
@@ -631,6 +635,36 @@ def build_map(
         reversal=reversal, temperatures=dict(temperatures or {}), valid_s=valid_s,
         report=report,
     )
+
+
+def build_map_within(
+    machine: Machine,
+    model: MachineModel,
+    temperatures: Mapping[str, float] | None = None,
+    *,
+    tolerance_um: float = 0.5,
+    max_tolerance_um: float = 4.0,
+    **options: Any,
+) -> ErrorMap:
+    """:func:`build_map` at the tightest tolerance that fits the map memory.
+
+    Starts at ``tolerance_um`` and doubles it while the map would be too large (a
+    five-axis map over five dimensions can be), up to ``max_tolerance_um``; the report of
+    the returned map states the tolerance it met.
+
+    Raises
+    ------
+    MapTooLargeError
+        Even ``max_tolerance_um`` does not fit.
+    """
+    tol = tolerance_um
+    while True:
+        try:
+            return build_map(machine, model, temperatures, tolerance_um=tol, **options)
+        except MapTooLargeError:
+            if tol * 2 > max_tolerance_um:
+                raise
+            tol *= 2
 
 
 def _shrink(tolerance_um: float, worst_um: float) -> float:
@@ -720,6 +754,8 @@ __all__ = [
     "GridDim",
     "MapBuildError",
     "MapReport",
+    "MapTooLargeError",
     "build_map",
+    "build_map_within",
     "payload_bytes",
 ]

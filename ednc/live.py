@@ -1,0 +1,239 @@
+"""The demo's live part: the control center and the fleet over real TCP (and MQTT).
+
+The center runs in this process under uvicorn (REST API, dashboard, machine TCP server,
+push scheduler, MQTT bridge when a broker answers on 127.0.0.1:1883), with an embedded
+SQLite database. Each prepared machine is registered through the REST API with its own
+loopback address and secret, its measurements, diagnosis and model are uploaded, and a
+simulated CNC connects, authenticates and takes its map. The ISO 230-6 diagonals are then
+measured with the map the machine actually received and applies, and the machine with a
+thermal model warms up (an hour of machine time per minute) while the center rebuilds its
+map from the temperatures it publishes.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import io
+import secrets
+import socket
+import tempfile
+from collections.abc import AsyncIterator
+from pathlib import Path
+
+import httpx
+import numpy as np
+import uvicorn
+from rich.console import Console
+from rich.table import Table
+
+from ednc.demo import DIAGONALS, Prepared
+from machine_sim.campaign import map_compensation, run_campaign
+from machine_sim.link import MqttTarget, SimulatedCNC
+from machine_sim.lookup import GridMap
+from machine_sim.runtime import MachineRuntime
+from machine_sim.testprograms import diagonal_test
+from server.app import create_app
+from server.services import machine_services
+from server.settings import Settings
+from volumetric.iso230_6 import diagonal_ranges
+from volumetric.machine import parse_machine
+from volumetric.measurement import Measurements, write_measurements
+from volumetric.model import ThermalTerm
+
+THERMAL_SPEEDUP = 60.0
+
+
+def _reachable(host: str, port: int) -> bool:
+    try:
+        with socket.create_connection((host, port), timeout=0.5):
+            return True
+    except OSError:
+        return False
+
+
+def _free_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        port: int = s.getsockname()[1]
+        return port
+
+
+def _csv(m: Measurements) -> str:
+    buf = io.StringIO()
+    write_measurements(buf, m)
+    return buf.getvalue()
+
+
+@contextlib.asynccontextmanager
+async def running_center(settings: Settings) -> AsyncIterator[None]:
+    """The center under uvicorn in this event loop, until the block ends."""
+    app = create_app(settings, services=[machine_services])
+    server = uvicorn.Server(uvicorn.Config(app, host=settings.http_host,
+                                           port=settings.http_port, log_level="warning"))
+    task = asyncio.create_task(server.serve(), name="uvicorn")
+    try:
+        async with asyncio.timeout(30):
+            while not server.started:
+                if task.done():
+                    task.result()
+                await asyncio.sleep(0.05)
+        yield
+    finally:
+        server.should_exit = True
+        await task
+
+
+async def _register(client: httpx.AsyncClient, p: Prepared, ip: str, secret: str) -> None:
+    name = p.machine.name
+    description = {**p.fleet.description, "ip": ip}
+    r = await client.post("/api/machines", json={**description, "secret": secret})
+    r.raise_for_status()
+    r = await client.post(f"/api/machines/{name}/measurements", params={"set_name": "campaign"},
+                          content=_csv(p.readings), headers={"Content-Type": "text/csv"})
+    r.raise_for_status()
+    d = p.diagnosis.to_json()
+    r = await client.post(f"/api/machines/{name}/diagnoses",
+                          json={k: d[k] for k in ("effect", "axis", "sensor", "estimate",
+                                                  "rms_before_um", "rms_after_um",
+                                                  "candidates")})
+    r.raise_for_status()
+    # the model: the center builds this machine's map from it and pushes it
+    r = await client.post(f"/api/machines/{name}/models",
+                          json={"source": "diagnose", "body": p.model.to_json()})
+    r.raise_for_status()
+
+
+async def _verify(client: httpx.AsyncClient, p: Prepared, grid: GridMap) -> tuple[float, float]:
+    """Diagonals before and with the map the machine received; stored as a report."""
+    m, sim = p.machine, p.sim
+    programs = [diagonal_test(m, g, points=20, runs=2) for g in DIAGONALS]
+    before = run_campaign(sim, programs).measurements
+    inc = 0.001 if m.controller == "fanuc" else None
+    after = run_campaign(sim, programs,
+                         compensation=map_compensation(m, grid, increment_mm=inc)).measurements
+    for label, data in (("diagonals-before", before), ("diagonals-after", after)):
+        r = await client.post(f"/api/machines/{m.name}/measurements",
+                              params={"set_name": label}, content=_csv(data),
+                              headers={"Content-Type": "text/csv"})
+        r.raise_for_status()
+    r = await client.post(f"/api/machines/{m.name}/verifications",
+                          json={"before": "diagonals-before", "after": "diagonals-after"})
+    r.raise_for_status()
+    pre, post = diagonal_ranges(before), diagonal_ranges(after)
+    return max(pre.values()), max(post.values())
+
+
+async def run_live(console: Console, prepared: list[Prepared], *, http_port: int,
+                   exit_after: bool, workdir: Path | None = None) -> None:
+    mqtt_up = _reachable("127.0.0.1", 1883)
+    api_key = secrets.token_hex(16)
+    tmp = tempfile.TemporaryDirectory(prefix="ednc-demo-") if workdir is None else None
+    root = Path(tmp.name) if tmp is not None else workdir
+    assert root is not None
+    machine_port = _free_port()
+    prefix = f"ednc-demo-{secrets.token_hex(3)}"
+    settings = Settings(database_url=f"sqlite:///{root / 'ednc.db'}", api_key=api_key,
+                        http_host="127.0.0.1", http_port=http_port,
+                        machine_host="127.0.0.1", machine_port=machine_port,
+                        mqtt_host="127.0.0.1" if mqtt_up else None, mqtt_topic_prefix=prefix,
+                        push_period_s=30.0, heartbeat_s=5.0)
+    base = f"http://127.0.0.1:{http_port}"
+    console.rule("the control center")
+    console.print(f"center: REST and dashboard on {base}, machines on 127.0.0.1:"
+                  f"{machine_port}, database {root / 'ednc.db'}, MQTT "
+                  + (f"via the broker on 127.0.0.1:1883 (topics {prefix}/...)" if mqtt_up
+                     else "off (no broker on 127.0.0.1:1883; Siemens-style machines send "
+                          "temperatures over their link)"))
+    async with running_center(settings), httpx.AsyncClient(
+            base_url=base, headers={"X-API-Key": api_key}, timeout=60) as client:
+        cncs: list[SimulatedCNC] = []
+        for i, p in enumerate(prepared):
+            ip, secret = f"127.0.2.{i + 1}", f"{p.machine.name}-{secrets.token_hex(12)}"
+            await _register(client, p, ip, secret)
+            m = parse_machine({**p.fleet.description, "ip": ip})
+            runtime = MachineRuntime(m, seed=p.fleet.seed, thermal_speedup=THERMAL_SPEEDUP)
+            mqtt = MqttTarget("127.0.0.1", 1883, prefix) if mqtt_up else None
+            cncs.append(SimulatedCNC(m, ("127.0.0.1", machine_port), secret.encode(),
+                                     runtime=runtime, ip=ip, mqtt=mqtt, seed=p.fleet.seed,
+                                     cycle_s=0.02))
+        console.print(f"registered {len(cncs)} machines through the REST API; connecting")
+        async with contextlib.AsyncExitStack() as stack:
+            for c in cncs:
+                await stack.enter_async_context(c)
+            grids = await _wait_for_maps(console, cncs)
+            table = Table(title="ISO 230-6 with the map each machine received over TCP")
+            for col in ("machine", "controller", "map version", "worst range before µm",
+                        "after µm", "better"):
+                table.add_column(col)
+            for p, c in zip(prepared, cncs, strict=True):
+                grid = grids[c.machine.name]
+                if all(a in p.machine.axis_names for a in "XYZ"):
+                    pre, post = await _verify(client, p, grid)
+                    table.add_row(p.machine.name, p.machine.controller, str(grid.version),
+                                  f"{pre:.1f}", f"{post:.2f}", f"{100 * (1 - post / pre):.0f} %")
+                else:
+                    table.add_row(p.machine.name, p.machine.controller, str(grid.version),
+                                  "two spindles", "shared axes", "see above")
+            console.print(table)
+            hot = next(((p, c) for p, c in zip(prepared, cncs, strict=True)
+                        if p.model.sensors), None)
+            if hot is not None:
+                await _follow_heat(console, hot[0], hot[1], warm_s=20.0 if exit_after else 60.0)
+            console.rule()
+            console.print(f"dashboard: [bold]{base}/[/]   REST API: {base}/docs")
+            if exit_after:
+                return
+            console.print("running until Ctrl-C")
+            await asyncio.Event().wait()
+    if tmp is not None:
+        tmp.cleanup()
+
+
+async def _wait_for_maps(console: Console, cncs: list[SimulatedCNC]) -> dict[str, GridMap]:
+    grids: dict[str, GridMap] = {}
+    async with asyncio.timeout(120):
+        while len(grids) < len(cncs):
+            for c in cncs:
+                active = c.runtime.controller.store.active
+                if active is not None and c.machine.name not in grids:
+                    grids[c.machine.name] = active
+                    console.print(f"  {c.machine.name} ({c.ip}): map version {active.version} "
+                                  f"received, checked and applied by its "
+                                  f"{'PMC ladder' if c.machine.controller == 'fanuc' else 'NC'}")
+            await asyncio.sleep(0.1)
+    return grids
+
+
+async def _follow_heat(console: Console, p: Prepared, cnc: SimulatedCNC, warm_s: float) -> None:
+    """The thermal map follows the machine's temperature (module docstring)."""
+    term = next(t for t in p.model.terms if isinstance(t, ThermalTerm))
+    sensor, coefficient = term.sensor, term.coefficient
+    key = sensor[2:-2]  # T_spindle_C -> spindle
+    m = p.machine
+    zi = m.axis_names.index("Z")
+    ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
+    console.rule(f"{m.name}: thermal compensation, live")
+    console.print(f"the diagnosis found {term.kind} along {term.axis} with {sensor} "
+                  f"({coefficient:+.2f} µm/K); the machine warms up "
+                  f"({THERMAL_SPEEDUP:.0f}x machine time) and publishes its temperatures; "
+                  "the center rebuilds and pushes its map:")
+    start_t: float | None = None
+    start_z: float | None = None
+    seen = -1
+    loop = asyncio.get_running_loop()
+    t_end = loop.time() + warm_s
+    while loop.time() < t_end:
+        await asyncio.sleep(2.0)
+        grid = cnc.runtime.controller.store.active
+        if grid is None:
+            continue
+        temp = cnc.runtime.temperatures(cnc.now())[key]
+        z = float(grid.lookup(ref[:, [m.axis_names.index(g) for g in grid.grid]])[0, zi] * 1e3)
+        if start_t is None or start_z is None:
+            start_t, start_z = temp, z
+        drift = coefficient * (temp - start_t)
+        fresh = "new" if grid.version != seen else "   "
+        seen = grid.version
+        console.print(f"  {temp:6.2f} °C  drift {drift:+7.2f} µm   map v{grid.version:<3d}{fresh} "
+                      f"z correction {z - start_z:+7.2f} µm   left {drift + z - start_z:+6.2f} µm")
