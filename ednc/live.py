@@ -70,7 +70,8 @@ async def running_center(settings: Settings) -> AsyncIterator[None]:
     """The center under uvicorn in this event loop, until the block ends."""
     app = create_app(settings, services=[machine_services])
     server = uvicorn.Server(uvicorn.Config(app, host=settings.http_host,
-                                           port=settings.http_port, log_level="warning"))
+                                           port=settings.http_port, log_level="warning",
+                                           timeout_graceful_shutdown=3))
     task = asyncio.create_task(server.serve(), name="uvicorn")
     try:
         async with asyncio.timeout(30):

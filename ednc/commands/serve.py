@@ -53,4 +53,6 @@ def register(app: typer.Typer) -> None:
         finally:
             db.engine.dispose()
         app = create_app(settings, services=[machine_services])
-        uvicorn.run(app, host=settings.http_host, port=settings.http_port, log_level="info")
+        # a dashboard stream ends itself within 10 s; do not let it hold a shutdown longer
+        uvicorn.run(app, host=settings.http_host, port=settings.http_port, log_level="info",
+                    timeout_graceful_shutdown=5)
