@@ -112,8 +112,15 @@ class LeaseKeeper:
         """
         loop = asyncio.get_running_loop()
         started = loop.time()
+        taking = asyncio.ensure_future(
+            self.db.run(lease_repo.acquire, machine_id, self.node, self.ttl_s))
         try:
-            lease = await self.db.run(lease_repo.acquire, machine_id, self.node, self.ttl_s)
+            lease = await asyncio.shield(taking)
+        except asyncio.CancelledError:
+            # the handshake timed out (or the server closes) while the statement ran on
+            # its thread: give back what it may still take, rather than leave it to expire
+            taking.add_done_callback(lambda done: self._abandoned(done, machine_id, name))
+            raise
         except SQLAlchemyError as exc:
             log.error("node %s: lease of %s: %s", self.node, name, exc)
             return f"machine {name!r}: its lease cannot be taken now (database error)"
@@ -122,6 +129,13 @@ class LeaseKeeper:
         self._held[machine_id] = _Holding(name, token, on_lost, started + self.ttl_s)
         return None
 
+    def _abandoned(self, done: asyncio.Future[lease_repo.Lease], machine_id: int,
+                   name: str) -> None:
+        if done.cancelled() or done.exception() is not None:
+            return
+        if done.result().owner == self.node and machine_id not in self._held:
+            self._spawn_release(machine_id, name)
+
     def release(self, machine_id: int, token: object) -> None:
         """The session ``token`` ended: give its lease back (in the background), unless a
         newer session of the machine holds it now."""
@@ -129,8 +143,11 @@ class LeaseKeeper:
         if holding is None or holding.token is not token:
             return
         del self._held[machine_id]
-        task = asyncio.create_task(self._release(machine_id, holding.name),
-                                   name=f"leases:release:{holding.name}")
+        self._spawn_release(machine_id, holding.name)
+
+    def _spawn_release(self, machine_id: int, name: str) -> None:
+        task = asyncio.create_task(self._release(machine_id, name),
+                                   name=f"leases:release:{name}")
         self._releases.add(task)
         task.add_done_callback(self._releases.discard)
 

@@ -10,6 +10,8 @@ import signal
 import socket
 import subprocess
 import sys
+import threading
+import time
 import uuid
 from collections.abc import AsyncIterator, Iterator
 from concurrent.futures import ThreadPoolExecutor
@@ -26,12 +28,15 @@ from machine_sim.fanuc import FanucConfig
 from machine_sim.fleet import FleetSpecError, parse_centers
 from machine_sim.link import Backoff, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
+from server.center import Center
 from server.db import Database, leases, live_links, machines, make_engine
 from server.db import error_models as model_repo
 from server.db import events as event_repo
 from server.db.tables import LeaseRow
 from server.events import EventKind
+from server.leasing import LeaseKeeper
 from server.plant import PlantView
+from server.settings import load_settings
 from server.state import Registry
 from tests.conftest import reachable, require
 from tests.test_server_db import PG_ADMIN, database_url, postgres_url  # noqa: F401
@@ -441,3 +446,37 @@ async def test_two_centers_share_the_plant_and_one_takes_over_when_the_other_die
             assert await db.run(leases.list_leases) == []
     finally:
         db.engine.dispose()
+
+
+async def test_a_claim_abandoned_mid_statement_gives_its_lease_back(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A handshake that times out while the lease is being taken leaves no lease behind."""
+    settings = load_settings(database_url=f"sqlite:///{tmp_path / 'c.db'}", node_id="node-a")
+    started, finished = threading.Event(), threading.Event()
+    real_acquire = leases.acquire
+
+    def slow_acquire(*args: Any, **kwargs: Any) -> leases.Lease:
+        started.set()
+        time.sleep(0.3)  # the database is slow: the caller stops waiting meanwhile
+        try:
+            return real_acquire(*args, **kwargs)
+        finally:
+            finished.set()
+
+    monkeypatch.setattr(leases, "acquire", slow_acquire)
+    async with Database.open(settings.database_url) as db, \
+            LeaseKeeper(Center(settings=settings, db=db), ttl_s=60.0) as keeper:
+        mid = machine(db)
+        lost: list[str] = []
+        with pytest.raises(TimeoutError):
+            async with asyncio.timeout(0.05):
+                await keeper.claim(mid, "vmc-01", object(), lost.append)
+        assert started.is_set()
+
+        async def released() -> bool:
+            return await db.run(leases.list_leases) == []
+
+        async with asyncio.timeout(20):
+            await until(finished.is_set)  # the statement took the lease on its thread
+            await until(released)
+        assert keeper.held() == {} and lost == []
