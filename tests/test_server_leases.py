@@ -480,3 +480,10 @@ async def test_a_claim_abandoned_mid_statement_gives_its_lease_back(
             await until(finished.is_set)  # the statement took the lease on its thread
             await until(released)
         assert keeper.held() == {} and lost == []
+
+
+def test_forgetting_a_machine_drops_its_live_link(db: Database) -> None:
+    db.call(live_links.publish, "node-a", [link("vmc-01", True, 0), link("vmc-02", True, 0)])
+    db.call(live_links.forget, "vmc-01")
+    db.call(live_links.forget, "never-there")
+    assert [x.machine for x in db.call(live_links.plant_links, now=at(1))] == ["vmc-02"]

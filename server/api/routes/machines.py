@@ -11,6 +11,7 @@ from pydantic import ValidationError
 from server.api.deps import CenterDep, DatabaseDep, MachineDep, WriteAccess
 from server.api.errors import NOT_FOUND, WRITE
 from server.db import DuplicateError
+from server.db import live_links as live_repo
 from server.db import machines as machine_repo
 from server.db.tables import MachineRow
 from server.schemas.machine import MachineCreate, MachineDescription, MachinePublic, MachineUpdate
@@ -83,6 +84,7 @@ async def update_machine(
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no machine named {machine.name!r}")
     if row.name != machine.name:
         center.registry.forget(machine.name)
+        await center.db.run(live_repo.forget, machine.name)
     return machine_public(row)
 
 
@@ -92,4 +94,5 @@ async def delete_machine(center: CenterDep, machine: MachineDep) -> Response:
     """Remove a machine with its models, measurements, maps and reports (events stay)."""
     await center.db.run(machine_repo.delete_machine, machine.name)
     center.registry.forget(machine.name)
+    await center.db.run(live_repo.forget, machine.name)  # its plant-wide live link too
     return Response(status_code=status.HTTP_204_NO_CONTENT)
