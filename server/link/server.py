@@ -72,8 +72,13 @@ log = logging.getLogger(__name__)
 HANDSHAKE_S: Final = 10.0
 TELEMETRY_PERIOD_MS: Final = 1000
 DEAD_AFTER_PERIODS: Final = 3
-MAX_HANDSHAKES: Final = 2048
-"""Connections allowed between accept and Welcome at once; each costs a socket and a task."""
+MAX_HANDSHAKES: Final = 256
+"""Connections allowed between accept and Welcome at once. Each handshake waits for a few
+database round trips (machine, lease, event) that the database serialises: measured ~23 ms
+per handshake on SQLite (benchmarks/center_connections.py), so 256 queued ones finish in
+~6 s, inside the 10 s handshake deadline. A larger bound lets a reconnect storm (5000
+machines after a center restart) queue past the deadline, time out and retry: congestion
+collapse. Beyond the bound a connection is closed at once and the machine backs off."""
 
 ENCODING_OF: Final = {"fanuc": MapEncoding.INT32_INCREMENTS, "siemens": MapEncoding.FLOAT32_MM}
 
