@@ -193,7 +193,8 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
 
 async def _wait_for_maps(console: Console, cncs: list[SimulatedCNC]) -> dict[str, GridMap]:
     grids: dict[str, GridMap] = {}
-    async with asyncio.timeout(120):
+    # a five-axis map over five dimensions takes the center tens of seconds to build
+    async with asyncio.timeout(300):
         while len(grids) < len(cncs):
             for c in cncs:
                 active = c.runtime.controller.store.active
