@@ -17,38 +17,14 @@ import typer
 from numpy.typing import NDArray
 
 from ednc.cli import UserError
+from ednc.inputs import read_machine, read_model
 from volumetric.compensate import Compensation, CompensationError, Weights, compensate
 from volumetric.components import GeometricErrors
-from volumetric.errors import ComponentErrorSpecError, MachineSpecError
-from volumetric.machine import Machine, load_machine
+from volumetric.errors import ComponentErrorSpecError
+from volumetric.machine import Machine
 from volumetric.model import MachineModel
 
 F64 = NDArray[np.float64]
-
-
-def read_machine(path: Path) -> Machine:
-    try:
-        return load_machine(path)
-    except MachineSpecError as exc:
-        raise UserError(str(exc)) from None
-
-
-def read_model(path: Path, machine: Machine) -> MachineModel:
-    """Read what ``ednc fit`` wrote; every problem names the file and the entry."""
-    try:
-        data = json.loads(path.read_text())
-    except OSError as exc:
-        raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
-    except json.JSONDecodeError as exc:
-        raise UserError(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
-    except UnicodeDecodeError:
-        raise UserError(f"{path}: not a text file") from None
-    try:
-        model = MachineModel.from_json(data)
-        model.geometry.check(machine)
-    except ComponentErrorSpecError as exc:
-        raise UserError(f"{path}: {exc}") from None
-    return model
 
 
 def parse_temperatures(items: Sequence[str]) -> dict[str, float]:

@@ -9,7 +9,7 @@ from typing import Annotated
 import typer
 
 from ednc.cli import UserError
-from ednc.commands.fit import load_data_or_exit, load_machine_or_exit
+from ednc.inputs import read_data, read_machine
 from volumetric.diagnose import DiagnosisError, diagnose
 
 
@@ -33,8 +33,8 @@ def register(app: typer.Typer) -> None:
         ranked candidates (formats.md section 3), plus not_assessed: what the readings
         cannot support.
         """
-        m = load_machine_or_exit(machine)
-        readings = load_data_or_exit(data)
+        m = read_machine(machine)
+        readings = read_data(data)
         try:
             d = diagnose(m, readings, holdout_after=holdout_after)
         except DiagnosisError as exc:

@@ -10,39 +10,11 @@ from typing import Annotated
 import typer
 
 from ednc.cli import UserError
-from volumetric.errors import ComponentErrorSpecError, MachineSpecError
+from ednc.inputs import read_data, read_machine, read_model
+from volumetric.errors import ComponentErrorSpecError
 from volumetric.fit import FitError, FitResult, fit
-from volumetric.machine import Machine, load_machine
-from volumetric.measurement import MeasurementFormatError, Measurements, read_measurements
 from volumetric.model import MachineModel
 from volumetric.tables import export_tables, import_tables, read_table_files, write_tables
-
-
-def load_machine_or_exit(path: Path) -> Machine:
-    try:
-        return load_machine(path)
-    except MachineSpecError as exc:
-        raise UserError(str(exc)) from exc
-
-
-def load_data_or_exit(path: Path) -> Measurements:
-    try:
-        return read_measurements(path)
-    except (MeasurementFormatError, UnicodeDecodeError) as exc:
-        raise UserError(str(exc)) from exc
-    except OSError as exc:
-        raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc
-
-
-def load_model_or_exit(path: Path) -> MachineModel:
-    try:
-        return MachineModel.from_json(json.loads(path.read_text()))
-    except OSError as exc:
-        raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc
-    except json.JSONDecodeError as exc:
-        raise UserError(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from exc
-    except ComponentErrorSpecError as exc:
-        raise UserError(f"{path}: {exc}") from exc
 
 
 def summary(result: FitResult) -> str:
@@ -70,8 +42,8 @@ def register(app: typer.Typer) -> None:
         Degrees are chosen by BIC; parameters the readings cannot separate are named and
         fixed at zero; uncertainties are in the model's info.
         """
-        m = load_machine_or_exit(machine)
-        readings = load_data_or_exit(data)
+        m = read_machine(machine)
+        readings = read_data(data)
         try:
             result = fit(m, readings)
         except FitError as exc:
@@ -97,8 +69,8 @@ def register(app: typer.Typer) -> None:
         points: Annotated[int, typer.Option(help="Positions per axis.")] = 21,
     ) -> None:
         """Write one CSV per axis (position, EXX, EYX, ...) and locations.csv."""
-        m = load_machine_or_exit(machine)
-        mm = load_model_or_exit(model)
+        m = read_machine(machine)
+        mm = read_model(model)
         try:
             for p in write_tables(export_tables(m, mm.geometry, points=points), out):
                 typer.echo(str(p))
@@ -112,7 +84,7 @@ def register(app: typer.Typer) -> None:
         out: Annotated[Path, typer.Option("--out", help="Model JSON to write.")],
     ) -> None:
         """Build a model from component-error tables (linear interpolation between rows)."""
-        m = load_machine_or_exit(machine)
+        m = read_machine(machine)
         try:
             errors = import_tables(m, read_table_files(files))
         except ComponentErrorSpecError as exc:

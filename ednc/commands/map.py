@@ -12,9 +12,8 @@ from ednc.cli import UserError
 from ednc.commands.compensate import (
     parse_temperatures,
     parse_weights,
-    read_machine,
-    read_model,
 )
+from ednc.inputs import read_machine, read_model
 from protocol.mapformat import encode_map
 from volumetric.compensate import CompensationError
 from volumetric.errormap import (
