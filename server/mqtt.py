@@ -185,6 +185,7 @@ class MqttBridge:
                             registry=center.metrics.registry)
 
     async def __aenter__(self) -> MqttBridge:
+        self._stopping = False
         self._unsubscribe.append(self.feed.subscribe(self._on_notice))
         self._tasks = [asyncio.create_task(self._connection_loop(), name="mqtt:connection"),
                        asyncio.create_task(self._stale_loop(), name="mqtt:stale")]
@@ -194,6 +195,10 @@ class MqttBridge:
                         exc: BaseException | None, tb: TracebackType | None) -> None:
         for unsubscribe in self._unsubscribe:
             unsubscribe()
+        # The flag as well as the cancel: aiomqtt can turn the CancelledError into an
+        # MqttError mid-operation, which the reconnect loop would otherwise take for a lost
+        # broker and retry forever, holding the shutdown.
+        self._stopping = True
         for task in self._tasks:
             task.cancel()
         await asyncio.gather(*self._tasks, return_exceptions=True)
@@ -225,6 +230,9 @@ class MqttBridge:
                 self.stats.last_error = str(group.exceptions[0])
             except* (OSError, TimeoutError) as group:
                 self.stats.last_error = repr(group.exceptions[0])
+            current = asyncio.current_task()
+            if self._stopping or (current is not None and current.cancelling()):
+                raise asyncio.CancelledError
             if self.connected.is_set():
                 self.connected.clear()
                 stale = self.temperatures.mark_stale(source="mqtt")
