@@ -230,8 +230,7 @@ class MqttBridge:
                 self.stats.last_error = str(group.exceptions[0])
             except* (OSError, TimeoutError) as group:
                 self.stats.last_error = repr(group.exceptions[0])
-            current = asyncio.current_task()
-            if self._stopping or (current is not None and current.cancelling()):
+            if self._stopping:  # shutting down, whatever aiomqtt made of the cancel
                 raise asyncio.CancelledError
             if self.connected.is_set():
                 self.connected.clear()
