@@ -199,10 +199,17 @@ class MqttBridge:
         # MqttError mid-operation, which the reconnect loop would otherwise take for a lost
         # broker and retry forever, holding the shutdown.
         self._stopping = True
-        for task in self._tasks:
+        tasks, self._tasks = self._tasks, []
+        for task in tasks:
             task.cancel()
-        await asyncio.gather(*self._tasks, return_exceptions=True)
-        self._tasks = []
+        # aiomqtt's exit waits, without a deadline, for the broker to confirm DISCONNECT;
+        # a second cancel ends that wait when the broker does not answer
+        _, pending = await asyncio.wait(tasks, timeout=5.0)
+        for task in pending:
+            task.cancel()
+        if pending:
+            log.warning("MQTT bridge: the broker did not confirm the disconnect")
+            await asyncio.wait(pending, timeout=1.0)
 
     def topic(self, *levels: str) -> str:
         return "/".join((self.prefix, *levels))

@@ -36,6 +36,7 @@ from types import TracebackType
 from typing import Any, Final
 
 from sqlalchemy import event
+from sqlalchemy.exc import SQLAlchemyError
 from sqlalchemy.orm import Session
 
 from protocol import ErrorCode, encode_map
@@ -320,8 +321,13 @@ class PushScheduler:
                 why = ", ".join(dict.fromkeys(target.why)) or ("period" if periodic else "")
                 target.why.clear()
                 resend, target.resend = target.resend, False
-                await self._refresh(target, send_anyway=first or resend, periodic=periodic,
-                                    why=why or "session start")
+                try:
+                    await self._refresh(target, send_anyway=first or resend,
+                                        periodic=periodic, why=why or "session start")
+                except SQLAlchemyError as exc:  # e.g. a busy database: try again later
+                    log.warning("%s: push skipped, database error: %s", target.name,
+                                str(exc).splitlines()[0])
+                    target.resend = target.resend or first or resend
                 first = False
                 try:
                     async with asyncio.timeout(self.period_s):
@@ -458,8 +464,8 @@ class PushScheduler:
         self.center.metrics.pushes.labels(outcome=outcome).inc()
         self.center.metrics.push_latency.observe(verdict.latency_s)
         self.center.metrics.events.labels(kind=kind.value).inc()
-        await self.db.run(_answered, applied_id, name, kind, acked=verdict.applied,
-                          reason=reason, detail=text)
+        await self._record_answer(applied_id, name, kind, acked=verdict.applied,
+                                  reason=reason, detail=text)
         self._tell(Notice(kind, name, text, version),
                    Delivery(name, version, outcome, verdict.latency_s, why))
 
@@ -467,10 +473,21 @@ class PushScheduler:
                       why: str) -> None:
         self.center.metrics.pushes.labels(outcome="failed").inc()
         self.center.metrics.events.labels(kind=EventKind.ERROR.value).inc()
-        await self.db.run(_answered, applied_id, target.name, EventKind.ERROR, acked=False,
-                          reason=failure, detail=failure)
+        await self._record_answer(applied_id, target.name, EventKind.ERROR, acked=False,
+                                  reason=failure, detail=failure)
         self._tell(Notice(EventKind.ERROR, target.name, failure, version),
                    Delivery(target.name, version, "failed", None, why))
+
+    async def _record_answer(self, applied_id: int, name: str, kind: EventKind, *,
+                             acked: bool, reason: str | None, detail: str) -> None:
+        """Store the machine's answer; a machine deleted meanwhile (its delivery rows went
+        with it) is logged, not fatal: the next refresh closes its session."""
+        try:
+            await self.db.run(_answered, applied_id, name, kind, acked=acked, reason=reason,
+                              detail=detail)
+        except SQLAlchemyError as exc:
+            log.warning("%s: answer to delivery %d not stored: %s", name, applied_id,
+                        str(exc).splitlines()[0])
 
     def _tell(self, notice: Notice, delivery: Delivery) -> None:
         self.feed.publish(notice)

@@ -84,9 +84,15 @@ def prefix() -> str:
 
 @asynccontextmanager
 async def publisher(broker: tuple[str, int]) -> AsyncIterator[aiomqtt.Client]:
-    async with aiomqtt.Client(broker[0], broker[1],
-                              identifier=f"test-{uuid.uuid4().hex[:8]}") as client:
+    client = aiomqtt.Client(broker[0], broker[1], identifier=f"test-{uuid.uuid4().hex[:8]}")
+    await client.__aenter__()
+    try:
         yield client
+    finally:
+        # aiomqtt's exit has no deadline of its own (it waits for the broker's answer)
+        with suppress(TimeoutError, aiomqtt.MqttError):
+            async with asyncio.timeout(5.0):
+                await client.__aexit__(None, None, None)
 
 
 async def test_published_temperature_gives_the_machine_a_new_map(
@@ -182,12 +188,15 @@ class TcpProxy:
         self.port = self._server.sockets[0].getsockname()[1]
 
     async def stop(self) -> None:
-        if self._server is not None:
-            self._server.close()
-            await self._server.wait_closed()
-            self._server = None
-        for w in list(self._writers):
-            w.close()
+        server, self._server = self._server, None
+        if server is not None:
+            server.close()
+        for w in list(self._writers):  # reset, not a polite close: the broker is gone
+            w.transport.abort()
+        if server is not None:
+            with suppress(TimeoutError):  # 3.11 may wait for the connections themselves
+                async with asyncio.timeout(2.0):
+                    await server.wait_closed()
 
     async def _pipe(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
         with suppress(OSError, ConnectionError):
@@ -197,8 +206,14 @@ class TcpProxy:
         writer.close()
 
     async def _handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        up_reader, up_writer = await asyncio.open_connection(*self.target)
-        self._writers |= {writer, up_writer}
+        self._writers.add(writer)
+        try:
+            up_reader, up_writer = await asyncio.open_connection(*self.target)
+        except OSError:
+            self._writers.discard(writer)
+            writer.transport.abort()
+            return
+        self._writers.add(up_writer)
         try:
             await asyncio.gather(self._pipe(reader, up_writer), self._pipe(up_reader, writer))
         finally:

@@ -8,6 +8,8 @@ import asyncio
 from pathlib import Path
 
 from protocol import (
+    Error,
+    ErrorCode,
     MapAck,
     MapAssembler,
     MapBegin,
@@ -16,9 +18,11 @@ from protocol import (
     MapEnd,
     MapReject,
     MapRejectReason,
+    Telemetry,
     Welcome,
 )
 from server.db import error_models as model_repo
+from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.events import EventKind
 from server.push import Delivery, thermal_sensors
@@ -202,3 +206,31 @@ async def test_ack_is_recorded_for_a_hand_driven_machine(tmp_path: Path) -> None
         await until(lambda: r.acked_version(mid))
         assert await r.acked_version(mid) == 1
         raw.close()
+
+
+async def test_the_period_resends_a_map_the_machine_no_longer_has(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, period_s=0.2) as r:
+        mid = await r.register(model=model_body())
+        raw, _, _, version = await raw_session(r.port)
+        await raw.send(MapAck(version))
+        await until(lambda: r.acked_version(mid))
+        # the machine says it has nothing applied (its map expired or was released)
+        await raw.send(Telemetry(1763820000000, "idle", 0))
+        while not isinstance(msg := await raw.next(), MapBegin):
+            assert msg is not None, "closed instead of re-sending"
+        assert msg.version == version  # the same map again, not a rebuild
+        assert len(await r.db.run(map_repo.list_map_versions, mid)) == 1
+        raw.close()
+
+
+async def test_a_deleted_machine_is_disconnected(tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        await r.register(model=model_body())
+        raw, _, _, version = await raw_session(r.port)
+        await raw.send(MapAck(version))  # deleted while the answer may still be stored
+        await r.db.run(machine_repo.delete_machine, "vmc-01")
+        assert r.services.push.request("vmc-01", "test")
+        while (msg := await raw.next()) is not None and not isinstance(msg, Error):
+            pass
+        assert isinstance(msg, Error) and msg.code is ErrorCode.SHUTDOWN
+        assert "no longer registered" in msg.text
