@@ -78,7 +78,8 @@ async def machine_services(
     async with AsyncExitStack() as stack:
         push = await stack.enter_async_context(
             PushScheduler(center, feed, temperatures, **(push_options or {})))
-        leases = await stack.enter_async_context(LeaseKeeper(center))
+        leases = (await stack.enter_async_context(LeaseKeeper(center))
+                  if settings.uses_leases else None)
         links = await stack.enter_async_context(
             LinkPublisher(center, period_s=publish_period_s))
         server = await stack.enter_async_context(MachineServer(

@@ -19,6 +19,7 @@ variable                        default                    meaning
 ``EDNC_LEASE_TTL_S``            15                         machine lease life, s (renewed
                                                            every third of it)
 ``EDNC_MACHINES_FILE``          unset                      machines registered at start-up
+``EDNC_LEASES``                 ``auto``                   leases: on PostgreSQL only
 ``EDNC_EVENT_RETENTION_DAYS``   30                         events older are deleted
 ==============================  =========================  ===============================
 """
@@ -29,7 +30,7 @@ import os
 import re
 import socket
 from pathlib import Path
-from typing import Annotated, Any
+from typing import Annotated, Any, Literal
 
 from pydantic import Field, SecretStr, ValidationError, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -113,11 +114,24 @@ class Settings(BaseSettings):
         description="How long a machine's lease outlives its node's last renewal; the "
                     "node renews every third of it (server/leasing.py).")
     event_retention_days: float = Field(default=30.0, gt=0.0, le=36500.0)
+    leases: Literal["auto", "on", "off"] = Field(
+        default="auto",
+        description="Machine leases for several nodes on one database: 'auto' takes them "
+                    "on PostgreSQL only (an SQLite file serves one process, where a lease "
+                    "per handshake and its renewals only cost database time).",
+    )
     machines_file: Path | None = Field(
         default=None,
         description="JSON/YAML file of machines (descriptions and secrets) registered at "
                     "start-up; see server/bootstrap.py.",
     )
+
+    @property
+    def uses_leases(self) -> bool:
+        """Whether this node takes machine leases (``leases`` setting)."""
+        if self.leases == "auto":
+            return self.database_url.startswith("postgresql")
+        return self.leases == "on"
 
     @field_validator("machines_file")
     @classmethod

@@ -101,3 +101,12 @@ def test_empty_optional_values_mean_unset(monkeypatch: pytest.MonkeyPatch) -> No
 def test_a_named_env_file_must_exist(tmp_path: Path) -> None:
     with pytest.raises(SettingsError, match="does not exist"):
         load_settings(tmp_path / "missing.env")
+
+
+def test_leases_are_taken_on_postgresql_only_unless_asked() -> None:
+    from server.settings import Settings
+
+    assert not Settings(database_url="sqlite:///./x.db").uses_leases
+    assert Settings(database_url="postgresql://postgres@127.0.0.1:5432/ednc").uses_leases
+    assert Settings(database_url="sqlite:///./x.db", leases="on").uses_leases
+    assert not Settings(database_url="postgresql://postgres@127.0.0.1/e", leases="off").uses_leases

@@ -119,7 +119,7 @@ async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 
         database_url=f"sqlite:///{tmp_path / 'center.db'}", machine_host="127.0.0.1",
         machine_port=0, heartbeat_s=heartbeat_s, push_period_s=push.pop("period_s", 600.0),
         mqtt_host=mqtt[0] if mqtt else None, mqtt_port=mqtt[1] if mqtt else 1883,
-        mqtt_topic_prefix=prefix)
+        mqtt_topic_prefix=prefix, leases="on")  # as several nodes would, also on SQLite
     async with Database.open(settings.database_url) as db:
         center = Center(settings=settings, db=db)
         timing = LinkTiming(handshake_s=handshake_s, heartbeat_s=heartbeat_s,
