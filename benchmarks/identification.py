@@ -3,7 +3,7 @@
 Run: ``.venv/bin/python benchmarks/identification.py``. Readings: random points in the
 workspace, random sensing directions, 20 % angles, three tool lengths, 0.3 µm/µrad noise,
 from a true geometry of cubic components and squareness errors. Reports the time of
-:func:`volumetric.fit.fit` (design matrix, degree selection, null-space analysis,
+:func:`volumetric.identify.fit.fit` (design matrix, degree selection, null-space analysis,
 re-weighting, uncertainties) and, as the naive peer, a plain ``numpy.linalg.lstsq`` on the
 full design matrix at the maximal degrees (no selection, no identifiability analysis,
 which it cannot do), measured in the same run.
@@ -20,12 +20,12 @@ import time
 
 import numpy as np
 
-from volumetric.components import GeometricErrors, Polynomial, component_names, location_names
-from volumetric.design import build_design
-from volumetric.fit import fit
-from volumetric.kinematics import volumetric_error
-from volumetric.machine import parse_machine
-from volumetric.measurement import Measurements
+from volumetric.identify.design import build_design
+from volumetric.identify.fit import fit
+from volumetric.measure.measurement import Measurements
+from volumetric.model.components import GeometricErrors, Polynomial, component_names, location_names
+from volumetric.model.exact import volumetric_error
+from volumetric.model.machine import parse_machine
 
 
 def main() -> None:

@@ -15,10 +15,10 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.components import GeometricErrors, Polynomial, component_names, location_names
-from volumetric.errormap import ErrorMap, build_map
-from volumetric.machine import Machine, parse_machine
-from volumetric.model import MachineModel
+from volumetric.compensate.errormap import ErrorMap, build_map
+from volumetric.model.components import GeometricErrors, Polynomial, component_names, location_names
+from volumetric.model.machine import Machine, parse_machine
+from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
 

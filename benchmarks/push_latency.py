@@ -36,9 +36,9 @@ from center_connections import (
 
 from protocol import encode_map
 from server.push import Delivery
-from volumetric.errormap import build_map
-from volumetric.machine import parse_machine
-from volumetric.model import MachineModel
+from volumetric.compensate.errormap import build_map
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import MachineModel
 
 MODEL = {"format": "ednc-model/1", "machine": name_of(0),
          "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, 0.01, 1e-5],

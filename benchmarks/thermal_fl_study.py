@@ -21,13 +21,13 @@ from pathlib import Path
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.measurement import read_measurements
-from volumetric.thermal import (
+from volumetric.identify.thermal import (
     DEFAULT_TAUS_S,
     ThermalDriftModel,
     fit_thermal_drift,
     thermal_regressors,
 )
+from volumetric.measure.measurement import read_measurements
 
 F64 = NDArray[np.float64]
 DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "fl_thermal_ch3_measurements.csv"

@@ -18,9 +18,9 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.components import GeometricErrors, Polynomial, component_names, location_names
-from volumetric.kinematics import volumetric_error
-from volumetric.machine import Machine, parse_machine
+from volumetric.model.components import GeometricErrors, Polynomial, component_names, location_names
+from volumetric.model.exact import volumetric_error
+from volumetric.model.machine import Machine, parse_machine
 
 
 def realistic_errors(m: Machine, rng: np.random.Generator) -> GeometricErrors:

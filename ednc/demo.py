@@ -25,14 +25,14 @@ from machine_sim.program import Dwell, Program, SpindleOn
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
 from protocol import decode_map, encode_map
-from volumetric.compensate import Weights, compensate
-from volumetric.diagnose import Diagnosis, diagnose
-from volumetric.errormap import ErrorMap, build_map, build_map_within
-from volumetric.fit import fit
-from volumetric.iso230_6 import diagonal_ranges
-from volumetric.machine import Machine, parse_machine
-from volumetric.measurement import Measurements
-from volumetric.model import MachineModel
+from volumetric.compensate.errormap import ErrorMap, build_map, build_map_within
+from volumetric.compensate.solver import Weights, compensate
+from volumetric.diagnose.diagnosis import Diagnosis, diagnose
+from volumetric.identify.fit import fit
+from volumetric.measure.measurement import Measurements
+from volumetric.model.machine import Machine, parse_machine
+from volumetric.model.model import MachineModel
+from volumetric.verify.iso230_6 import diagonal_ranges
 
 DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
 

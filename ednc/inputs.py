@@ -8,9 +8,9 @@ from pathlib import Path
 
 from ednc.cli import UserError
 from volumetric.errors import ComponentErrorSpecError, MachineSpecError
-from volumetric.machine import Machine, load_machine
-from volumetric.measurement import MeasurementFormatError, Measurements, read_measurements
-from volumetric.model import MachineModel
+from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
+from volumetric.model.machine import Machine, load_machine
+from volumetric.model.model import MachineModel
 
 
 def read_machine(path: Path) -> Machine:

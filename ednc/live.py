@@ -36,10 +36,10 @@ from machine_sim.testprograms import diagonal_test
 from server.app import create_app
 from server.services import machine_services
 from server.settings import Settings
-from volumetric.iso230_6 import diagonal_ranges
-from volumetric.machine import parse_machine
-from volumetric.measurement import Measurements, write_measurements
-from volumetric.model import ThermalTerm
+from volumetric.measure.measurement import Measurements, write_measurements
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import ThermalTerm
+from volumetric.verify.iso230_6 import diagonal_ranges
 
 THERMAL_SPEEDUP = 60.0
 

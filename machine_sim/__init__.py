@@ -10,7 +10,7 @@ Physics and instruments (offline, synchronous):
 * :mod:`~machine_sim.testprograms`: laser positioning, straightness, angular, ISO 230-6
   diagonals, rotary positioning and R-tests as programs;
 * :mod:`~machine_sim.instruments`: :class:`SimulatedMachine`, the true error and readings;
-* :mod:`~machine_sim.campaign`: campaigns to :class:`volumetric.measurement.Measurements`.
+* :mod:`~machine_sim.campaign`: campaigns to :class:`volumetric.measure.measurement.Measurements`.
 
 Controllers (per cycle, synchronous): :mod:`~machine_sim.lookup` (map interpolation, the
 fleet's vectorised ladder), :mod:`~machine_sim.mapstore` (the swap rule),

@@ -27,8 +27,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.machine import Machine
-from volumetric.measurement import Measurements, write_measurements
+from volumetric.measure.measurement import Measurements, write_measurements
+from volumetric.model.machine import Machine
 
 from .effects import lagged_key
 from .instruments import SimulatedMachine

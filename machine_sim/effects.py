@@ -50,7 +50,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.machine import Machine
+from volumetric.model.machine import Machine
 
 __all__ = [
     "Backlash",

@@ -38,7 +38,7 @@ import yaml
 
 from protocol.auth import MIN_SECRET_BYTES
 from volumetric.errors import MachineSpecError
-from volumetric.machine import Machine, load_machine, parse_machine
+from volumetric.model.machine import Machine, load_machine, parse_machine
 
 from .link import Backoff, MqttTarget, SimulatedCNC
 

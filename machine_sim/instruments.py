@@ -1,7 +1,7 @@
 """A simulated machine's true error and what the instruments read of it.
 
 The true error of the tool tip relative to the workpiece at a reading is the rigid
-geometry's exact volumetric error (:func:`volumetric.kinematics.volumetric_error`) plus the
+geometry's exact volumetric error (:func:`volumetric.model.kinematics.volumetric_error`) plus the
 effects of :mod:`machine_sim.effects`, each a translation along its axis's line of motion
 inserted at that axis's place in the chain, exactly as if it were part of the axis's
 positioning error (so on a five-axis machine a table rotation turns it with the
@@ -19,10 +19,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from volumetric.components import GeometricErrors, Polynomial, add_components
-from volumetric.kinematics import VolumetricError, tool_pose, volumetric_error
-from volumetric.machine import Axis, Machine
-from volumetric.rigid import rotation_vector
+from volumetric.model.components import GeometricErrors, Polynomial, add_components
+from volumetric.model.exact import VolumetricError, volumetric_error
+from volumetric.model.kinematics import tool_pose
+from volumetric.model.machine import Axis, Machine
+from volumetric.model.rigid import rotation_vector
 
 from .effects import Effects, axis_offsets
 from .program import MachineState, MotionLimits, Program

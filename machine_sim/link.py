@@ -64,7 +64,7 @@ from protocol import (
     Welcome,
     compute_mac,
 )
-from volumetric.machine import Machine
+from volumetric.model.machine import Machine
 
 from .runtime import MachineRuntime
 from .siemens import SiemensNC

@@ -22,7 +22,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.machine import Machine
+from volumetric.model.machine import Machine
 
 __all__ = [
     "Dwell",

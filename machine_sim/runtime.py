@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.machine import Machine
+from volumetric.model.machine import Machine
 
 from .fanuc import FanucConfig, FanucPMC
 from .siemens import SiemensConfig, SiemensNC

@@ -32,7 +32,7 @@ every target approached from below (through an overrun below the first target), 
 target approached from above (through an overrun past the last). Positioning targets can
 carry ISO 230-2's random offsets so periodic errors are not sampled at one phase.
 
-Diagonal targets and directions come from :mod:`volumetric.iso230_6`.
+Diagonal targets and directions come from :mod:`volumetric.verify.iso230_6`.
 """
 
 from __future__ import annotations
@@ -44,11 +44,11 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.iso230_6 import diagonal_targets, diagonal_unit_vectors
-from volumetric.kinematics import tool_pose
-from volumetric.linear import jacobian
-from volumetric.machine import Axis, Machine
-from volumetric.rigid import frame_from_z
+from volumetric.model.kinematics import tool_pose
+from volumetric.model.linear import jacobian
+from volumetric.model.machine import Axis, Machine
+from volumetric.model.rigid import frame_from_z
+from volumetric.verify.iso230_6 import diagonal_targets, diagonal_unit_vectors
 
 from .program import Instruction, Linear, Measure, Program, Rapid
 
@@ -254,8 +254,8 @@ def diagonal_test(
     """ISO 230-6 body diagonal ``label`` (``diag-PPP``, ``diag-NPP``, ``diag-PNP``,
     ``diag-PPN``): all three base axes move together; readings along the diagonal.
 
-    Targets and the laser direction come from :func:`volumetric.iso230_6.diagonal_targets`
-    and :func:`~volumetric.iso230_6.diagonal_unit_vectors`; every run goes start to end
+    Targets and the laser direction come from :func:`volumetric.verify.iso230_6.diagonal_targets`
+    and :func:`~volumetric.verify.iso230_6.diagonal_unit_vectors`; every run goes start to end
     then back, through overruns along the diagonal.
     """
     missing = [k for k in ("X", "Y", "Z") if k not in machine.axis_names]

@@ -27,7 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 from scipy.signal import lfilter
 
-from volumetric.machine import Machine
+from volumetric.model.machine import Machine
 
 __all__ = [
     "Sensor",

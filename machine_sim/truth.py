@@ -33,8 +33,14 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.components import Component, GeometricErrors, Polynomial, Table, location_names
-from volumetric.machine import Axis, Machine
+from volumetric.model.components import (
+    Component,
+    GeometricErrors,
+    Polynomial,
+    Table,
+    location_names,
+)
+from volumetric.model.machine import Axis, Machine
 
 __all__ = ["random_geometry"]
 
@@ -77,7 +83,7 @@ def random_geometry(
     -------
     GeometricErrors
         Every component error of every axis (µm, µrad) and every location error of
-        :func:`volumetric.components.location_names`.
+        :func:`volumetric.model.components.location_names`.
     """
     if not np.isfinite(scale) or scale < 0:
         raise ValueError(f"scale must be a finite number >= 0, got {scale!r}")

@@ -15,14 +15,14 @@ from typing import Any
 
 import numpy as np
 
-from volumetric.diagnose import DiagnosisError, diagnose
+from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
 from volumetric.errors import MachineSpecError
-from volumetric.fit import FitError, fit
-from volumetric.iso230_6 import DiagonalTestError, diagonal_ranges, improvement
-from volumetric.machine import parse_machine
-from volumetric.measurement import MeasurementFormatError, Measurements, read_measurements
-from volumetric.model import FORMAT as MODEL_FORMAT
-from volumetric.model import MachineModel
+from volumetric.identify.fit import FitError, fit
+from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import FORMAT as MODEL_FORMAT
+from volumetric.model.model import MachineModel
+from volumetric.verify.iso230_6 import DiagonalTestError, diagonal_ranges, improvement
 
 __all__ = [
     "ACCEPTANCE",

@@ -18,7 +18,7 @@ sends it; at a periodic wake it re-sends the current map when the machine does n
 it applied (its last answer or its Telemetry say otherwise), except a version the machine
 rejected. A burst of wakes while a build runs gives one more build, not one per wake.
 
-Builds (:func:`volumetric.errormap.build_map`) run on a thread pool of their own, so they
+Builds (:func:`volumetric.compensate.errormap.build_map`) run on a thread pool of their own, so they
 neither stall the event loop nor take the threads the database calls use.
 """
 
@@ -50,9 +50,9 @@ from server.events import EventKind
 from server.feed import Feed, Notice
 from server.link.session import LinkClosed, MachineSession
 from server.temperatures import TemperatureBoard
-from volumetric.errormap import ErrorMap, build_map_within
-from volumetric.machine import parse_machine
-from volumetric.model import MachineModel
+from volumetric.compensate.errormap import ErrorMap, build_map_within
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import MachineModel
 
 log = logging.getLogger(__name__)
 

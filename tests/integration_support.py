@@ -46,8 +46,8 @@ from server.link import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
 from tests.conftest import require
-from volumetric.machine import Machine, parse_machine
-from volumetric.measurement import Measurements, write_measurements
+from volumetric.measure.measurement import Measurements, write_measurements
+from volumetric.model.machine import Machine, parse_machine
 
 API_KEY = "integration-api-key-0123"
 WRITE = {"X-API-Key": API_KEY}

@@ -7,11 +7,11 @@ import pytest
 from numpy.typing import NDArray
 
 from tests.test_kinematics import arch, machine, random_errors, random_q
-from volumetric.compensate import Compensation, CompensationError, Weights, compensate
-from volumetric.components import GeometricErrors, Polynomial, component_names
-from volumetric.kinematics import volumetric_error
-from volumetric.linear import jacobian
-from volumetric.machine import Machine
+from volumetric.compensate.solver import Compensation, CompensationError, Weights, compensate
+from volumetric.model.components import GeometricErrors, Polynomial, component_names
+from volumetric.model.exact import volumetric_error
+from volumetric.model.linear import jacobian
+from volumetric.model.machine import Machine
 
 F64 = NDArray[np.float64]
 

@@ -100,7 +100,7 @@ def diagonal_error_um(label_index: int, t: float, scale: float) -> float:
 
 def diagonals_csv(scale: float, points: int = 11) -> str:
     """The four body diagonals of VMC (10 mm margin), two runs each."""
-    from volumetric.iso230_6 import diagonal_targets, diagonal_unit_vectors
+    from volumetric.verify.iso230_6 import diagonal_targets, diagonal_unit_vectors
 
     travel = {k: tuple(v) for k, v in VMC["travel_mm"].items()}  # type: ignore[attr-defined]
     targets = diagonal_targets(travel, points)
@@ -404,8 +404,8 @@ def test_diagonal_profiles_agree_with_the_core_ranges_whatever_the_sensing_sign(
     import io
 
     from server.dashboard.diagonals import diagonal_profiles
-    from volumetric.iso230_6 import DiagonalTestError, diagonal_ranges
-    from volumetric.measurement import read_measurements
+    from volumetric.measure.measurement import read_measurements
+    from volumetric.verify.iso230_6 import DiagonalTestError, diagonal_ranges
 
     def read(text: str) -> Any:
         return read_measurements(io.StringIO(text))

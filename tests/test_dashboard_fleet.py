@@ -34,7 +34,7 @@ from tests.conftest import require
 from tests.test_dashboard_browser import CHROMIUM, MM, Live, serving
 from tests.test_server_api import API_KEY, WRITE
 from tests.test_server_link import model_body
-from volumetric.machine import parse_machine
+from volumetric.model.machine import parse_machine
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]
 

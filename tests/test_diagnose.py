@@ -23,9 +23,9 @@ from machine_sim.instruments import SimulatedMachine
 from machine_sim.testprograms import positioning_test
 from machine_sim.thermal import default_thermal
 from machine_sim.truth import random_geometry
-from volumetric.diagnose import DiagnosisError, diagnose
-from volumetric.machine import Machine, parse_machine
-from volumetric.measurement import read_measurements, write_measurements
+from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
+from volumetric.measure.measurement import read_measurements, write_measurements
+from volumetric.model.machine import Machine, parse_machine
 
 EDNC = str(Path(sys.executable).parent / "ednc")
 CHAINS = ["w X Y b Z t", "w b Y X Z t", "w X b Y Z t", "w Y b X Z t"]

@@ -16,13 +16,13 @@ from numpy.typing import NDArray
 from protocol.mapformat import decode_map, encode_map
 from tests.test_compensate import realistic_arch_errors
 from tests.test_kinematics import arch, machine, random_errors, random_q
-from volumetric.compensate import Weights, compensate
-from volumetric.components import GeometricErrors, Polynomial, Sinusoid
-from volumetric.errormap import ErrorMap, GridDim, MapBuildError, build_map
+from volumetric.compensate.errormap import ErrorMap, GridDim, MapBuildError, build_map
+from volumetric.compensate.solver import Weights, compensate
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.linear import jacobian
-from volumetric.machine import Machine
-from volumetric.model import BacklashTerm, MachineModel, ThermalTerm
+from volumetric.model.components import GeometricErrors, Polynomial, Sinusoid
+from volumetric.model.linear import jacobian
+from volumetric.model.machine import Machine
+from volumetric.model.model import BacklashTerm, MachineModel, ThermalTerm
 
 F64 = NDArray[np.float64]
 EDNC = Path(sys.executable).parent / "ednc"
@@ -357,7 +357,7 @@ def test_commands_refuse_a_model_with_nan_naming_the_entry(files: tuple[Path, Pa
 
 
 def test_build_map_within_relaxes_the_tolerance_until_the_map_fits() -> None:
-    from volumetric.errormap import MapTooLargeError, build_map_within
+    from volumetric.compensate.errormap import MapTooLargeError, build_map_within
 
     mach, model = vmc(), vmc_model()
     tight = build_map(mach, model, tolerance_um=0.5, controller="siemens")

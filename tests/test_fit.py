@@ -14,11 +14,11 @@ from machine_sim.campaign import standard_campaign
 from machine_sim.effects import Effects, Noise
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.truth import random_geometry
-from volumetric.components import GeometricErrors, Polynomial
-from volumetric.fit import FitError, fit
-from volumetric.kinematics import volumetric_error
-from volumetric.machine import Machine, parse_machine
-from volumetric.measurement import Measurements, write_measurements
+from volumetric.identify.fit import FitError, fit
+from volumetric.measure.measurement import Measurements, write_measurements
+from volumetric.model.components import GeometricErrors, Polynomial
+from volumetric.model.exact import volumetric_error
+from volumetric.model.machine import Machine, parse_machine
 
 EDNC = str(Path(sys.executable).parent / "ednc")
 VMC = {"name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,

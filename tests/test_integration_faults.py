@@ -40,7 +40,7 @@ from tests.integration_support import (
 )
 from tests.test_server_db import postgres_url  # noqa: F401  (fixture)
 from tests.test_server_mqtt import TcpProxy
-from volumetric.diagnose import diagnose
+from volumetric.diagnose.diagnosis import diagnose
 
 pytestmark = pytest.mark.slow
 

@@ -29,8 +29,8 @@ from tests.integration_support import (
     require_loopback_aliases,
     until,
 )
-from volumetric.compensate import compensate
-from volumetric.iso230_6 import diagonal_ranges, improvement
+from volumetric.compensate.solver import compensate
+from volumetric.verify.iso230_6 import diagonal_ranges, improvement
 
 pytestmark = pytest.mark.slow
 

@@ -1,5 +1,5 @@
 """A machine whose spindle grows with heat, end to end: the center's diagnosis model (a
-thermal drift along z on ``T_spindle_C``, found by ``volumetric.diagnose`` in a simulated
+thermal drift along z on ``T_spindle_C``, found by ``volumetric.diagnose.diagnosis`` in a simulated
 campaign) is uploaded through the REST API; spindle temperatures published on MQTT give
 the machine new map versions, pushed and acknowledged, whose z correction moves by the
 model's coefficient × ΔT, and the machine stays compensated as it warms."""
@@ -27,8 +27,8 @@ from tests.integration_support import (
     require_loopback_aliases,
     until,
 )
-from volumetric.diagnose import diagnose
-from volumetric.model import MachineModel, ThermalTerm
+from volumetric.diagnose.diagnosis import diagnose
+from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 

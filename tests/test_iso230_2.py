@@ -18,8 +18,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from volumetric.iso230_2 import PositioningTestError, evaluate_positioning
-from volumetric.measurement import Measurements, write_measurements
+from volumetric.measure.measurement import Measurements, write_measurements
+from volumetric.verify.iso230_2 import PositioningTestError, evaluate_positioning
 
 EDNC = Path(sys.executable).parent / "ednc"
 KEYS = {"A_um", "B_um", "E_um", "M_um", "R_um"}

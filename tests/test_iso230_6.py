@@ -9,7 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from volumetric.iso230_6 import (
+from volumetric.measure.measurement import Measurements, read_measurements, write_measurements
+from volumetric.verify.iso230_6 import (
     DIAGONALS,
     DiagonalTestError,
     diagonal_ranges,
@@ -17,7 +18,6 @@ from volumetric.iso230_6 import (
     diagonal_unit_vectors,
     improvement,
 )
-from volumetric.measurement import Measurements, read_measurements, write_measurements
 
 TRAVEL = {"x": (0.0, 500.0), "y": (0.0, 300.0), "z": (-300.0, 0.0)}
 

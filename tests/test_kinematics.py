@@ -7,17 +7,17 @@ import pytest
 from numpy.typing import NDArray
 from scipy.spatial.transform import Rotation
 
-from volumetric.components import (
+from volumetric.errors import ComponentErrorSpecError
+from volumetric.model.components import (
     GeometricErrors,
     Polynomial,
     Table,
     component_names,
     location_names,
 )
-from volumetric.errors import ComponentErrorSpecError
-from volumetric.kinematics import volumetric_error
-from volumetric.linear import linear_volumetric_error
-from volumetric.machine import Machine, parse_machine
+from volumetric.model.exact import volumetric_error
+from volumetric.model.linear import linear_volumetric_error
+from volumetric.model.machine import Machine, parse_machine
 
 TRAVEL = {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}
 
@@ -342,7 +342,7 @@ def test_positions_with_wrong_shape_or_nan_are_refused() -> None:
 
 
 def test_tool_pose_of_the_nominal_gantry_is_command_minus_tool_length() -> None:
-    from volumetric.kinematics import tool_pose
+    from volumetric.model.kinematics import tool_pose
 
     m = machine("w b Y X Z t")
     q = random_q(m, np.random.default_rng(9), 10)

@@ -8,8 +8,8 @@ from pathlib import Path
 import pytest
 
 from volumetric.errors import MachineSpecError
-from volumetric.machine import load_machine, parse_chain, parse_machine
-from volumetric.typenumbers import all_types, chain_for_type_numbers
+from volumetric.model.machine import load_machine, parse_chain, parse_machine
+from volumetric.model.typenumbers import all_types, chain_for_type_numbers
 
 TRAVEL = {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}
 

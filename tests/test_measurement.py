@@ -12,7 +12,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from volumetric.measurement import (
+from volumetric.measure.measurement import (
     MeasurementFormatError,
     Measurements,
     read_measurements,

@@ -7,10 +7,10 @@ import json
 import numpy as np
 import pytest
 
-from volumetric.components import GeometricErrors, Polynomial, Sinusoid
-from volumetric.kinematics import volumetric_error
-from volumetric.machine import parse_machine
-from volumetric.model import BacklashTerm, MachineModel, PeriodicTerm, ThermalTerm
+from volumetric.model.components import GeometricErrors, Polynomial, Sinusoid
+from volumetric.model.exact import volumetric_error
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import BacklashTerm, MachineModel, PeriodicTerm, ThermalTerm
 
 M = parse_machine({"chain": "w X Y b Z t", "travel_mm": {"x": [-100, 400], "y": [0, 300],
                                                          "z": [-300, 0]}})

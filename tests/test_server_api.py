@@ -26,7 +26,7 @@ from server.numeric import plain_json
 from server.retention import EventRetention
 from server.settings import Settings
 from tests.test_server_db import database_url, postgres_url  # noqa: F401  (fixtures)
-from volumetric.components import component_from_json
+from volumetric.model.components import component_from_json
 
 API_KEY = "test-api-key-0123"
 WRITE = {"X-API-Key": API_KEY}

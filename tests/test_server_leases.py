@@ -41,7 +41,7 @@ from server.state import Registry
 from tests.conftest import reachable, require
 from tests.test_server_db import PG_ADMIN, database_url, postgres_url  # noqa: F401
 from tests.test_server_link import SECRET, description, model_body, rig, until
-from volumetric.machine import parse_machine
+from volumetric.model.machine import parse_machine
 
 T0 = dt.datetime(2026, 1, 1, 12, 0, tzinfo=dt.UTC)
 

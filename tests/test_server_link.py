@@ -44,7 +44,7 @@ from server.events import EventKind
 from server.link import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
-from volumetric.machine import parse_machine
+from volumetric.model.machine import parse_machine
 
 SECRET = "machine-secret-0123456789"
 DEADLINE_S = 20.0  # a hang guard, not a speed requirement

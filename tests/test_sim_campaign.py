@@ -26,10 +26,10 @@ from machine_sim.testprograms import diagonal_test, positioning_test, straightne
 from machine_sim.truth import random_geometry
 from protocol.codes import MapEncoding
 from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis
-from volumetric.iso230_6 import DIAGONALS, diagonal_ranges, improvement
-from volumetric.kinematics import volumetric_error
-from volumetric.machine import Machine, parse_machine
-from volumetric.measurement import read_measurements
+from volumetric.measure.measurement import read_measurements
+from volumetric.model.exact import volumetric_error
+from volumetric.model.machine import Machine, parse_machine
+from volumetric.verify.iso230_6 import DIAGONALS, diagonal_ranges, improvement
 
 TRAVEL = {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}
 

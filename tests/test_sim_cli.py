@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from machine_sim.fleet import FleetSpecError, generated_fleet, load_fleet, parse_center
-from volumetric.measurement import read_measurements
+from volumetric.measure.measurement import read_measurements
 
 VMC = {"name": "vmc-01", "controller": "fanuc", "ip": "10.0.0.21", "chain": "w X Y b Z t",
        "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}, "tool_length_mm": 100.0}

@@ -43,7 +43,7 @@ from protocol import (
     split_into_chunks,
     verify_mac,
 )
-from volumetric.machine import Machine, parse_machine
+from volumetric.model.machine import Machine, parse_machine
 
 SECRET = b"0123456789abcdef-secret"
 DEADLINE_S = 20.0  # a hang guard, not a speed requirement

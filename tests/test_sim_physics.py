@@ -33,10 +33,11 @@ from machine_sim.testprograms import (
 )
 from machine_sim.thermal import Sensor, ShopAir, ThermalConfig, simulate_thermal
 from machine_sim.truth import random_geometry
-from volumetric.components import GeometricErrors, Polynomial, component_names
-from volumetric.iso230_2 import evaluate_positioning
-from volumetric.kinematics import tool_pose, volumetric_error
-from volumetric.machine import Machine, parse_machine
+from volumetric.model.components import GeometricErrors, Polynomial, component_names
+from volumetric.model.exact import volumetric_error
+from volumetric.model.kinematics import tool_pose
+from volumetric.model.machine import Machine, parse_machine
+from volumetric.verify.iso230_2 import evaluate_positioning
 
 TRAVEL = {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}
 

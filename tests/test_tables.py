@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from volumetric.components import GeometricErrors, Polynomial
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.kinematics import volumetric_error
-from volumetric.machine import parse_machine
-from volumetric.model import MachineModel
-from volumetric.tables import export_tables, import_tables
+from volumetric.measure.tables import export_tables, import_tables
+from volumetric.model.components import GeometricErrors, Polynomial
+from volumetric.model.exact import volumetric_error
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import MachineModel
 
 M = parse_machine({"name": "vmc", "chain": "w X Y b Z t",
                    "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}})

@@ -1,4 +1,4 @@
-"""Dynamic thermal-drift regressors (volumetric.thermal): the lag against analytic responses,
+"""Dynamic thermal-drift regressors (volumetric.identify.thermal): lag against analytic responses,
 the selection on a synthetic truth, and the held-out figures on a real 46 h spindle test."""
 
 from __future__ import annotations
@@ -8,13 +8,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from volumetric.measurement import read_measurements
-from volumetric.thermal import (
+from volumetric.identify.thermal import (
     ThermalTerm,
     first_order_lag,
     fit_thermal_drift,
     thermal_regressors,
 )
+from volumetric.measure.measurement import read_measurements
 
 SPLIT_S = 144_000.0  # end of the heat/cool cycles; the variable-speed block follows
 

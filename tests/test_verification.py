@@ -18,12 +18,12 @@ from machine_sim.program import Dwell, SpindleOn
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
 from protocol import decode_map, encode_map
-from volumetric.diagnose import diagnose
-from volumetric.errormap import build_map
-from volumetric.fit import fit
-from volumetric.iso230_6 import diagonal_ranges, improvement
-from volumetric.machine import Machine, parse_machine
-from volumetric.measurement import Measurements
+from volumetric.compensate.errormap import build_map
+from volumetric.diagnose.diagnosis import diagnose
+from volumetric.identify.fit import fit
+from volumetric.measure.measurement import Measurements
+from volumetric.model.machine import Machine, parse_machine
+from volumetric.verify.iso230_6 import diagonal_ranges, improvement
 
 NOISE_UM = 0.3
 

@@ -18,11 +18,11 @@ from numpy.typing import NDArray
 
 from ednc.cli import UserError
 from ednc.inputs import read_machine, read_model
-from volumetric.compensate import Compensation, CompensationError, Weights, compensate
-from volumetric.components import GeometricErrors
+from volumetric.compensate.solver import Compensation, CompensationError, Weights, compensate
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.machine import Machine
-from volumetric.model import MachineModel
+from volumetric.model.components import GeometricErrors
+from volumetric.model.machine import Machine
+from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
 

@@ -10,7 +10,7 @@ import typer
 
 from ednc.cli import UserError
 from ednc.inputs import read_data, read_machine
-from volumetric.diagnose import DiagnosisError, diagnose
+from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
 
 
 def register(app: typer.Typer) -> None:
@@ -40,7 +40,7 @@ def register(app: typer.Typer) -> None:
         except DiagnosisError as exc:
             raise UserError(f"{data}: {exc}") from exc
         if report is not None:
-            from volumetric.report import write_report
+            from volumetric.diagnose.report import write_report
 
             write_report(m, readings, d, report)
         if out is not None:

@@ -12,9 +12,9 @@ import typer
 from ednc.cli import UserError
 from ednc.inputs import read_data, read_machine, read_model
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.fit import FitError, FitResult, fit
-from volumetric.model import MachineModel
-from volumetric.tables import export_tables, import_tables, read_table_files, write_tables
+from volumetric.identify.fit import FitError, FitResult, fit
+from volumetric.measure.tables import export_tables, import_tables, read_table_files, write_tables
+from volumetric.model.model import MachineModel
 
 
 def summary(result: FitResult) -> str:

@@ -10,8 +10,8 @@ import numpy as np
 import typer
 
 from ednc.cli import UserError
-from volumetric.iso230_2 import PositioningResult, PositioningTestError, evaluate_positioning
-from volumetric.measurement import MeasurementFormatError, read_measurements
+from volumetric.measure.measurement import MeasurementFormatError, read_measurements
+from volumetric.verify.iso230_2 import PositioningResult, PositioningTestError, evaluate_positioning
 
 
 def register(app: typer.Typer) -> None:

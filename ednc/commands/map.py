@@ -15,8 +15,7 @@ from ednc.commands.compensate import (
 )
 from ednc.inputs import read_machine, read_model
 from protocol.mapformat import encode_map
-from volumetric.compensate import CompensationError
-from volumetric.errormap import (
+from volumetric.compensate.errormap import (
     DEFAULT_INCREMENT,
     DEFAULT_LIMIT_DEG,
     DEFAULT_LIMIT_MM,
@@ -24,6 +23,7 @@ from volumetric.errormap import (
     MapBuildError,
     build_map,
 )
+from volumetric.compensate.solver import CompensationError
 from volumetric.errors import ComponentErrorSpecError
 
 

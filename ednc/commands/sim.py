@@ -200,7 +200,7 @@ def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
     from machine_sim.thermal import default_thermal
     from machine_sim.truth import random_geometry
     from volumetric.errors import MachineSpecError
-    from volumetric.machine import load_machine
+    from volumetric.model.machine import load_machine
 
     if machine_path is None:
         raise UserError("--campaign needs --machine M.json")

@@ -1,6 +1,6 @@
 """Deviation along each body diagonal (ISO 230-6), for the verification plots (pure, numpy).
 
-:func:`volumetric.iso230_6.diagonal_ranges` reduces each diagonal to its range; the plot
+:func:`volumetric.verify.iso230_6.diagonal_ranges` reduces each diagonal to its range; the plot
 needs what the range is taken over: at each target point along the diagonal, the mean
 reading over all runs and approach directions, signed along the diagonal's direction
 from its first to its last commanded point. The range of a profile here is the range the
@@ -14,9 +14,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.iso230_2 import PositioningTestError, cluster_targets
-from volumetric.iso230_6 import DiagonalTestError
-from volumetric.measurement import Measurements
+from volumetric.measure.measurement import Measurements
+from volumetric.verify.iso230_2 import PositioningTestError, cluster_targets
+from volumetric.verify.iso230_6 import DiagonalTestError
 
 FloatArray = NDArray[np.float64]
 

@@ -15,8 +15,8 @@ from typing import Any
 import numpy as np
 
 from server.dashboard.schemas import ComponentView, ModelView
-from volumetric.components import component_from_json, parse_name
 from volumetric.errors import ComponentErrorSpecError
+from volumetric.model.components import component_from_json, parse_name
 
 SAMPLES = 41
 ROTARY_TRAVEL_DEG = (0.0, 360.0)

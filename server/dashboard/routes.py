@@ -57,8 +57,8 @@ from server.db import reports as report_repo
 from server.db.tables import DiagnosisRow, MachineRow
 from server.plant import plant_view
 from server.temperatures import TemperatureBoard
-from volumetric.iso230_6 import DiagonalTestError
-from volumetric.measurement import MeasurementFormatError, read_measurements
+from volumetric.measure.measurement import MeasurementFormatError, read_measurements
+from volumetric.verify.iso230_6 import DiagonalTestError
 
 STATIC = Path(__file__).resolve().parent.parent / "static"
 

@@ -2,7 +2,7 @@
 
 The relative transform from workpiece to tool is the product of one link per axis, in
 chain order (``b`` dropped), times the tool offset. With the conventions of
-:mod:`volumetric.machine` and :mod:`volumetric.components`, each link is
+:mod:`volumetric.model.machine` and :mod:`volumetric.model.components`, each link is
 
 ===============  ==================  =================================================
 axis             workpiece side      tool side
@@ -20,7 +20,7 @@ is the tool tip's position in that carriage; for a rotary axis ``E`` is expresse
 non-rotating frame on the base side, as fixed sensors measure it (ISO 230-7).
 
 Everything is exact rigid-body algebra over arrays of commanded positions (N, n_axes);
-:mod:`volumetric.linear` holds the first-order form used for identification.
+:mod:`volumetric.model.linear` holds the first-order form used for identification.
 """
 
 from __future__ import annotations
@@ -30,9 +30,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from volumetric.components import GeometricErrors, component_names
-from volumetric.machine import Axis, Machine, ToolBranch
-from volumetric.rigid import (
+from volumetric.model.components import GeometricErrors, component_names
+from volumetric.model.machine import Axis, Machine, ToolBranch
+from volumetric.model.rigid import (
     axis_angle_matrix,
     frame_from_z,
     rotate,
@@ -96,7 +96,7 @@ class LinkErrors:
 
 
 def link_location_errors(link: Link, errors: GeometricErrors) -> LinkErrors:
-    """Collect a link's location errors (see :mod:`volumetric.components`)."""
+    """Collect a link's location errors (see :mod:`volumetric.model.components`)."""
     k = link.axis.name
     ang = np.array([errors.location(f"E{c}0{k}") for c in "ABC"]) * 1e-6
     off = np.array([errors.location(f"E{c}0{k}") for c in "XYZ"]) * 1e-3
@@ -249,69 +249,6 @@ def _rotary_motion(
     return p, r
 
 
-@dataclass(frozen=True)
-class VolumetricError:
-    """The tool tip's error relative to the workpiece, in the workpiece frame.
-
-    Attributes
-    ----------
-    position_um : ndarray, shape (N, 3)
-        Actual minus nominal tool tip position, µm.
-    orientation_urad : ndarray, shape (N, 3) or None
-        Rotation vector of the actual tool orientation relative to the nominal, µrad.
-    """
-
-    position_um: F64
-    orientation_urad: F64 | None
-
-
-def volumetric_error(
-    machine: Machine,
-    errors: GeometricErrors,
-    q: ArrayLike,
-    *,
-    spindle: str | None = None,
-    tool_mm: ArrayLike | None = None,
-    orientation: bool = True,
-) -> VolumetricError:
-    """Exact volumetric error at commanded positions.
-
-    Parameters
-    ----------
-    machine : Machine
-    errors : GeometricErrors
-    q : array_like, shape (N, n_axes)
-        Commanded positions, mm or degrees, in ``machine.axes`` order.
-    spindle : str, optional
-        Tool branch on a multi-spindle machine.
-    tool_mm : float or array_like (N,), optional
-        Tool length, mm.
-    orientation : bool
-        Also compute the orientation error.
-
-    Returns
-    -------
-    VolumetricError
-    """
-    from volumetric.exact import BLOCK, error_block, plan_links
-
-    qa = _positions(machine, q)
-    errors.check(machine)
-    branch = machine.branch(spindle)
-    links = branch_links(machine, branch)
-    tool = _tool_vector(branch, tool_mm, qa.shape[0])
-    plans = plan_links(links, errors)
-    dp = np.empty((qa.shape[0], 3))
-    dw = np.empty((qa.shape[0], 3)) if orientation else None
-    for start in range(0, qa.shape[0], BLOCK):
-        sl = slice(start, start + BLOCK)
-        p, w = error_block(links, plans, errors, qa[sl], tool[sl], orientation)
-        dp[sl] = p
-        if dw is not None and w is not None:
-            dw[sl] = w
-    return VolumetricError(dp, dw)
-
-
 def link_component_errors(
     errors: GeometricErrors, axis: Axis, q: F64
 ) -> F64:
@@ -328,10 +265,8 @@ __all__ = [
     "CHUNK",
     "Link",
     "LinkErrors",
-    "VolumetricError",
     "branch_links",
     "link_component_errors",
     "link_location_errors",
     "tool_pose",
-    "volumetric_error",
 ]

@@ -1,7 +1,7 @@
 """The identification problem's design matrix: one row per reading, one column per parameter.
 
 Every reading is one linear observation of the model's parameters: a displacement reads
-``u · Δp`` and an angle ``u · Δω`` (:mod:`volumetric.linear`), and every error is a sum of
+``u · Δp`` and an angle ``u · Δω`` (:mod:`volumetric.model.linear`), and every error is a sum of
 basis functions times coefficients. The parameters are
 
 * the coefficients of each component error in Legendre polynomials of its axis position
@@ -12,7 +12,7 @@ basis functions times coefficients. The parameters are
   EC0Y, EXZ's is EB0Z, EYZ's is EA0Z), no constant in a rotary axis's components (those
   are its location errors). What the readings at hand cannot separate beyond that is
   found by the fit's null-space analysis, not assumed;
-* the location errors of :func:`volumetric.components.location_names`;
+* the location errors of :func:`volumetric.model.components.location_names`;
 * a constant offset of each tool tip relative to the workpiece (``OFFSET_X`` ...), for
   readings whose zero is not the machine's reference.
 
@@ -28,10 +28,10 @@ import numpy as np
 from numpy.polynomial import legendre
 from numpy.typing import NDArray
 
-from volumetric.components import DIRECTIONS, Polynomial, location_names
-from volumetric.linear import sensitivities
-from volumetric.machine import Axis, Machine
-from volumetric.measurement import Measurements
+from volumetric.measure.measurement import Measurements
+from volumetric.model.components import DIRECTIONS, Polynomial, location_names
+from volumetric.model.linear import sensitivities
+from volumetric.model.machine import Axis, Machine
 
 F64 = NDArray[np.float64]
 MAX_DEGREE_LINEAR = 6

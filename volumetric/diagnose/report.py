@@ -17,10 +17,10 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from volumetric.design import axis_positions
-from volumetric.diagnose import Diagnosis
-from volumetric.machine import Machine
-from volumetric.measurement import Measurements
+from volumetric.diagnose.diagnosis import Diagnosis
+from volumetric.identify.design import axis_positions
+from volumetric.measure.measurement import Measurements
+from volumetric.model.machine import Machine
 
 
 def _scatter(path: Path, x: np.ndarray, before: np.ndarray, after: np.ndarray, xlabel: str,

@@ -2,9 +2,9 @@
 
 Procedure (``ednc diagnose``):
 
-1. **Base model.** The rigid model (21 errors, polynomial components, :mod:`volumetric.fit`)
-   is identified on the readings; its column set (degrees, identifiable parameters) and
-   weights are then kept fixed.
+1. **Base model.** The rigid model (21 errors, polynomial components,
+   :mod:`volumetric.identify.fit`) is identified on the readings; its column set (degrees,
+   identifiable parameters) and weights are then kept fixed.
 2. **Held-out readings.** Every reading is predicted by a model fitted without it, in
    ``K = 5`` folds. A test with several runs gives whole runs to a fold (runs are taken at
    different times, so a time-dependent effect shows as a run that disagrees with the
@@ -18,7 +18,7 @@ Procedure (``ednc diagnose``):
    ===================  =========================================  ======================
    thermal_expansion    ``u_k (T_s − T̄_s)(q_k − q_min) / 1000``    α, ``um_per_m_K``
    thermal_drift        ``u_k (T_s − T̄_s)``; refined by lagged      k, ``um_per_K``
-                        temperatures (:mod:`volumetric.thermal`)
+                        temperatures (:mod:`volumetric.identify.thermal`)
    backlash             ``−u_k d_k / 2`` (d_k approach direction)  B, ``reversal_um``
    periodic             ``u_k sin(2π q_k/P)``, ``u_k cos(2π q_k/P)``  A, P
                         with P from the base residual's spectrum
@@ -39,7 +39,7 @@ Procedure (``ednc diagnose``):
    ``alternatives``.
 5. **Estimate.** The named effect is fitted together with the base model on all readings;
    its coefficient and standard uncertainty are reported in physical units, and it becomes
-   a term of the machine's :class:`~volumetric.model.MachineModel`.
+   a term of the machine's :class:`~volumetric.model.model.MachineModel`.
 
 Candidates that the data cannot support are not guessed at: they are listed in
 ``not_assessed`` with the reason (no temperature columns, one approach direction only,
@@ -55,12 +55,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.design import axis_positions, build_design
-from volumetric.fit import FitError, fit, model_from_parameters
-from volumetric.machine import Machine
-from volumetric.measurement import Measurements
-from volumetric.model import BacklashTerm, MachineModel, PeriodicTerm, Term, ThermalTerm
-from volumetric.thermal import fit_thermal_drift
+from volumetric.identify.design import axis_positions, build_design
+from volumetric.identify.fit import FitError, fit, model_from_parameters
+from volumetric.identify.thermal import fit_thermal_drift
+from volumetric.measure.measurement import Measurements
+from volumetric.model.machine import Machine
+from volumetric.model.model import BacklashTerm, MachineModel, PeriodicTerm, Term, ThermalTerm
 
 F64 = NDArray[np.float64]
 K_FOLDS = 5
@@ -498,7 +498,7 @@ def _dynamic_drift(
     m: Measurements, static: Candidate, resid: F64, train: NDArray[np.bool_],
     order: NDArray[np.intp],
 ) -> Candidate | None:
-    """Lagged-temperature drift along the static candidate's axis (volumetric.thermal)."""
+    """Lagged-temperature drift along the static candidate's axis (volumetric.identify.thermal)."""
     k = "xyz".index(static.axis)
     uk = np.where(m.is_angle, 0.0, m.u[:, k])
     rows = order[np.abs(uk[order]) > 0.5]

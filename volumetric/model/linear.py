@@ -5,7 +5,7 @@ A small error motion (δ, ε) inserted at some point of the chain moves the tool
 chain up to that point and ``r`` the nominal tool tip seen from the point (the Abbe arm).
 Summing these over every error gives the volumetric error to first order; it is linear in
 the component errors, hence in their polynomial coefficients, which is what identification
-needs. The insertion points follow the link table of :mod:`volumetric.kinematics`.
+needs. The insertion points follow the link table of :mod:`volumetric.model.kinematics`.
 """
 
 from __future__ import annotations
@@ -15,17 +15,17 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from volumetric.components import GeometricErrors, component_names, location_names
-from volumetric.kinematics import (
+from volumetric.model.components import GeometricErrors, component_names, location_names
+from volumetric.model.exact import VolumetricError
+from volumetric.model.kinematics import (
     Link,
-    VolumetricError,
     _positions,
     _tool_vector,
     branch_links,
     link_component_errors,
 )
-from volumetric.machine import Machine
-from volumetric.rigid import axis_angle_matrix, skew
+from volumetric.model.machine import Machine
+from volumetric.model.rigid import axis_angle_matrix, skew
 
 F64 = NDArray[np.float64]
 UM_PER_MM = 1e3

@@ -1,6 +1,6 @@
 """The exact volumetric error, evaluated block by block in structure-of-arrays form.
 
-Same mathematics as :func:`volumetric.kinematics.tool_pose` (the link table in that
+Same mathematics as :func:`volumetric.model.kinematics.tool_pose` (the link table in that
 module's docstring), arranged for speed: the actual and the nominal chain are walked
 together over blocks of points that fit the CPU cache, coordinates are kept as separate
 (n,) arrays, orientations as unit quaternions (a product costs 28 operations against 45
@@ -15,10 +15,18 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
-from volumetric.components import GeometricErrors, Polynomial, component_names
-from volumetric.kinematics import Link, link_location_errors
+from volumetric.model.components import GeometricErrors, Polynomial, component_names
+from volumetric.model.kinematics import (
+    Link,
+    LinkErrors,
+    _positions,
+    _tool_vector,
+    branch_links,
+    link_location_errors,
+)
+from volumetric.model.machine import Machine
 
 F64 = NDArray[np.float64]
 Vec = tuple[F64, F64, F64]
@@ -269,8 +277,6 @@ def _apply(
 def _rotary(
     link: Link, j: int, theta: F64, loc: object, p: Vec, qa: Quat, orientation: bool
 ) -> tuple[Vec, Quat]:
-    from volumetric.kinematics import LinkErrors
-
     assert isinstance(loc, LinkErrors)
     n = theta.shape[0]
     c0 = link.pivot
@@ -299,3 +305,64 @@ def _rotary(
             qr = _qmul(_qmul(ql, qr), (ql[0], -ql[1], -ql[2], -ql[3]))
         qa = _qmul(qr, qa)
     return p, qa
+
+
+@dataclass(frozen=True)
+class VolumetricError:
+    """The tool tip's error relative to the workpiece, in the workpiece frame.
+
+    Attributes
+    ----------
+    position_um : ndarray, shape (N, 3)
+        Actual minus nominal tool tip position, µm.
+    orientation_urad : ndarray, shape (N, 3) or None
+        Rotation vector of the actual tool orientation relative to the nominal, µrad.
+    """
+
+    position_um: F64
+    orientation_urad: F64 | None
+
+
+def volumetric_error(
+    machine: Machine,
+    errors: GeometricErrors,
+    q: ArrayLike,
+    *,
+    spindle: str | None = None,
+    tool_mm: ArrayLike | None = None,
+    orientation: bool = True,
+) -> VolumetricError:
+    """Exact volumetric error at commanded positions.
+
+    Parameters
+    ----------
+    machine : Machine
+    errors : GeometricErrors
+    q : array_like, shape (N, n_axes)
+        Commanded positions, mm or degrees, in ``machine.axes`` order.
+    spindle : str, optional
+        Tool branch on a multi-spindle machine.
+    tool_mm : float or array_like (N,), optional
+        Tool length, mm.
+    orientation : bool
+        Also compute the orientation error.
+
+    Returns
+    -------
+    VolumetricError
+    """
+    qa = _positions(machine, q)
+    errors.check(machine)
+    branch = machine.branch(spindle)
+    links = branch_links(machine, branch)
+    tool = _tool_vector(branch, tool_mm, qa.shape[0])
+    plans = plan_links(links, errors)
+    dp = np.empty((qa.shape[0], 3))
+    dw = np.empty((qa.shape[0], 3)) if orientation else None
+    for start in range(0, qa.shape[0], BLOCK):
+        sl = slice(start, start + BLOCK)
+        p, w = error_block(links, plans, errors, qa[sl], tool[sl], orientation)
+        dp[sl] = p
+        if dw is not None and w is not None:
+            dw[sl] = w
+    return VolumetricError(dp, dw)

@@ -23,15 +23,15 @@ from pathlib import Path
 
 import numpy as np
 
-from volumetric.components import (
+from volumetric.errors import ComponentErrorSpecError
+from volumetric.model.components import (
     Component,
     GeometricErrors,
     Table,
     component_names,
     location_names,
 )
-from volumetric.errors import ComponentErrorSpecError
-from volumetric.machine import Axis, Machine
+from volumetric.model.machine import Axis, Machine
 
 
 def position_column(axis: Axis) -> str:

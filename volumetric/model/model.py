@@ -19,14 +19,14 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
-from volumetric.components import (
+from volumetric.errors import ComponentErrorSpecError
+from volumetric.model.components import (
     Component,
     GeometricErrors,
     Polynomial,
     Sinusoid,
     add_components,
 )
-from volumetric.errors import ComponentErrorSpecError
 
 FORMAT = "ednc-model/1"
 

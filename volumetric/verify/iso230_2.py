@@ -34,7 +34,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.measurement import U_NORM_TOL, Measurements
+from volumetric.measure.measurement import U_NORM_TOL, Measurements
 
 __all__ = ["PositioningResult", "PositioningTestError", "cluster_targets", "evaluate_positioning"]
 

@@ -34,11 +34,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from volumetric.components import GeometricErrors
-from volumetric.kinematics import _positions, tool_pose
-from volumetric.linear import jacobian
-from volumetric.machine import Machine
-from volumetric.rigid import rotation_vector
+from volumetric.model.components import GeometricErrors
+from volumetric.model.kinematics import _positions, tool_pose
+from volumetric.model.linear import jacobian
+from volumetric.model.machine import Machine
+from volumetric.model.rigid import rotation_vector
 
 F64 = NDArray[np.float64]
 UM_PER_MM = 1e3

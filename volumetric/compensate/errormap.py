@@ -3,12 +3,12 @@
 A PLC loop reads the machine's coordinates, interpolates the map multilinearly at them and
 applies the result as a shift of every axis (Fanuc's external machine zero point shift,
 Siemens' SD43900). :func:`build_map` samples the exact weighted compensation of
-:mod:`volumetric.compensate` on a grid whose spacing it chooses per axis: the fewest nodes
+:mod:`volumetric.compensate.solver` on a grid whose spacing it chooses per axis: the fewest nodes
 that keep the interpolation error under a stated tolerance.
 
 The interpolation error is measured where it matters, at the tool tips: the difference
 between the interpolated and the exact correction, ``Δdq``, moves tool tip ``b`` by
-``J_b Δdq`` (:func:`volumetric.linear.jacobian`, position rows), and the error of a map at a
+``J_b Δdq`` (:func:`volumetric.model.linear.jacobian`, position rows), and the error of a map at a
 point is the largest ``|J_b Δdq|`` over the tool tips, in µm. For a 3-axis machine that is
 simply ``|Δdq|`` in µm; for rotary axes it weighs a degree by its lever arm.
 
@@ -48,11 +48,11 @@ from numpy.typing import ArrayLike, NDArray
 from protocol.codes import MapEncoding
 from protocol.limits import MAX_MAP_BYTES
 from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis
-from volumetric.compensate import CompensationError, Weights, corrections
-from volumetric.components import GeometricErrors
-from volumetric.linear import jacobian
-from volumetric.machine import Machine
-from volumetric.model import MachineModel
+from volumetric.compensate.solver import CompensationError, Weights, corrections
+from volumetric.model.components import GeometricErrors
+from volumetric.model.linear import jacobian
+from volumetric.model.machine import Machine
+from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
 Controller = Literal["fanuc", "siemens"]
@@ -606,7 +606,7 @@ def build_map(
         check_exact = np.vstack([check_exact, indep_exact])
         budget *= _shrink(tolerance_um, worst_indep)
 
-    # Backlash: the tool lags half the reversal behind the motion (volumetric.model), so
+    # Backlash: the tool lags half the reversal behind the motion (volumetric.model.model), so
     # the positive-approach correction the values carry is the mean one plus B/2, and the
     # negative approach differs by -B (protocol/README.md section 6: reversal = negative-
     # approach correction minus positive-approach correction).

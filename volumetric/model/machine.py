@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.errors import MachineSpecError
-from volumetric.typenumbers import chain_for_type_numbers
+from volumetric.model.typenumbers import chain_for_type_numbers
 
 Side = Literal["workpiece", "tool"]
 Kind = Literal["linear", "rotary"]

@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.machine import Axis, Machine
+from volumetric.model.machine import Axis, Machine
 
 DIRECTIONS = ("X", "Y", "Z", "A", "B", "C")
 _NAME = re.compile(r"^E([XYZABC])(0?)([XYZABC][0-9]*)$")

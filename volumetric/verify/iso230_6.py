@@ -29,8 +29,8 @@ from collections.abc import Mapping
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.iso230_2 import PositioningTestError, cluster_targets
-from volumetric.measurement import U_NORM_TOL, Measurements
+from volumetric.measure.measurement import U_NORM_TOL, Measurements
+from volumetric.verify.iso230_2 import PositioningTestError, cluster_targets
 
 __all__ = [
     "DIAGONALS",

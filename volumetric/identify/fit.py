@@ -1,6 +1,6 @@
 """Identification: the machine's component errors from measured readings.
 
-One weighted least-squares problem over every reading (:mod:`volumetric.design`):
+One weighted least-squares problem over every reading (:mod:`volumetric.identify.design`):
 
 1. Columns the readings do not observe at all are dropped; their components are reported
    as not measured.
@@ -27,11 +27,11 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.components import GeometricErrors
-from volumetric.design import Param, build_design, component_polynomial
-from volumetric.machine import Machine
-from volumetric.measurement import Measurements
-from volumetric.model import MachineModel
+from volumetric.identify.design import Param, build_design, component_polynomial
+from volumetric.measure.measurement import Measurements
+from volumetric.model.components import GeometricErrors
+from volumetric.model.machine import Machine
+from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
 NULL_TOL = 1e-10

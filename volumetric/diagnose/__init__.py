@@ -1,0 +1,2 @@
+"""What the model gets wrong: candidate effects judged on held-out readings, and the report.
+"""

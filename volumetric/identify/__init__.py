@@ -1,0 +1,3 @@
+"""From measurements to a model: the design matrix, the fit of component errors and the
+thermal (lagged-temperature) refinement.
+"""

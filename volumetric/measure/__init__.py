@@ -1,0 +1,2 @@
+"""Measurements in: the formats.md measurement CSV and per-axis component tables.
+"""
