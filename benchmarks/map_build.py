@@ -15,7 +15,7 @@ import time
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.compensate.errormap import ErrorMap, build_map
+from volumetric.compensate.gridmap import ErrorMap, build_map
 from volumetric.model.components import GeometricErrors, Polynomial, component_names, location_names
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import MachineModel

@@ -35,8 +35,9 @@ from center_connections import (
 )
 
 from protocol import encode_map
+from server.mapcodec import grid_to_payload
 from server.push import Delivery
-from volumetric.compensate.errormap import build_map
+from volumetric.compensate.gridmap import build_map
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
 
@@ -53,7 +54,7 @@ async def main(count: int, rounds: int, tolerance_um: float) -> None:
                       tolerance_um=tolerance_um)
 
     def payload(name: str) -> bytes:
-        return encode_map(dataclasses.replace(built, machine=name, version=1).to_payload())
+        return encode_map(grid_to_payload(dataclasses.replace(built, machine=name, version=1)))
 
     size = len(payload(name_of(0)))
     with tempfile.TemporaryDirectory() as tmp:

@@ -25,7 +25,8 @@ from machine_sim.program import Dwell, Program, SpindleOn
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
 from protocol import decode_map, encode_map
-from volumetric.compensate.errormap import ErrorMap, build_map, build_map_within
+from server.mapcodec import grid_to_payload
+from volumetric.compensate.gridmap import ErrorMap, build_map, build_map_within
 from volumetric.compensate.solver import Weights, compensate
 from volumetric.diagnose.diagnosis import Diagnosis, diagnose
 from volumetric.identify.fit import fit
@@ -104,7 +105,7 @@ def prepare(fm: FleetMachine, console: Console) -> Prepared:
                   f"{emap.report.worst_error_um:.2f} µm as sent ({m.controller}, tolerance "
                   f"{emap.report.tolerance_um:g} µm)")
     if all(a in m.axis_names for a in "XYZ"):
-        grid = GridMap.from_payload(decode_map(encode_map(emap.to_payload())))
+        grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
         inc = emap.increment
         programs = [diagonal_test(m, g, points=20, runs=2) for g in DIAGONALS]
         before = diagonal_ranges(run_campaign(sim, programs).measurements)
@@ -156,7 +157,7 @@ def warm_up(p: Prepared, console: Console, steps: int = 6, minutes: float = 10.0
         for label, model in (("rigid", rigid), ("thermal", p.model)):
             emap = build_map(m, model, temps if model.sensors else None, tolerance_um=0.5,
                              controller="siemens")
-            grid = GridMap.from_payload(decode_map(encode_map(emap.to_payload())))
+            grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
             after = run_campaign(sim, warm, compensation=map_compensation(m, grid)).measurements
             offset, *_ = np.linalg.lstsq(after.u, after.value, rcond=None)
             shifts[label] = float(offset[2])

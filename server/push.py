@@ -18,7 +18,7 @@ sends it; at a periodic wake it re-sends the current map when the machine does n
 it applied (its last answer or its Telemetry say otherwise), except a version the machine
 rejected. A burst of wakes while a build runs gives one more build, not one per wake.
 
-Builds (:func:`volumetric.compensate.errormap.build_map`) run on a thread pool of their own, so they
+Builds (:func:`server.mapcodec.build_for`) run on a thread pool of their own, so they
 neither stall the event loop nor take the threads the database calls use.
 """
 
@@ -49,8 +49,9 @@ from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.link.session import LinkClosed, MachineSession
+from server.mapcodec import grid_to_payload
 from server.temperatures import TemperatureBoard
-from volumetric.compensate.errormap import ErrorMap, build_map_within
+from volumetric.compensate.gridmap import ErrorMap, build_map_within
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
 
@@ -116,7 +117,7 @@ def _store_map(session: Session, machine_id: int, built: ErrorMap, model_version
                temperatures: dict[str, float]) -> MapVersionRow:
     latest = map_repo.get_map_version(session, machine_id, with_payload=False)
     version = (latest.version if latest else 0) + 1
-    payload = encode_map(dataclasses.replace(built, version=version).to_payload())
+    payload = encode_map(grid_to_payload(dataclasses.replace(built, version=version)))
     row = map_repo.add_map_version(session, machine_id, payload=payload,
                                    model_version=model_version, temperatures=temperatures)
     if row.version != version:  # cannot happen in one transaction; the payload says `version`

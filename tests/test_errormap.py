@@ -14,9 +14,10 @@ import pytest
 from numpy.typing import NDArray
 
 from protocol.mapformat import decode_map, encode_map
+from server.mapcodec import grid_from_payload, grid_to_payload
 from tests.test_compensate import realistic_arch_errors
 from tests.test_kinematics import arch, machine, random_errors, random_q
-from volumetric.compensate.errormap import ErrorMap, GridDim, MapBuildError, build_map
+from volumetric.compensate.gridmap import ErrorMap, GridDim, MapBuildError, build_map
 from volumetric.compensate.solver import Weights, compensate
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.components import GeometricErrors, Polynomial, Sinusoid
@@ -113,7 +114,7 @@ def test_three_axis_map_meets_the_tolerance_at_random_points(tolerance: float) -
     assert err_um.max() <= tolerance
     assert m.report.worst_interpolation_um <= tolerance
     assert m.report.nodes == m.nodes == m.values.shape[0] * m.values.shape[1] * m.values.shape[2]
-    assert m.report.bytes == len(encode_map(m.to_payload()))
+    assert m.report.bytes == len(encode_map(grid_to_payload(m)))
 
 
 def test_a_tighter_tolerance_costs_more_nodes() -> None:
@@ -189,7 +190,7 @@ def test_backlash_travels_as_the_reversal_of_its_axis() -> None:
     # a lagging axis: the negative approach needs 9.8 µm less correction than the positive
     assert fanuc.reversal == (-0.01, None, None)  # -9.8 µm in 0.001 mm counts
     assert siemens.reversal[0] == pytest.approx(-0.0098, rel=1e-7)
-    assert fanuc.to_payload().outputs[0].reversal == -10
+    assert grid_to_payload(fanuc).outputs[0].reversal == -10
     # and the values are the positive-approach corrections: the mean plus half of it
     shift = siemens.values[..., 0] - rigid.values[..., 0]
     np.testing.assert_allclose(shift, 0.0049, atol=1e-6)
@@ -235,8 +236,8 @@ def test_payload_round_trip(controller: str) -> None:
     model = MachineModel("arch", geo, (BacklashTerm("y", 6.3),))
     m = build_map(mach, model, tolerance_um=1.0, controller=controller,  # type: ignore[arg-type]
                   version=7, valid_s=3600)
-    wire = encode_map(m.to_payload())
-    back = ErrorMap.from_payload(decode_map(wire))
+    wire = encode_map(grid_to_payload(m))
+    back = grid_from_payload(decode_map(wire))
     assert back == m
     assert back.report is None
     assert back.controller == controller and back.version == 7 and back.valid_s == 3600
@@ -357,7 +358,7 @@ def test_commands_refuse_a_model_with_nan_naming_the_entry(files: tuple[Path, Pa
 
 
 def test_build_map_within_relaxes_the_tolerance_until_the_map_fits() -> None:
-    from volumetric.compensate.errormap import MapTooLargeError, build_map_within
+    from volumetric.compensate.gridmap import MapTooLargeError, build_map_within
 
     mach, model = vmc(), vmc_model()
     tight = build_map(mach, model, tolerance_um=0.5, controller="siemens")

@@ -18,7 +18,8 @@ from machine_sim.program import Dwell, SpindleOn
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
 from protocol import decode_map, encode_map
-from volumetric.compensate.errormap import build_map
+from server.mapcodec import grid_to_payload
+from volumetric.compensate.gridmap import build_map
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.identify.fit import fit
 from volumetric.measure.measurement import Measurements
@@ -41,7 +42,7 @@ def test_compensation_cuts_diagonal_ranges_by_90_percent_down_to_the_noise_floor
                            Effects(noise=Noise(NOISE_UM, NOISE_UM)), seed=21)
     model = fit(m, standard_campaign(sim, rng)).model
     emap = build_map(m, model, tolerance_um=0.25, controller=controller)
-    grid = GridMap.from_payload(decode_map(encode_map(emap.to_payload())))
+    grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
     increment = 0.001 if controller == "fanuc" else None
     programs = [diagonal_test(m, d, points=20, runs=2)
                 for d in ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")]
@@ -92,7 +93,7 @@ def test_a_diagnosed_backlash_becomes_direction_dependent_compensation() -> None
     residual = {}
     for label, model in (("rigid", rigid), ("extended", d.model)):
         emap = build_map(m, model, tolerance_um=0.25, controller="siemens")
-        grid = GridMap.from_payload(decode_map(encode_map(emap.to_payload())))
+        grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
         after = run_campaign(sim, programs, compensation=map_compensation(m, grid)).measurements
         residual[label] = _offset_free_rms(after)
     print(f"\nresidual after compensation: {residual}")
@@ -123,7 +124,7 @@ def test_a_diagnosed_thermal_drift_makes_the_map_follow_the_temperature() -> Non
         for label, model in (("rigid", rigid), ("extended", d.model)):
             emap = build_map(m, model, temps if model.sensors else None, tolerance_um=0.25,
                              controller="siemens")
-            grid = GridMap.from_payload(decode_map(encode_map(emap.to_payload())))
+            grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
             after = run_campaign(sim, programs,
                                  compensation=map_compensation(m, grid)).measurements
             offset, *_ = np.linalg.lstsq(after.u, after.value, rcond=None)

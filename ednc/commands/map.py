@@ -15,7 +15,8 @@ from ednc.commands.compensate import (
 )
 from ednc.inputs import read_machine, read_model
 from protocol.mapformat import encode_map
-from volumetric.compensate.errormap import (
+from server.mapcodec import grid_to_payload
+from volumetric.compensate.gridmap import (
     DEFAULT_INCREMENT,
     DEFAULT_LIMIT_DEG,
     DEFAULT_LIMIT_MM,
@@ -115,7 +116,7 @@ def register(app: typer.Typer) -> None:
                 increment=increment, limit_mm=limit_mm, limit_deg=limit_deg,
                 weights=parse_weights(weights, machine), version=version,
             )
-            payload = encode_map(m.to_payload())
+            payload = encode_map(grid_to_payload(m))
         except (MapBuildError, CompensationError, ComponentErrorSpecError) as exc:
             raise UserError(str(exc)) from None
         try:

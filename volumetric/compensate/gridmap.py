@@ -39,41 +39,34 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field, fields
-from typing import Any, Literal
+from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from protocol.codes import MapEncoding
-from protocol.limits import MAX_MAP_BYTES
-from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis
-from volumetric.compensate.solver import CompensationError, Weights, corrections
-from volumetric.model.components import GeometricErrors
-from volumetric.model.linear import jacobian
+from volumetric.compensate.maps import (
+    DEFAULT_INCREMENT,
+    DEFAULT_LIMIT_DEG,
+    DEFAULT_LIMIT_MM,
+    MAX_MAP_BYTES,
+    Controller,
+    MapBuildError,
+    MapProblem,
+    MapReport,
+    MapTooLargeError,
+    check_parameters,
+    geometry_of,
+    reversal_of,
+    shrink,
+)
+from volumetric.compensate.solver import Weights
 from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
-Controller = Literal["fanuc", "siemens"]
-DEFAULT_INCREMENT = 0.001
-"""Fanuc's least input increment (IS-B): 0.001 mm, or 0.001° on a rotary axis."""
-DEFAULT_LIMIT_MM = 0.5
-DEFAULT_LIMIT_DEG = 0.05
-_HEADER_BYTES = 64  # payload layout of protocol.mapformat: 64 + 24 D + 12 K + 4 N K
+_HEADER_BYTES = 64  # encoded grid payload: 64 + 24 D + 12 K + 4 N K (protocol/README.md §6)
 _MAX_ROUNDS = 40
-_STEP_TOL = 1e-5
-"""Refinement stop for map nodes, mm or degrees. The step after one of size s is about
-s·|de/dq| (the errors' slope, 1e-4 to 1e-3), so stopping at 1e-5 leaves ~0.01 nm: two
-steps instead of three for the same map."""
-
-
-class MapBuildError(ValueError):
-    """A map that cannot be built as asked (bad parameters, tolerance out of reach)."""
-
-
-class MapTooLargeError(MapBuildError):
-    """The tolerance asked for needs more nodes than the controller's map memory holds."""
 
 
 @dataclass(frozen=True)
@@ -111,51 +104,6 @@ class GridDim:
     def nodes(self) -> F64:
         """Node positions, shape (count,)."""
         return np.asarray(self.start + self.step * np.arange(self.count), dtype=np.float64)
-
-
-@dataclass(frozen=True)
-class MapReport:
-    """How a map came out of :func:`build_map`.
-
-    Attributes
-    ----------
-    nodes, bytes : int
-        Grid nodes and the length of the encoded payload.
-    tolerance_um : float
-        The interpolation tolerance asked for.
-    worst_interpolation_um : float
-        Worst tool-tip error of the unquantised map against the exact compensation on an
-        independent check set (random points and cell centres), µm.
-    worst_error_um : float
-        The same for the map as sent (quantised and clamped), µm.
-    check_points : int
-        Size of that check set.
-    clamped_nodes : int
-        Nodes where at least one correction was clamped to the limit.
-    rounds : int
-        Refinement rounds (full-grid checks) taken.
-    build_s : float
-        Wall time, s.
-    """
-
-    nodes: int
-    bytes: int
-    tolerance_um: float
-    worst_interpolation_um: float
-    worst_error_um: float
-    check_points: int
-    clamped_nodes: int
-    rounds: int
-    build_s: float
-
-    def to_json(self) -> dict[str, Any]:
-        return {
-            "nodes": self.nodes, "bytes": self.bytes, "tolerance_um": self.tolerance_um,
-            "worst_interpolation_um": self.worst_interpolation_um,
-            "worst_error_um": self.worst_error_um, "check_points": self.check_points,
-            "clamped_nodes": self.clamped_nodes, "rounds": self.rounds,
-            "build_s": self.build_s,
-        }
 
 
 @dataclass(frozen=True, eq=False)
@@ -248,7 +196,7 @@ class ErrorMap:
 
     @property
     def nbytes(self) -> int:
-        """Length of the encoded payload (:mod:`protocol.mapformat`)."""
+        """Length of the encoded payload (protocol/README.md §6)."""
         return payload_bytes(len(self.grid), len(self.outputs), self.nodes)
 
     def lookup(self, points: ArrayLike) -> F64:
@@ -285,60 +233,9 @@ class ErrorMap:
         out: F64 = qa[:, [keys.index(d.upper()) for d in self.dims]]
         return out
 
-    def to_payload(self) -> ErrorMapPayload:
-        """The :class:`protocol.mapformat.ErrorMapPayload` of this map."""
-        fanuc = self.increment is not None
-        encoding = MapEncoding.INT32_INCREMENTS if fanuc else MapEncoding.FLOAT32_MM
-        if self.increment is not None:
-            counts = np.rint(self.values / self.increment)
-            if np.abs(counts).max(initial=0) >= 2**31:
-                raise MapBuildError("map values overflow int32 counts")
-            raw = counts.astype("<i4").tobytes()
-            rev: list[float | None] = [None if r is None else float(round(r / self.increment))
-                                       for r in self.reversal]
-        else:
-            raw = self.values.astype("<f4").tobytes()
-            rev = [None if r is None else float(r) for r in self.reversal]
-        try:
-            return ErrorMapPayload(
-                machine=self.machine, version=self.version, encoding=encoding,
-                grid=tuple(GridAxis(g.name, float(g.start), float(g.step), g.count)
-                           for g in self.grid),
-                outputs=tuple(OutputAxis(n, r) for n, r in zip(self.outputs, rev, strict=True)),
-                values=raw,
-                increment_mm=float(self.increment) if self.increment is not None else 0.0,
-                valid_s=self.valid_s,
-            )
-        except ValueError as exc:
-            raise MapBuildError(f"map of {self.machine!r} cannot be encoded: {exc}") from None
-
-    @staticmethod
-    def from_payload(payload: ErrorMapPayload) -> ErrorMap:
-        """The map a payload carries (limits and temperatures are not on the wire: the
-        limits come back as the largest |value| per output, the temperatures empty)."""
-        shape = payload.shape
-        raw = np.frombuffer(payload.values, dtype=payload.dtype).reshape(shape)
-        fanuc = payload.encoding is MapEncoding.INT32_INCREMENTS
-        inc = payload.increment_mm if fanuc else None
-        values = raw.astype(float) * inc if inc is not None else raw.astype(float)
-        reversal = tuple(
-            None if o.reversal is None else (o.reversal * inc if inc is not None
-                                             else float(o.reversal))
-            for o in payload.outputs)
-        k = len(payload.outputs)
-        limits = tuple(float(np.abs(values[..., j]).max(initial=0.0)) for j in range(k))
-        return ErrorMap(
-            machine=payload.machine, version=payload.version,
-            controller="fanuc" if fanuc else "siemens",
-            grid=tuple(GridDim(g.name, g.start, g.step, g.count) for g in payload.grid),
-            outputs=tuple(o.name for o in payload.outputs),
-            values=values, increment=inc, limits=limits, reversal=reversal,
-            valid_s=payload.valid_s,
-        )
-
 
 def payload_bytes(n_dims: int, n_outputs: int, nodes: int) -> int:
-    """Encoded size of a map: 64 + 24 D + 12 K + 4 N K bytes (protocol.mapformat)."""
+    """Encoded size of a grid map: 64 + 24 D + 12 K + 4 N K bytes (protocol/README.md §6)."""
     return _HEADER_BYTES + 24 * n_dims + 12 * n_outputs + 4 * nodes * n_outputs
 
 
@@ -370,37 +267,6 @@ def _multilinear(grid: Sequence[GridDim], values: F64, p: F64) -> F64:
 
 # --- building ---
 
-@dataclass
-class _Problem:
-    """What the build evaluates: the exact compensation and the tool-tip metric."""
-
-    machine: Machine
-    geometry: GeometricErrors
-    weights: Weights
-    tool_mm: Mapping[str, float] | None
-    lo: F64
-    hi: F64
-
-    def exact(self, q: F64) -> F64:
-        try:
-            return corrections(self.machine, self.geometry, q, weights=self.weights,
-                               tool_mm=self.tool_mm, step_tol=_STEP_TOL)
-        except CompensationError as exc:
-            raise MapBuildError(str(exc)) from None
-
-    def tip_um(self, q: F64, ddq: F64) -> F64:
-        """Largest tool-tip displacement over the branches caused by ``ddq``, µm, (N,)."""
-        constant = not any(a.kind == "rotary" for a in self.machine.axes)
-        worst = np.zeros(q.shape[0])
-        for br in self.machine.branches:
-            tool = None if self.tool_mm is None else self.tool_mm.get(br.name)
-            j = jacobian(self.machine, q[:1] if constant else q, spindle=br.name,
-                         tool_mm=tool)[:, :3]
-            d = np.einsum("nij,nj->ni", j, ddq)
-            worst = np.maximum(worst, np.linalg.norm(d, axis=1))
-        return worst
-
-
 def _interval_count(c: int) -> int:
     """The next node count of an axis: 1 → 2 → 3 → ... growing by about a quarter."""
     if c == 1:
@@ -413,7 +279,7 @@ class _Lines:
     """Random lines along each axis, on which the axis's 1-D interpolation error is
     measured (see module docstring)."""
 
-    def __init__(self, prob: _Problem, rng: np.random.Generator, n_lines: int) -> None:
+    def __init__(self, prob: MapProblem, rng: np.random.Generator, n_lines: int) -> None:
         self.prob = prob
         self.rng = rng
         n = len(prob.lo)
@@ -449,7 +315,7 @@ class _Lines:
         return float(prob.tip_um(qt, ddq).max())
 
 
-def _grid_for(prob: _Problem, names: Sequence[str], counts: Sequence[int]) -> list[GridDim]:
+def _grid_for(prob: MapProblem, names: Sequence[str], counts: Sequence[int]) -> list[GridDim]:
     dims = []
     for i, c in enumerate(counts):
         if c >= 2:
@@ -458,7 +324,7 @@ def _grid_for(prob: _Problem, names: Sequence[str], counts: Sequence[int]) -> li
     return dims
 
 
-def _node_positions(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim]) -> F64:
+def _node_positions(prob: MapProblem, names: Sequence[str], grid: Sequence[GridDim]) -> F64:
     mid = 0.5 * (prob.lo + prob.hi)
     mesh = np.meshgrid(*[g.nodes() for g in grid], indexing="ij")
     q = np.tile(mid, (mesh[0].size, 1))
@@ -467,7 +333,7 @@ def _node_positions(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim
     return q
 
 
-def _cell_centres(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim],
+def _cell_centres(prob: MapProblem, names: Sequence[str], grid: Sequence[GridDim],
                   rng: np.random.Generator, n: int) -> F64:
     q = prob.lo + (prob.hi - prob.lo) * rng.random((n, len(names)))
     for g in grid:
@@ -476,7 +342,7 @@ def _cell_centres(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim],
     return q
 
 
-def _map_error(prob: _Problem, names: Sequence[str], grid: Sequence[GridDim], values: F64,
+def _map_error(prob: MapProblem, names: Sequence[str], grid: Sequence[GridDim], values: F64,
                q: F64, exact: F64) -> F64:
     cols = [list(names).index(g.name) for g in grid]
     return prob.tip_um(q, _multilinear(grid, values, q[:, cols]) - exact)
@@ -546,12 +412,12 @@ def build_map(
         A model that does not fit the machine (unknown axis, non-finite value).
     """
     t0 = time.perf_counter()
-    ctrl = _check_parameters(machine, model, tolerance_um, controller, increment, limit_mm,
+    ctrl = check_parameters(machine, model, tolerance_um, controller, increment, limit_mm,
                              limit_deg, check_points)
-    geometry = _geometry(model, temperatures)
+    geometry = geometry_of(model, temperatures)
     geometry.check(machine)
     w = Weights.default(machine) if weights is None else weights
-    prob = _Problem(machine, geometry, w, tool_mm, machine.travel_lo, machine.travel_hi)
+    prob = MapProblem(machine, geometry, w, tool_mm, machine.travel_lo, machine.travel_hi)
     names = machine.axis_names
     n_out = len(names)
     rng = np.random.default_rng(seed)
@@ -590,7 +456,7 @@ def build_map(
                     float(_map_error(prob, names, grid, values, centres,
                                      prob.exact(centres)).max()))
         if worst > tolerance_um:
-            budget *= _shrink(tolerance_um, worst)
+            budget *= shrink(tolerance_um, worst)
             continue
         # independent check: random points and cell centres that took no part above
         indep = np.vstack([
@@ -604,7 +470,7 @@ def build_map(
         # the decision set missed something: learn from this set, draw a fresh one
         check_q = np.vstack([check_q, indep])
         check_exact = np.vstack([check_exact, indep_exact])
-        budget *= _shrink(tolerance_um, worst_indep)
+        budget *= shrink(tolerance_um, worst_indep)
 
     # Backlash: the tool lags half the reversal behind the motion (volumetric.model.model), so
     # the positive-approach correction the values carry is the mean one plus B/2, and the
@@ -621,7 +487,7 @@ def build_map(
     # judged on the direction-free part: the positive-approach shift is not an error
     worst_sent = float(_map_error(prob, names, grid, sent - 0.5 * backlash_mm, indep,
                                   indep_exact).max())
-    reversal = _reversal(machine, model, inc)
+    reversal = reversal_of(machine, model, inc)
     report = MapReport(
         nodes=math.prod(g.count for g in grid),
         bytes=payload_bytes(len(grid), n_out, math.prod(g.count for g in grid)),
@@ -667,13 +533,6 @@ def build_map_within(
             tol *= 2
 
 
-def _shrink(tolerance_um: float, worst_um: float) -> float:
-    """Budget factor after a check found ``worst_um`` > tolerance: aim 5 % under the
-    tolerance (interpolation error ∝ spacing², so error and budget scale alike), but move
-    by 5 % at least and by half at most."""
-    return max(0.5, min(0.95, 0.95 * tolerance_um / worst_um))
-
-
 def _best_axis(counts: Sequence[int], errs: Sequence[float]) -> int:
     """The axis whose next refinement buys the largest predicted error reduction per
     relative growth of the map (linear interpolation: error ∝ spacing²)."""
@@ -687,69 +546,10 @@ def _best_axis(counts: Sequence[int], errs: Sequence[float]) -> int:
     return best
 
 
-def _check_parameters(machine: Machine, model: MachineModel, tolerance_um: float,
-                      controller: str | None, increment: float, limit_mm: float,
-                      limit_deg: float, check_points: int) -> Controller:
-    if model.machine and model.machine != machine.name:
-        raise MapBuildError(f"the model is for machine {model.machine!r}, the description "
-                            f"is of {machine.name!r}")
-    if not (math.isfinite(tolerance_um) and tolerance_um > 0):
-        raise MapBuildError(f"tolerance must be a positive number of µm, got {tolerance_um}")
-    ctrl = (controller or machine.controller).lower()
-    if ctrl not in ("fanuc", "siemens"):
-        raise MapBuildError(f"controller must be 'fanuc' or 'siemens', got {ctrl!r}")
-    if not (math.isfinite(increment) and 0 < increment <= 1):
-        raise MapBuildError(f"increment must be in (0, 1] mm, got {increment}")
-    for name, v in (("limit_mm", limit_mm), ("limit_deg", limit_deg)):
-        if not (math.isfinite(v) and v > 0):
-            raise MapBuildError(f"{name} must be positive, got {v}")
-    if check_points < 16:
-        raise MapBuildError(f"check_points must be at least 16, got {check_points}")
-    return "fanuc" if ctrl == "fanuc" else "siemens"
-
-
-def _geometry(model: MachineModel, temperatures: Mapping[str, float] | None) -> GeometricErrors:
-    temps = dict(temperatures or {})
-    for k, v in temps.items():
-        if not isinstance(v, int | float) or not math.isfinite(v):
-            raise MapBuildError(f"temperature {k} = {v!r} is not a finite number of °C")
-    for i, term in enumerate(model.terms):
-        for f in fields(term):
-            name, value = f.name, getattr(term, f.name)
-            if isinstance(value, float) and not math.isfinite(value):
-                kind = getattr(term, "kind", type(term).__name__)
-                raise MapBuildError(f"model term {i} ({kind}, axis {term.axis}): {name} = "
-                                    f"{value} is not finite")
-    try:
-        return model.geometry_at(temps)
-    except ValueError as exc:
-        raise MapBuildError(str(exc)) from None
-
-
-def _reversal(machine: Machine, model: MachineModel,
-              inc: float | None) -> tuple[float | None, ...]:
-    rev = {k.lower(): v for k, v in model.reversal_um().items()}
-    keys = {a.key for a in machine.axes}
-    unknown = sorted(set(rev) - keys)
-    if unknown:
-        raise MapBuildError(f"the model has backlash for axes {unknown}; machine "
-                            f"{machine.name!r} has {sorted(keys)}")
-    out: list[float | None] = []
-    for a in machine.axes:
-        r = rev.get(a.key)
-        if r is None:
-            out.append(None)
-            continue
-        if not math.isfinite(r) or r < 0:
-            raise MapBuildError(f"backlash of axis {a.key} is {r} µm; expected >= 0")
-        mm = -r * 1e-3  # negative minus positive approach correction of a lagging axis
-        # what the wire carries: whole counts (Fanuc) or a float32 (Siemens)
-        out.append(float(np.rint(mm / inc) * inc) if inc is not None else
-                   float(np.float32(mm)))
-    return tuple(out)
-
-
 __all__ = [
+    "DEFAULT_INCREMENT",
+    "DEFAULT_LIMIT_DEG",
+    "DEFAULT_LIMIT_MM",
     "ErrorMap",
     "GridDim",
     "MapBuildError",
