@@ -3,39 +3,18 @@ reachable they skip, except under CI (``EDNC_REQUIRE_SERVICES=1``) where they fa
 
 from __future__ import annotations
 
-import os
-import socket
 from pathlib import Path
 
 import pytest
 
-REPO = Path(__file__).resolve().parents[1]
-SHARED = REPO.parent / "shared"
-REQUIRE_SERVICES = os.environ.get("EDNC_REQUIRE_SERVICES") == "1"
+from tests.support.data import unpack_real_data
+from tests.support.services import reachable, require
 
 
-def reachable(host: str, port: int, timeout: float = 0.5) -> bool:
-    try:
-        with socket.create_connection((host, port), timeout=timeout):
-            return True
-    except OSError:
-        return False
-
-
-def require(name: str, ok: bool, how: str) -> None:
-    """Skip (developer machine) or fail (CI) when a real service is missing."""
-    if ok:
-        return
-    message = f"{name} is not available: {how}"
-    if REQUIRE_SERVICES:
-        pytest.fail(message)
-    pytest.skip(message)
-
-
-@pytest.fixture
-def shared_dir() -> Path:
-    require("../shared", SHARED.is_dir(), f"expected the shared material at {SHARED}")
-    return SHARED
+@pytest.fixture(scope="session")
+def real_data(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The directory holding tests/data's real measured files, unpacked and checked."""
+    return unpack_real_data(tmp_path_factory.mktemp("real_data"))
 
 
 @pytest.fixture

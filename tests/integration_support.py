@@ -45,7 +45,7 @@ from server.center import Center
 from server.link import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
-from tests.conftest import require
+from tests.support.services import require
 from volumetric.measure.measurement import Measurements, write_measurements
 from volumetric.model.machine import Machine, parse_machine
 

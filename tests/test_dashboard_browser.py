@@ -35,7 +35,7 @@ from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.events import EventKind
 from server.settings import Settings
-from tests.conftest import require
+from tests.support.services import require
 from tests.test_dashboard import DIAGNOSIS, OTHER, SIEMENS, diagonals_csv, example_map
 from tests.test_server_api import API_KEY, SECRET, VMC, WRITE
 

@@ -117,9 +117,9 @@ def test_hidden_effects_are_found_named_and_sized() -> None:
 
 
 def test_real_spindle_thermal_test_names_the_thermal_cause_and_beats_2_um(
-        shared_dir: Path) -> None:
+        real_data: Path) -> None:
     m = machine_for("w X Y b Z t")
-    readings = read_measurements(shared_dir / "data" / "fl_thermal_ch3_measurements.csv")
+    readings = read_measurements(real_data / "fl_thermal_ch3_measurements.csv")
     d = diagnose(m, readings, holdout_after=144000.0)
     assert (d.effect, d.axis) == ("thermal_drift", "z")
     assert d.sensor is not None and d.sensor.startswith("T_t")

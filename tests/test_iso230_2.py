@@ -224,8 +224,8 @@ def test_chained_positions_are_refused() -> None:
 # ------------------------------------------------------------------ real data, through the CLI
 
 
-def source_rows(shared_dir: Path) -> list[dict[str, str]]:
-    path = shared_dir / "data" / "iso230_2_ecmccfg_mcu1025_axis.csv"
+def source_rows(real_data: Path) -> list[dict[str, str]]:
+    path = real_data / "iso230_2_ecmccfg_mcu1025_axis.csv"
     with path.open(newline="") as fh:
         return list(csv.DictReader(fh))
 
@@ -295,8 +295,8 @@ def expected_from_source(rows: list[dict[str, str]]) -> dict[str, float]:
     }
 
 
-def test_source_file_is_what_its_readme_says(shared_dir: Path) -> None:
-    rows = source_rows(shared_dir)
+def test_source_file_is_what_its_readme_says(real_data: Path) -> None:
+    rows = source_rows(real_data)
     assert len(rows) == 50
     for r in rows:  # deviation_mm = reference - target, rounded to 1e-8 mm
         assert float(r["deviation_mm"]) == pytest.approx(
@@ -306,8 +306,8 @@ def test_source_file_is_what_its_readme_says(shared_dir: Path) -> None:
     assert float(outlier["deviation_mm"]) == pytest.approx(0.0932, abs=1e-4)
 
 
-def test_cli_on_the_real_measured_axis(shared_dir: Path, tmp_path: Path) -> None:
-    rows = source_rows(shared_dir)
+def test_cli_on_the_real_measured_axis(real_data: Path, tmp_path: Path) -> None:
+    rows = source_rows(real_data)
     data = tmp_path / "axis.csv"
     source_as_measurement_csv(rows, data)
     out = subprocess.run([str(EDNC), "iso230-2", "--data", str(data), "--json"],

@@ -92,8 +92,8 @@ def test_trailing_blank_lines_are_not_readings(style: str) -> None:
     assert len(m) == 3
 
 
-def test_real_thermal_file_matches_an_independent_parse(shared_dir: Path) -> None:
-    path = shared_dir / "data" / "fl_thermal_ch3_measurements.csv"
+def test_real_thermal_file_matches_an_independent_parse(real_data: Path) -> None:
+    path = real_data / "fl_thermal_ch3_measurements.csv"
     m = read_measurements(path)
     with path.open(newline="") as fh:
         rows = list(csv.DictReader(fh))
@@ -109,9 +109,9 @@ def test_real_thermal_file_matches_an_independent_parse(shared_dir: Path) -> Non
         assert m.u[i].tolist() == [float(row["ux"]), float(row["uy"]), float(row["uz"])]
 
 
-def test_careful_path_agrees_with_the_fast_path(shared_dir: Path) -> None:
+def test_careful_path_agrees_with_the_fast_path(real_data: Path) -> None:
     """Quoting the test labels sends the same file down the csv-module path."""
-    path = shared_dir / "data" / "fl_thermal_ch3_measurements.csv"
+    path = real_data / "fl_thermal_ch3_measurements.csv"
     plain = path.read_text()
     head, _, body = plain.partition("\n")
     body = body.replace("spindle-thermal,", '"spindle-thermal",')

@@ -31,7 +31,7 @@ from server.db import (
     reports,
 )
 from server.db.tables import Base
-from tests.conftest import reachable, require
+from tests.support.services import reachable, require
 
 PG_ADMIN = "host=127.0.0.1 port=5432 user=postgres dbname=postgres connect_timeout=5"
 

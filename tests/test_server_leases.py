@@ -38,7 +38,7 @@ from server.leasing import LeaseKeeper
 from server.plant import PlantView
 from server.settings import load_settings
 from server.state import Registry
-from tests.conftest import reachable, require
+from tests.support.services import reachable, require
 from tests.test_server_db import PG_ADMIN, database_url, postgres_url  # noqa: F401
 from tests.test_server_link import SECRET, description, model_body, rig, until
 from volumetric.model.machine import parse_machine

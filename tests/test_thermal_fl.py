@@ -202,11 +202,11 @@ def rms(r: np.ndarray) -> float:
 
 
 @pytest.fixture
-def spindle(shared_dir: Path) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray,
-                                       dict[str, np.ndarray]]:
+def spindle(real_data: Path) -> tuple[np.ndarray, dict[str, np.ndarray], np.ndarray,
+                                      dict[str, np.ndarray]]:
     """The FL_THERMAL test as measurement CSV: time (s), temperatures by column name (°C),
     ch3 drift along the tool axis (µm), and the spindle speed as an extra input (rpm)."""
-    m = read_measurements(shared_dir / "data" / "fl_thermal_ch3_measurements.csv")
+    m = read_measurements(real_data / "fl_thermal_ch3_measurements.csv")
     temps = {column: m.temperatures[sensor]
              for sensor, column in m.temperature_columns.items()}
     return m.time_s, temps, m.value, {"spindle_rpm": m.extra["spindle_rpm"]}
