@@ -38,6 +38,8 @@ from .messages import (
     Released,
     SensorReading,
     Telemetry,
+    TemperatureReading,
+    Temperatures,
     Welcome,
     clip_text,
 )
@@ -84,6 +86,8 @@ __all__ = [
     "Sentinel",
     "State",
     "Telemetry",
+    "TemperatureReading",
+    "Temperatures",
     "Welcome",
     "clip_text",
     "compute_mac",

@@ -35,6 +35,8 @@ from .messages import (
     Released,
     SensorReading,
     Telemetry,
+    TemperatureReading,
+    Temperatures,
     Welcome,
 )
 
@@ -191,6 +193,13 @@ def encode_payload(msg: Message) -> bytes:
             w.text(msg.text)
         case Released():
             pass
+        case Temperatures():
+            w.u64(msg.timestamp_ms)
+            w.u8(len(msg.readings))
+            for t in msg.readings:
+                w.text(t.name)
+                w.f64(t.celsius)
+                w.u32(t.age_ms)
         case _:
             assert_never(msg)
     return bytes(w.out)
@@ -251,6 +260,14 @@ def _decode(kind: MessageType, r: _Reader) -> Message:
             return ReleaseCompensation(r.u32("ramp_ms"), r.text("text"))
         case MessageType.RELEASED:
             return Released()
+        case MessageType.TEMPERATURES:
+            stamp = r.u64("timestamp_ms")
+            readings = tuple(
+                TemperatureReading(r.text(f"sensor {i} name"), r.f64(f"sensor {i} celsius"),
+                                   r.u32(f"sensor {i} age_ms"))
+                for i in range(r.u8("sensor count"))
+            )
+            return Temperatures(stamp, readings)
         case _:
             assert_never(kind)
 

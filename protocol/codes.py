@@ -24,6 +24,7 @@ class MessageType(IntEnum):
     HEARTBEAT_REPLY = 0x22
     RELEASE_COMPENSATION = 0x23
     RELEASED = 0x24
+    TEMPERATURES = 0x25
     ERROR = 0x7F
 
 

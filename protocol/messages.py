@@ -29,6 +29,7 @@ NONCE_BYTES: Final = 32
 MAC_BYTES: Final = 32
 SHA256_BYTES: Final = 32
 _ALL_FORMATS: Final = MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM
+ABSOLUTE_ZERO_C: Final = -273.15
 _AXIS_TOKEN = re.compile(r"[XYZABC][0-9]?")
 
 
@@ -279,6 +280,54 @@ class Telemetry:
 
 
 @dataclass(frozen=True, slots=True)
+class TemperatureReading:
+    """One sensor in Temperatures: its name, °C, and how old the reading was when sent.
+
+    ``age_ms`` (u32) lets a machine judge staleness from its own receive time, without a
+    clock synchronised with the center's: the reading was taken ``age_ms`` before the
+    message left the center.
+    """
+
+    name: str
+    celsius: float
+    age_ms: int = 0
+
+    def __post_init__(self) -> None:
+        check.text("TemperatureReading.name", self.name, MAX_LABEL_BYTES, empty=False)
+        check.finite(f"sensor {self.name} temperature", self.celsius)
+        if self.celsius < ABSOLUTE_ZERO_C:
+            raise ValueError(f"sensor {self.name} temperature {self.celsius} °C is below "
+                             f"absolute zero")
+        check.uint(f"sensor {self.name} age_ms", self.age_ms, 32)
+
+
+@dataclass(frozen=True, slots=True)
+class Temperatures:
+    """Center → machine: the latest temperatures the center has for this machine.
+
+    ``timestamp_ms`` is the center's clock when it sent the message (ms since the Unix
+    epoch, UTC); each reading carries its own age. 1 to 32 sensors, each named once; a
+    sensor not in the message keeps its previous value on the machine.
+    """
+
+    timestamp_ms: int
+    readings: tuple[TemperatureReading, ...]
+
+    def __post_init__(self) -> None:
+        check.uint("Temperatures.timestamp_ms", self.timestamp_ms, 64)
+        if not isinstance(self.readings, tuple):
+            raise ValueError("Temperatures.readings must be a tuple")
+        if not 1 <= len(self.readings) <= MAX_SENSORS:
+            raise ValueError(f"Temperatures has {len(self.readings)} sensors, "
+                             f"1 to {MAX_SENSORS} allowed")
+        for r in self.readings:
+            if not isinstance(r, TemperatureReading):
+                raise ValueError(f"Temperatures.readings holds a {type(r).__name__}, "
+                                 "not TemperatureReading")
+        check.unique("Temperatures.readings", [r.name for r in self.readings])
+
+
+@dataclass(frozen=True, slots=True)
 class Heartbeat:
     """Center → machine every heartbeat period; the machine echoes ``token``."""
 
@@ -330,7 +379,8 @@ class Error:
 Message = (
     Hello | Challenge | AuthResponse | Welcome | Reject
     | MapBegin | MapChunk | MapEnd | MapAck | MapReject
-    | Telemetry | Heartbeat | HeartbeatReply | ReleaseCompensation | Released | Error
+    | Telemetry | Heartbeat | HeartbeatReply | ReleaseCompensation | Released | Temperatures
+    | Error
 )
 """Every message of protocol version 1."""
 
@@ -350,6 +400,7 @@ TYPE_OF: Final[dict[type[Message], MessageType]] = {
     HeartbeatReply: MessageType.HEARTBEAT_REPLY,
     ReleaseCompensation: MessageType.RELEASE_COMPENSATION,
     Released: MessageType.RELEASED,
+    Temperatures: MessageType.TEMPERATURES,
     Error: MessageType.ERROR,
 }
 """The frame type code of each message class."""

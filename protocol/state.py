@@ -18,7 +18,9 @@ Rules (each is enforced by the table or by ``ConnectionState.check``; tests cove
    one role may speak, so both ends always agree on the state.
 4. Nothing but the handshake messages and Error is allowed before Welcome: in particular
    no map, telemetry or heartbeat reaches an unauthenticated peer.
-5. MAP and RELEASE messages, Telemetry and heartbeats need SESSION == READY.
+5. MAP and RELEASE messages, Telemetry, Temperatures and heartbeats need SESSION == READY.
+   Temperatures (center → machine) moves no channel: any number may follow one another,
+   crossing map pushes and releases; the machine only stores the values (rule 10).
 6. The MAP channel is lock-step too: the center sends MapBegin, any number of MapChunk,
    then MapEnd; then only the machine moves it, with exactly one MapAck or MapReject.
    Only then may the next MapBegin follow. (Chunk indices, sizes and checksums are the
@@ -30,6 +32,9 @@ Rules (each is enforced by the table or by ``ConnectionState.check``; tests cove
 9. Because every lock-step state lets one role move its channel, frames crossing in
    flight (Telemetry against MapChunk, Heartbeat against MapAck) never make the two ends
    disagree about a channel.
+10. Temperatures is never answered: a machine that cannot use a reading (an unknown sensor)
+    ignores that reading, not the message, and never closes the session for it, so the
+    center may forward readings without waiting for anything.
 """
 
 from __future__ import annotations
@@ -55,6 +60,7 @@ from .messages import (
     ReleaseCompensation,
     Released,
     Telemetry,
+    Temperatures,
     Welcome,
 )
 
@@ -128,6 +134,7 @@ TRANSITIONS: Final[dict[tuple[Role, type[Message]], dict[State, State]]] = {
     (MACHINE, Telemetry): {S.READY: S.READY},
     (CENTER, Heartbeat): {S.READY: S.READY},
     (MACHINE, HeartbeatReply): {S.READY: S.READY},
+    (CENTER, Temperatures): {S.READY: S.READY},  # rules 5 and 10
     # MAP (rule 6)
     (CENTER, MapBegin): {S.MAP_IDLE: S.MAP_SENDING},
     (CENTER, MapChunk): {S.MAP_SENDING: S.MAP_SENDING},

@@ -34,6 +34,8 @@ from protocol import (
     Role,
     SensorReading,
     Telemetry,
+    TemperatureReading,
+    Temperatures,
     Welcome,
 )
 from protocol.codec import decode_payload, encode_payload
@@ -171,6 +173,8 @@ def _largest() -> list[Message]:
                   tuple(AxisReading(f"{i:x}" * 16, 1e300, -1e300) for i in range(16)),
                   tuple(SensorReading(f"{i:02d}" * 8, -273.15) for i in range(32))),
         MapChunk(2**32 - 1, 2**32 - 1, b"\xff" * MAX_CHUNK_BYTES),
+        Temperatures(2**64 - 1, tuple(TemperatureReading(f"{i:02d}" * 8, 1e300, 2**32 - 1)
+                                      for i in range(32))),
     ]
 
 

@@ -38,6 +38,8 @@ from protocol import (
     Role,
     SensorReading,
     Telemetry,
+    TemperatureReading,
+    Temperatures,
     Welcome,
     clip_text,
     decode_map,
@@ -96,6 +98,11 @@ messages: st.SearchStrategy[Message] = st.one_of(
     st.builds(HeartbeatReply, u32),
     st.builds(ReleaseCompensation, u32, texts),
     st.just(Released()),
+    st.builds(Temperatures, st.integers(0, 2**64 - 1),
+              st.lists(labels, min_size=1, max_size=32, unique=True).flatmap(
+                  lambda names: st.tuples(*[st.builds(
+                      TemperatureReading, st.just(n), st.floats(-273.15, 1e300), u32)
+                      for n in names]))),
     st.builds(Error, st.sampled_from(ErrorCode), texts),
 )
 

@@ -38,6 +38,8 @@ from protocol import (
     Released,
     SensorReading,
     Telemetry,
+    TemperatureReading,
+    Temperatures,
     Welcome,
     pack_values,
 )
@@ -100,6 +102,12 @@ GOLDEN: list[tuple[Message, int, bytes]] = [
     (HeartbeatReply(0xDEADBEEF), 0x22, h("deadbeef")),
     (ReleaseCompensation(2000, "thermal"), 0x23, h("000007d0 07 746865726d616c")),
     (Released(), 0x24, b""),
+    (Temperatures(1_700_000_000_000, (TemperatureReading("spindle", 21.25, 150),
+                                      TemperatureReading("air", 20.5))), 0x25, h(
+        "0000018bcfe56800"             # timestamp ms (center clock at sending)
+        "02"                           # 2 sensors
+        "07 7370696e646c65 4035400000000000 00000096"   # spindle 21.25 °C, 150 ms old
+        "03 616972 4034800000000000 00000000")),        # air 20.5 °C, fresh
     (Error(ErrorCode.PROTOCOL_ERROR, ""), 0x7F, h("0001 00")),
 ]
 
