@@ -79,6 +79,8 @@ class MapReport:
         Wall time, s.
     kind : {"grid", "tables"}
         The map kind; ``nodes`` counts grid nodes or table entries.
+    check_s : float
+        Of ``build_s``, the wall time spent on the independent check (tables kind), s.
     """
 
     nodes: int
@@ -91,14 +93,16 @@ class MapReport:
     rounds: int
     build_s: float
     kind: MapKind = "grid"
+    check_s: float = 0.0
 
     def to_json(self) -> dict[str, Any]:
         return {
-            "kind": self.kind, "nodes": self.nodes, "bytes": self.bytes, "tolerance_um": self.tolerance_um,
+            "kind": self.kind, "nodes": self.nodes, "bytes": self.bytes,
+            "tolerance_um": self.tolerance_um,
             "worst_interpolation_um": self.worst_interpolation_um,
             "worst_error_um": self.worst_error_um, "check_points": self.check_points,
             "clamped_nodes": self.clamped_nodes, "rounds": self.rounds,
-            "build_s": self.build_s,
+            "build_s": self.build_s, "check_s": self.check_s,
         }
 
 
