@@ -29,6 +29,7 @@ from numpy.typing import NDArray
 from protocol.messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject
 
 from .mapstore import MapStore
+from .temperatures import TemperatureStore
 
 __all__ = ["Compensator"]
 
@@ -63,6 +64,8 @@ class Compensator:
         self._release: _Release | None = None
         self.released_owed = 0
         self.now_s = 0.0
+        self.temperatures = TemperatureStore()
+        """Latest temperatures (own sensors or the center's Temperatures), read each cycle."""
 
     # -- to be provided by the personality
     def applied_mm(self) -> F64:

@@ -61,6 +61,7 @@ from protocol import (
     SensorReading,
     State,
     Telemetry,
+    Temperatures,
     Welcome,
     compute_mac,
 )
@@ -120,6 +121,7 @@ class LinkStats:
     releases: int = 0
     telemetry_sent: int = 0
     mqtt_published: int = 0
+    temperatures_received: int = 0
     last_error: str = ""
     rejects: list[str] = field(default_factory=list)
 
@@ -380,6 +382,10 @@ class SimulatedCNC:
                 self.stats.releases += 1
                 self._release_pending = True
                 ctl.release(self.now(), ramp_ms / 1000.0)
+            case Temperatures():
+                # stored for the next cycle; never answered (protocol rule 10)
+                ctl.temperatures.apply(msg, self.now())
+                self.stats.temperatures_received += 1
             case Error(code=code, text=text):
                 raise _Closed(f"center error {code.name}: {text}")
             case _:

@@ -81,11 +81,20 @@ class MachineRuntime:
     thermal_speedup : float
         Machine-temperature seconds per second of run time: a demo shows an hour of
         warm-up in a minute with 60; motion and controller keep real time.
+    own_sensors : bool, optional
+        The controller reads the machine's sensors itself (stored in
+        ``controller.temperatures`` every ``sensor_period_s``); by default a Siemens-style
+        NC does (its sensors are on the PLC) and a Fanuc-style one does not (its sensors
+        publish to MQTT and the center forwards them in Temperatures messages).
+    sensor_period_s : float
+        How often the controller reads its own sensors, s (not every cycle: a reading
+        costs more than a cycle's budget and temperatures move over minutes).
     """
 
     def __init__(self, machine: Machine, *, seed: int = 0, thermal: ThermalConfig | None = None,
                  fanuc: FanucConfig | None = None, siemens: SiemensConfig | None = None,
-                 thermal_speedup: float = 1.0) -> None:
+                 thermal_speedup: float = 1.0, own_sensors: bool | None = None,
+                 sensor_period_s: float = 1.0) -> None:
         if not thermal_speedup > 0:
             raise ValueError(f"thermal_speedup must be > 0, got {thermal_speedup!r}")
         self.machine = machine
@@ -102,11 +111,26 @@ class MachineRuntime:
             self.controller = FanucPMC(machine.name, machine.axis_names, fanuc)
             self.cycle_s = self.controller.config.scan_s
         self.positions, self.directions = self.motion.at(0.0)
+        self.own_sensors = (machine.controller == "siemens" if own_sensors is None
+                            else bool(own_sensors))
+        self.sensor_period_s = float(sensor_period_s)
+        self._sensors_read_s = float("-inf")
+
+    def read_own_sensors(self, now_s: float) -> None:
+        """Store the machine's own sensor readings at ``now_s`` in the controller's
+        temperatures, at most every ``sensor_period_s`` (no-op without own sensors)."""
+        if not self.own_sensors or now_s - self._sensors_read_s < self.sensor_period_s:
+            return
+        self._sensors_read_s = now_s
+        store = self.controller.temperatures
+        for sensor, celsius in self.temperatures(now_s).items():
+            store.update(sensor, celsius, now_s, "sensor")
 
     def step(self, now_s: float) -> F64:
         """Move to time ``now_s`` and run one controller cycle; returns the applied
         compensation per axis, mm (degrees)."""
         self.positions, self.directions = self.motion.at(now_s)
+        self.read_own_sensors(now_s)
         c = self.controller
         if isinstance(c, SiemensNC):
             return c.ipo_cycle(now_s, self.positions, self.directions)
