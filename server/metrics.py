@@ -34,6 +34,9 @@ class Metrics:
         Connections refused, by ``reason`` (e.g. ``unknown``, ``auth``, ``duplicate``).
     events : Counter
         Events recorded, by ``kind``.
+    logins_throttled : Counter
+        Logins refused without a look at their answer, because failures from that address
+        or for that name came too fast (also counted in ``refusals`` as ``throttled``).
     """
 
     def __init__(self) -> None:
@@ -55,6 +58,10 @@ class Metrics:
         )
         self.events = Counter(
             "ednc_events", "Events recorded, by kind.", ["kind"], registry=self.registry
+        )
+        self.logins_throttled = Counter(
+            "ednc_logins_throttled", "Machine logins refused by the failed-login throttle.",
+            registry=self.registry,
         )
 
     def track_connected(self, count: Callable[[], int]) -> None:

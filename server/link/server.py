@@ -22,9 +22,14 @@ the machine's lease after authentication and before Welcome; a machine whose lea
 node holds is refused (DUPLICATE_SESSION, "machine 'm' is owned by node X") and tries its
 next center. A session whose lease is lost is closed; its end gives the lease back.
 
-Unauthenticated connections are bounded (``max_handshakes``): beyond that, new ones are
-closed at once, so a flood of connections or of silent peers cannot exhaust the process
-while established sessions keep running.
+Unauthenticated peers are bounded (:mod:`server.link.admission`): a connection from an
+address no machine is registered at is closed at accept; handshakes are limited per
+address and in total (``max_handshakes``), a newcomer taking the slot of the longest
+waiting one when all are taken; Hello must come within ``hello_s``; failed logins delay
+the next try exponentially per address and per name; refusals are stored at most once per
+peer per minute with a count. A refused peer learns only the refusal code (an empty
+Reject text): what was wrong, which would tell a spoofer the registered address or
+controller, goes to the log and the event (the dashboard) only.
 """
 
 from __future__ import annotations
@@ -36,6 +41,8 @@ from collections.abc import Callable, Coroutine
 from dataclasses import dataclass
 from types import TracebackType
 from typing import Any, Final
+
+from sqlalchemy.exc import SQLAlchemyError
 
 from protocol import (
     AuthResponse,
@@ -53,23 +60,36 @@ from protocol import (
     RemoteProtocolError,
     Telemetry,
     Welcome,
-    clip_text,
     new_nonce,
     verify_mac,
 )
 from protocol.messages import Heartbeat
 from server.center import Center
+from server.db import events as event_repo
 from server.db import machines as machine_repo
 from server.db.tables import MachineRow
 from server.events import EventKind
-from server.feed import Feed
+from server.feed import Feed, Notice
 from server.leasing import LeaseKeeper
+from server.link.admission import (
+    AddressBook,
+    HandshakeSlots,
+    LoginThrottle,
+    OncePerWindow,
+    RefusalLog,
+)
 from server.link.session import LinkClosed, MachineSession
 from server.temperatures import TemperatureBoard, valid_sensor
 
 log = logging.getLogger(__name__)
 
 HANDSHAKE_S: Final = 10.0
+HELLO_S: Final = 2.0
+"""Accept to Hello, s. A machine sends Hello as soon as it is connected (a few ms on a
+LAN); a peer that holds a handshake slot without speaking is dropped after this."""
+MAX_HANDSHAKES_PER_ADDRESS: Final = 4
+"""A machine has one address and needs one handshake at a time (two while a half-open
+old connection lingers); four leave room and stop one address from taking all slots."""
 TELEMETRY_PERIOD_MS: Final = 1000
 DEAD_AFTER_PERIODS: Final = 3
 MAX_HANDSHAKES: Final = 256
@@ -102,6 +122,7 @@ class LinkTiming:
     """Deadlines of the machine link, s."""
 
     handshake_s: float = HANDSHAKE_S
+    hello_s: float = HELLO_S
     heartbeat_s: float = 10.0
     telemetry_period_ms: int = TELEMETRY_PERIOD_MS
 
@@ -135,16 +156,21 @@ class MachineServer:
     host, port : str, int
         Where to listen (port 0: any free port, see :attr:`port`).
     timing : LinkTiming
-    max_handshakes : int
+    max_handshakes, max_handshakes_per_address : int
+        Handshakes in progress at once, in all and from one address.
     leases : LeaseKeeper, optional
         Machine leases of this node, when several nodes share the database.
+    throttle : LoginThrottle, optional
+        Delays after failed logins (exponential from 0.5 s by default).
     """
 
     def __init__(self, center: Center, feed: Feed, temperatures: TemperatureBoard, *,
                  worker: SessionWorker | None = None, host: str = "0.0.0.0", port: int = 0,
                  timing: LinkTiming | None = None,
                  max_handshakes: int = MAX_HANDSHAKES,
-                 leases: LeaseKeeper | None = None) -> None:
+                 max_handshakes_per_address: int = MAX_HANDSHAKES_PER_ADDRESS,
+                 leases: LeaseKeeper | None = None,
+                 throttle: LoginThrottle | None = None) -> None:
         self.center = center
         self.feed = feed
         self.temperatures = temperatures
@@ -155,14 +181,20 @@ class MachineServer:
         self.max_handshakes = max_handshakes
         self.leases = leases
         self.sessions: dict[str, MachineSession] = {}
-        self._handshaking = 0
+        self.addresses = AddressBook(center.db)
+        self.slots = HandshakeSlots(max_handshakes, max_handshakes_per_address)
+        self.throttle = throttle or LoginThrottle()
+        self.refusal_log = RefusalLog(self._store_refusal)
+        self._log_unregistered = OncePerWindow()
+        self._session_of: dict[int, MachineSession] = {}  # by machine id, for secret changes
         self._handlers: set[asyncio.Task[None]] = set()
+        self._background: list[asyncio.Task[None]] = []
         self._server: asyncio.Server | None = None
 
     @property
     def handshaking(self) -> int:
         """Connections now between accept and Welcome."""
-        return self._handshaking
+        return len(self.slots)
 
     @property
     def port(self) -> int:
@@ -172,6 +204,13 @@ class MachineServer:
         return int(self._server.sockets[0].getsockname()[1])
 
     async def __aenter__(self) -> MachineServer:
+        # the address book is read before the port opens: a machine connecting at once
+        # must not be turned away by an empty book
+        await self.addresses.refresh()
+        self._background = [
+            asyncio.create_task(self.addresses.run(self._secrets_changed), name="addresses"),
+            asyncio.create_task(self.refusal_log.run(), name="refusal-log"),
+        ]
         self._server = await asyncio.start_server(
             self._handle, self.host, self.requested_port, backlog=4096)
         log.info("machine server listening on %s:%d", self.host, self.port)
@@ -188,6 +227,9 @@ class MachineServer:
             task.cancel()
         if self._handlers:
             await asyncio.gather(*self._handlers, return_exceptions=True)
+        for task in self._background:
+            task.cancel()
+        await asyncio.gather(*self._background, return_exceptions=True)
         if server is not None:
             await server.wait_closed()
 
@@ -209,44 +251,81 @@ class MachineServer:
             session.abort(ErrorCode.SHUTDOWN, "the control center is shutting down")
 
     async def _serve(self, session: MachineSession) -> None:
-        if self._handshaking >= self.max_handshakes:
+        metrics = self.center.metrics
+        if not self.addresses.admits(session.ip):
+            # No machine could ever log in from here: no slot, no read, no row.
+            metrics.refusals.labels(reason="unregistered").inc()
+            if self._log_unregistered(session.ip):
+                log.warning("connection from %s, where no machine is registered: closed "
+                            "(logged once a minute per address)", session.ip)
+            session.abort(None, "no machine is registered at this address")
+            return
+        slot = self.slots.acquire(session.ip, lambda: session.abort(
+            None, "handshake slot given to another peer"))
+        if slot is None:
             # no Reject: the peer has not said Hello, and reading it would cost what this
             # limit protects; count it only (a flood must not flood the events table)
-            self.center.metrics.refusals.labels(reason="busy").inc()
+            metrics.refusals.labels(reason="busy").inc()
             session.abort(None, "too many handshakes at once")
             return
         # Each refusal is recorded before the socket closes, so that a peer that saw the
         # close finds the event in the table.
         try:
-            self._handshaking += 1
             try:
                 async with asyncio.timeout(self.timing.handshake_s):
-                    machine = await self._handshake(session)
+                    machine = await self._handshake(session, slot)
             finally:
-                self._handshaking -= 1
+                self.slots.release(slot)
         except Refused as r:
             with contextlib.suppress(LinkClosed):
-                session.send(Reject(r.code, clip_text(r.text)))
-            await self.feed.record(EventKind.REFUSED, r.who, r.text, reason=r.reason)
+                session.send(Reject(r.code, ""))  # the code only; the detail is ours
+            log.info("refused %s (%s): %s", session.address, r.reason, r.text)
+            await self._refused(r.who, r.text, r.reason)
             session.abort(None, r.text)
             return
         except TimeoutError:
-            text = f"no Welcome within {self.timing.handshake_s:g} s of connecting"
-            await self.feed.record(EventKind.REFUSED, session.address, text, reason="timeout")
-            session.abort(ErrorCode.TIMEOUT, text)
+            hello_s = min(self.timing.hello_s, self.timing.handshake_s)
+            text = (f"no Hello within {hello_s:g} s of connecting"
+                    if session.hello is None else
+                    f"no Welcome within {self.timing.handshake_s:g} s of connecting")
+            session.abort(ErrorCode.TIMEOUT, "handshake timeout")
+            await self._refused(session.ip, text, "timeout")
             return
         except RemoteProtocolError as exc:
-            await self.feed.record(EventKind.REFUSED, session.address,
-                                   f"protocol error before Welcome: {exc}", reason="protocol")
-            session.abort(ErrorCode.PROTOCOL_ERROR, str(exc))
+            session.abort(ErrorCode.PROTOCOL_ERROR, "protocol error")
+            await self._refused(session.ip, f"protocol error before Welcome: {exc}", "protocol")
             return
         except (LinkClosed, ConnectionError, OSError) as exc:
             log.debug("%s: closed during the handshake: %s", session.address, exc)
             return
         await self._run(session, machine)
 
-    async def _handshake(self, session: MachineSession) -> MachineRow:
-        hello = await session.receive()
+    async def _refused(self, who: str, detail: str, reason: str) -> None:
+        self.center.metrics.refusals.labels(reason=reason).inc()
+        await self.refusal_log.refused(who, detail, reason)
+
+    async def _store_refusal(self, who: str, detail: str, reason: str) -> None:
+        """One refusal row (RefusalLog decides when), told to the feed's subscribers."""
+        try:
+            await self.center.db.run(event_repo.add_event, kind=EventKind.REFUSED.value,
+                                     machine=who, detail=detail)
+            self.center.metrics.events.labels(kind=EventKind.REFUSED.value).inc()
+        except SQLAlchemyError:
+            log.exception("could not store a refusal of %s", who)
+        self.feed.publish(Notice(EventKind.REFUSED, who, detail))
+
+    def _secrets_changed(self, machine_ids: set[int]) -> None:
+        """A session authenticated with a secret that is no longer the machine's ends."""
+        for machine_id in machine_ids:
+            session = self._session_of.get(machine_id)
+            if session is not None:
+                log.info("%s: secret changed, closing its session", session.name)
+                session.abort(ErrorCode.AUTH_FAILED, "the machine's secret was changed")
+
+    async def _handshake(self, session: MachineSession, slot: int) -> MachineRow:
+        async with asyncio.timeout(self.timing.hello_s):
+            hello = await session.receive()
+        self.slots.waiting(slot, False)
         match hello:
             case Hello():
                 session.hello = hello
@@ -254,16 +333,25 @@ class MachineServer:
                 raise LinkClosed(f"machine error {code.name}: {text}")
             case _:  # the codec lets only Hello or Error through first
                 raise LinkClosed(f"unexpected {type(hello).__name__}")
-        row = await self.center.db.run(machine_repo.get_machine, hello.name)
         peer = session.ip
+        by_ip, by_name = f"ip:{peer}", f"name:{hello.name}"
+        if self.throttle.blocked(by_ip, by_name) is not None:
+            # refused before any work, whatever the answer would have been
+            self.center.metrics.logins_throttled.inc()
+            raise Refused(ErrorCode.AUTH_FAILED, f"login as {hello.name!r} throttled after "
+                          "failed attempts", "throttled", peer)
+        row = await self.center.db.run(machine_repo.get_machine, hello.name)
         if row is None:
+            self.throttle.failed(by_ip)  # guessing names counts against the address
             raise Refused(ErrorCode.UNKNOWN_MACHINE,
                           f"no machine named {hello.name!r} is registered", "unknown", peer)
         if peer != row.ip:
+            self.throttle.failed(by_ip)
             raise Refused(ErrorCode.ADDRESS_MISMATCH,
                           f"machine {hello.name!r} is registered at {row.ip}, this connection "
                           f"comes from {peer}", "address", peer)
         if hello.ip != row.ip:
+            self.throttle.failed(by_ip)
             raise Refused(ErrorCode.ADDRESS_MISMATCH,
                           f"Hello says ip {hello.ip}, machine {hello.name!r} is registered at "
                           f"{row.ip}", "address", peer)
@@ -280,7 +368,9 @@ class MachineServer:
                           f"{MapEncoding(hello.map_formats)!r}", "unsupported", row.name)
         nonce = new_nonce()
         session.send(Challenge(nonce))
+        self.slots.waiting(slot, True)
         answer = await session.receive()
+        self.slots.waiting(slot, False)
         if isinstance(answer, Error):
             raise LinkClosed(f"machine error {answer.code.name}: {answer.text}")
         assert isinstance(answer, AuthResponse)  # the codec allows nothing else here
@@ -290,8 +380,10 @@ class MachineServer:
             log.error("machine %s: %s", row.name, exc)
             good = False
         if not good:
+            self.throttle.failed(by_ip, by_name)
             raise Refused(ErrorCode.AUTH_FAILED, "authentication failed: wrong response to "
                           "the challenge", "auth", row.name)
+        self.throttle.succeeded(by_ip, by_name)
         old = self.sessions.get(row.name)
         if old is not None:
             silent = asyncio.get_running_loop().time() - old.last_heard
@@ -319,6 +411,7 @@ class MachineServer:
     async def _run(self, session: MachineSession, machine: MachineRow) -> None:
         name = machine.name
         self.sessions[name] = session
+        self._session_of[machine.id] = session
         self.center.registry.connected(name, session.address)
         await self.feed.record(EventKind.CONNECTED, name, f"session from {session.address}")
         why = "session ended"
@@ -342,6 +435,8 @@ class MachineServer:
             if self.sessions.get(name) is session:
                 del self.sessions[name]
                 self.center.registry.disconnected(name)
+            if self._session_of.get(machine.id) is session:
+                del self._session_of[machine.id]
             if self.leases is not None:
                 self.leases.release(machine.id, session)
         await self.feed.record(EventKind.DISCONNECTED, name, why)
