@@ -42,7 +42,7 @@ from volumetric.model.components import (
 )
 from volumetric.model.machine import Axis, Machine
 
-__all__ = ["random_geometry"]
+__all__ = ["random_geometry", "rotary_error_motions"]
 
 F64 = NDArray[np.float64]
 
@@ -179,4 +179,68 @@ def _rotary_axis(axis: Axis, rng: np.random.Generator, scale: float) -> dict[str
             ph = rng.uniform(0.0, 2 * np.pi)
             v += amp * (np.sin(k * theta + ph) - np.sin(ph))  # zero at 0°
         out[f"E{c}{axis.name}"] = Table(tuple(q.tolist()), tuple((v * scale).tolist()))
+    return out
+
+
+# Once- and twice-per-turn error motions of a rotary table (ISO 230-7 sizes): a radial
+# eccentricity of the bearing, an axial runout, a wobble of the axis and a cyclic indexing
+# error of the worm or encoder, each the amplitude range of the first harmonic (µm, µrad);
+# the second harmonic is up to half as large.
+ROTARY_PERIODIC_RADIAL_UM = (4.0, 12.0)
+ROTARY_PERIODIC_AXIAL_UM = (1.5, 5.0)
+ROTARY_PERIODIC_WOBBLE_URAD = (15.0, 40.0)
+ROTARY_PERIODIC_INDEX_URAD = (20.0, 60.0)
+
+
+def rotary_error_motions(
+    machine: Machine, rng: np.random.Generator, *, orders: tuple[int, ...] = (1, 2),
+    scale: float = 1.0,
+) -> dict[str, Component]:
+    """Periodic error motions of every rotary axis: harmonics ``orders`` per turn.
+
+    Each component of a rotary axis becomes ``Σ_k A_k (sin(kθ + φ_k) − sin φ_k)`` (zero
+    at 0°), tabulated every 2.5° over the travel (at least a full turn), with ``A_1``
+    drawn from the ranges above and ``A_k`` up to ``A_1 / k`` for k > 1. The radial
+    components are those perpendicular to the axis, the axial one along it, the wobble
+    the two tilts and the indexing error the rotation about the axis itself.
+
+    Parameters
+    ----------
+    machine : Machine
+    rng : numpy.random.Generator
+    orders : tuple of int
+        Harmonics per turn present (1: eccentricity, wobble; 2: an elliptic bearing ...).
+    scale : float
+        Multiplies every amplitude.
+
+    Returns
+    -------
+    dict of str to Table
+        Component errors by ISO name (``EXC`` ...), to replace a geometry's own.
+    """
+    out: dict[str, Component] = {}
+    for axis in machine.axes:
+        if axis.kind != "rotary":
+            continue
+        lo, hi = axis.travel
+        lo_t, hi_t = min(lo, -180.0), max(hi, 180.0)
+        q = np.linspace(lo_t, hi_t, round((hi_t - lo_t) / 2.5) + 1)
+        theta = np.deg2rad(q)
+        own = axis.name
+        own_linear = {"A": "X", "B": "Y", "C": "Z"}[own]
+        for c in "XYZABC":
+            if c == own:
+                size = ROTARY_PERIODIC_INDEX_URAD
+            elif c == own_linear:
+                size = ROTARY_PERIODIC_AXIAL_UM
+            elif c in "XYZ":
+                size = ROTARY_PERIODIC_RADIAL_UM
+            else:
+                size = ROTARY_PERIODIC_WOBBLE_URAD
+            v = np.zeros_like(theta)
+            for k in orders:
+                amp = rng.uniform(*size) / (1.0 if k == 1 else rng.uniform(k, 2.0 * k))
+                ph = rng.uniform(0.0, 2 * np.pi)
+                v += amp * (np.sin(k * theta + ph) - np.sin(ph))
+            out[f"E{c}{axis.name}"] = Table(tuple(q.tolist()), tuple((v * scale).tolist()))
     return out

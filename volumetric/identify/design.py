@@ -12,6 +12,14 @@ basis functions times coefficients. The parameters are
   EC0Y, EXZ's is EB0Z, EYZ's is EA0Z), no constant in a rotary axis's components (those
   are its location errors). What the readings at hand cannot separate beyond that is
   found by the fit's null-space analysis, not assumed;
+* for a rotary axis whose travel spans at least half a turn, its component errors in a
+  Fourier basis of the angle instead (``cos kθ``, ``sin kθ``, k = 1 .. K, no constant:
+  that is the location error; K = ``MAX_ORDER_FOURIER`` over a full turn, fewer over
+  less, :func:`fourier_order`): the error motions of a rotary table (eccentricity,
+  wobble, a cyclic indexing error) repeat every turn, which a low-degree polynomial over
+  ±180° cannot follow. Orders are chosen like degrees (a parameter's ``degree`` counts
+  the basis functions: ``2k - 1`` for ``cos kθ``, ``2k`` for ``sin kθ``); axes of short
+  travel (a swivel head's ±30°) keep polynomials;
 * the location errors of :func:`volumetric.model.components.location_names`;
 * a constant offset of each tool tip relative to the workpiece (``OFFSET_X`` ...), for
   readings whose zero is not the machine's reference.
@@ -29,7 +37,7 @@ from numpy.polynomial import legendre
 from numpy.typing import NDArray
 
 from volumetric.measure.measurement import Measurements
-from volumetric.model.components import DIRECTIONS, Polynomial, location_names
+from volumetric.model.components import DIRECTIONS, Fourier, Polynomial, location_names
 from volumetric.model.linear import sensitivities
 from volumetric.model.machine import Axis, Machine
 
@@ -37,6 +45,12 @@ F64 = NDArray[np.float64]
 MAX_DEGREE_LINEAR = 6
 MAX_DEGREE_ANGULAR = 4
 MAX_DEGREE_ROTARY = 3
+MAX_ORDER_FOURIER = 4
+"""Highest harmonic per turn of a full-turn rotary axis's components (9 basis functions
+need at least 9 distinct angles; the standard campaign's R-tests visit 12)."""
+PERIODIC_SPAN_DEG = 180.0
+"""Rotary travel from which components take the Fourier basis: over a shorter one the
+first harmonics are as smooth as a cubic and no better determined."""
 
 
 @dataclass(frozen=True)
@@ -50,15 +64,33 @@ class Param:
     component : str
         The ISO name the parameter belongs to (``EXX``, ``EC0Y``) or ``OFFSET``.
     degree : int
-        Polynomial degree (-1 for constants that are not coefficients).
+        Polynomial degree (-1 for constants that are not coefficients); for the Fourier
+        basis the index of the basis function (``2k - 1``: ``cos kθ``, ``2k``: ``sin kθ``).
     unit : str
         ``"um"`` or ``"urad"``.
+    basis : {"legendre", "fourier"}
+        The basis the coefficient belongs to.
     """
 
     name: str
     component: str
     degree: int
     unit: str
+    basis: str = "legendre"
+
+
+def full_turn(axis: Axis) -> bool:
+    """True for a rotary axis whose components take the Fourier basis (travel of at least
+    ``PERIODIC_SPAN_DEG``; the name is kept from when only full turns did)."""
+    return axis.kind == "rotary" and axis.travel[1] - axis.travel[0] >= PERIODIC_SPAN_DEG
+
+
+def fourier_order(axis: Axis) -> int:
+    """Highest harmonic per turn the axis's components carry: ``MAX_ORDER_FOURIER`` over
+    a full turn, one per quarter turn of travel below (2 over ±110°), since a harmonic of
+    which the travel sees less than about one period is not told from the lower ones."""
+    span = axis.travel[1] - axis.travel[0]
+    return max(1, min(MAX_ORDER_FOURIER, int(span // 90.0)))
 
 
 def min_degree(machine: Machine, axis: Axis, direction: str) -> int:
@@ -82,6 +114,8 @@ def min_degree(machine: Machine, axis: Axis, direction: str) -> int:
 
 
 def max_degree(axis: Axis, direction: str) -> int:
+    if full_turn(axis):
+        return 2 * fourier_order(axis)
     if axis.kind == "rotary":
         return MAX_DEGREE_ROTARY
     return MAX_DEGREE_ANGULAR if direction in ("A", "B", "C") else MAX_DEGREE_LINEAR
@@ -138,11 +172,35 @@ class Design:
 
 
 def _basis(q: F64, axis: Axis, degrees: range) -> F64:
+    if full_turn(axis):
+        return fourier_basis(q, degrees)
     lo, hi = axis.travel
     s = (2.0 * q - lo - hi) / (hi - lo)
     vander = np.asarray(legendre.legvander(s, max(degrees.stop - 1, 0)), dtype=np.float64)
     out: F64 = vander[:, degrees.start : degrees.stop]
     return out
+
+
+def fourier_basis(q: F64, degrees: range) -> F64:
+    """Fourier basis functions ``degrees`` (1: cos θ, 2: sin θ, 3: cos 2θ ...) at angles q.
+
+    Parameters
+    ----------
+    q : ndarray, shape (N,)
+        Angles, degrees.
+    degrees : range
+        Basis indices, starting at 1 or more.
+
+    Returns
+    -------
+    ndarray, shape (N, len(degrees))
+    """
+    theta = np.deg2rad(q)
+    cols = []
+    for j in degrees:
+        k = (j + 1) // 2
+        cols.append(np.cos(k * theta) if j % 2 else np.sin(k * theta))
+    return np.column_stack(cols) if cols else np.zeros((q.shape[0], 0))
 
 
 def build_design(
@@ -208,8 +266,10 @@ def build_design(
                     continue
                 basis = _basis(q[rows, s.column], axis, range(lo, hi + 1))
                 unit = "urad" if direction in "ABC" else "um"
+                kind = "fourier" if full_turn(axis) else "legendre"
                 for k in range(lo, hi + 1):
-                    add(Param(f"{name}[{k}]", name, k, unit), rows, proj[:, j] * basis[:, k - lo])
+                    add(Param(f"{name}[{k}]", name, k, unit, kind), rows,
+                        proj[:, j] * basis[:, k - lo])
         if offsets:
             for i, c in enumerate("XYZ"):
                 name = "OFFSET_" + c if len(machine.branches) == 1 else f"OFFSET_{c}_{bname}"
@@ -234,13 +294,30 @@ def component_polynomial(axis: Axis, coefficients: Mapping[int, float]) -> Polyn
     return Polynomial(tuple(float(x) for x in mono), 0.5 * (lo + hi), 0.5 * (hi - lo))
 
 
+def component_fourier(coefficients: Mapping[int, float]) -> Fourier:
+    """Fourier basis coefficients by index (see :func:`fourier_basis`) → a :class:`Fourier`."""
+    order = (max(coefficients) + 1) // 2 if coefficients else 0
+    cos = [0.0] * order
+    sin = [0.0] * order
+    for j, v in coefficients.items():
+        k = (j + 1) // 2
+        if j % 2:
+            cos[k - 1] = float(v)
+        else:
+            sin[k - 1] = float(v)
+    return Fourier(0.0, tuple(cos), tuple(sin))
+
+
 __all__ = [
     "Design",
     "Param",
     "axis_positions",
     "branch_rows",
     "build_design",
+    "component_fourier",
     "component_polynomial",
+    "fourier_basis",
+    "full_turn",
     "location_names",
     "max_degree",
     "min_degree",

@@ -27,9 +27,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.identify.design import Param, build_design, component_polynomial
+from volumetric.identify.design import (
+    Param,
+    build_design,
+    component_fourier,
+    component_polynomial,
+    full_turn,
+)
 from volumetric.measure.measurement import Measurements
-from volumetric.model.components import GeometricErrors
+from volumetric.model.components import Component, GeometricErrors
 from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel
 
@@ -393,8 +399,8 @@ def model_from_parameters(machine: Machine, params: list[Param], values: F64) ->
             locations[p.component] = float(v)
         else:
             coeffs.setdefault(p.component, {})[p.degree] = float(v)
-    comps = {}
+    comps: dict[str, Component] = {}
     for name, c in coeffs.items():
         axis = machine.axis(name[2:])
-        comps[name] = component_polynomial(axis, c)
+        comps[name] = component_fourier(c) if full_turn(axis) else component_polynomial(axis, c)
     return MachineModel(machine.name, GeometricErrors(comps, locations))

@@ -181,10 +181,58 @@ class Sinusoid:
 
 
 @dataclass(frozen=True)
+class Fourier:
+    """A component error periodic in a rotary axis's angle (once, twice ... per turn).
+
+    ``e(q) = a0 + sum_k (a_k cos(k θ) + b_k sin(k θ))`` with ``θ = q·π/180`` (q in
+    degrees), ``k = 1 .. len(cos)``. The error motions of a rotary table over a full turn
+    (eccentricity and wobble once per turn, an elliptic bearing twice, a cyclic indexing
+    error of the worm or encoder) are sums of such harmonics: a low-degree polynomial in
+    the angle cannot follow them over ±180° and, unlike this basis, does not return to
+    its value after a turn.
+
+    Attributes
+    ----------
+    a0 : float
+        Constant, µm or µrad.
+    cos, sin : tuple of float
+        ``a_1 .. a_K`` and ``b_1 .. b_K``, µm or µrad (the same length).
+    """
+
+    a0: float
+    cos: tuple[float, ...]
+    sin: tuple[float, ...]
+
+    def __post_init__(self) -> None:
+        if len(self.cos) != len(self.sin):
+            raise ComponentErrorSpecError(
+                f"fourier needs as many sine as cosine coefficients: {self}")
+        if not all(math.isfinite(c) for c in (self.a0, *self.cos, *self.sin)):
+            raise ComponentErrorSpecError(f"fourier coefficients must be finite: {self}")
+
+    def __call__(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
+        theta = np.deg2rad(np.asarray(q, dtype=float))
+        out: NDArray[np.float64] = np.full_like(theta, self.a0)
+        for k, (a, b) in enumerate(zip(self.cos, self.sin, strict=True), start=1):
+            out = out + a * np.cos(k * theta) + b * np.sin(k * theta)
+        return out
+
+    def harmonic(self, k: int) -> float:
+        """Amplitude of the k-per-turn harmonic, ``hypot(a_k, b_k)`` (0 beyond K)."""
+        if not 1 <= k <= len(self.cos):
+            return 0.0
+        return math.hypot(self.cos[k - 1], self.sin[k - 1])
+
+    def to_json(self) -> dict[str, Any]:
+        return {"type": "fourier", "a0": self.a0, "cos": list(self.cos),
+                "sin": list(self.sin)}
+
+
+@dataclass(frozen=True)
 class Sum:
     """The sum of several component functions (a base fit plus model extensions)."""
 
-    terms: tuple[Polynomial | Table | Sinusoid, ...]
+    terms: tuple[Polynomial | Table | Sinusoid | Fourier, ...]
 
     def __call__(self, q: NDArray[np.float64]) -> NDArray[np.float64]:
         out = np.zeros(np.shape(q))
@@ -196,7 +244,7 @@ class Sum:
         return {"type": "sum", "terms": [t.to_json() for t in self.terms]}
 
 
-Component = Polynomial | Table | Sinusoid | Sum
+Component = Polynomial | Table | Sinusoid | Fourier | Sum
 
 
 def add_components(a: Component | None, b: Component) -> Component:
@@ -227,6 +275,9 @@ def component_from_json(spec: Any) -> Component:
     if kind == "sinusoid":
         return Sinusoid(float(spec["amplitude"]), float(spec["period"]),
                         float(spec.get("phase", 0.0)))
+    if kind == "fourier":
+        return Fourier(float(spec.get("a0", 0.0)), tuple(float(c) for c in spec["cos"]),
+                       tuple(float(c) for c in spec["sin"]))
     if kind == "sum":
         terms = []
         for t in spec["terms"]:
@@ -236,7 +287,7 @@ def component_from_json(spec: Any) -> Component:
             terms.append(c)
         return Sum(tuple(terms))
     raise ComponentErrorSpecError(
-        f"type {kind!r} is not 'polynomial', 'table', 'sinusoid' or 'sum'"
+        f"type {kind!r} is not 'polynomial', 'table', 'sinusoid', 'fourier' or 'sum'"
     )
 
 
