@@ -1,0 +1,414 @@
+"""Helpers of the whole-system tests (``tests/test_integration_*.py``).
+
+A :func:`center` is ``ednc serve``'s app (``create_app`` with ``machine_services``) with its
+lifespan running, a REST client talking to it in-process (with the API key), and the
+machine TCP server on a real loopback port. Simulated machines (:func:`cnc`) connect to
+it over TCP, each from its own loopback address (127.0.2.x). A :class:`Relay` sits between
+a machine and the center when a test needs to cut the link or tamper with frames.
+
+The fleet (:data:`FLEET`) is the demo fleet's mix (``ednc.fleet``): Fanuc and Siemens,
+three 3-axis chains, a 5-axis machine and the two-spindle arch machine, plus a sixth
+3-axis machine. Each machine's simulated laser campaign is computed once per session
+(:func:`campaign`).
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import functools
+import io
+import socket
+import struct
+import zlib
+from collections.abc import AsyncIterator, Awaitable, Callable
+from contextlib import asynccontextmanager
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import httpx
+import numpy as np
+from fastapi import FastAPI
+
+from ednc.fleet import demo_fleet
+from machine_sim.campaign import standard_campaign
+from machine_sim.effects import Effects, Noise, ThermalDrift
+from machine_sim.fanuc import FanucConfig
+from machine_sim.instruments import SimulatedMachine
+from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
+from machine_sim.runtime import MachineRuntime
+from machine_sim.truth import random_geometry
+from protocol.codes import MessageType
+from server.app import create_app
+from server.center import Center
+from server.link import LinkTiming
+from server.services import MachineServices, machine_services
+from server.settings import load_settings
+from tests.support.services import require
+from volumetric.measure.measurement import Measurements, write_measurements
+from volumetric.model.machine import Machine, parse_machine
+
+API_KEY = "integration-api-key-0123"
+WRITE = {"X-API-Key": API_KEY}
+DEADLINE_S = 90.0  # a hang guard, not a speed requirement
+TOLERANCE_UM = 2.0
+"""Map tolerance of the test centers: a 5-axis map at 0.5 µm needs ~10^6 nodes (over the
+16 MB limit) and a 1 µm one ~25 s to build on this machine; at 2 µm it takes ~6 s."""
+HEARTBEAT_S = 0.5
+NOISE = Noise(0.2, 0.3)
+TRAVEL = {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}
+
+
+@dataclass(frozen=True)
+class Spec:
+    """One machine of a test fleet: description, secret, simulation seed, hidden physics."""
+
+    description: dict[str, Any]
+    secret: str
+    seed: int
+    effects: Effects = field(default_factory=lambda: Effects(noise=NOISE))
+
+    @property
+    def name(self) -> str:
+        return str(self.description["name"])
+
+    @property
+    def ip(self) -> str:
+        return str(self.description["ip"])
+
+    @property
+    def machine(self) -> Machine:
+        return parse_machine(self.description)
+
+
+def _fleet() -> tuple[Spec, ...]:
+    out = []
+    for i, fm in enumerate(demo_fleet()):
+        d = {**fm.description, "ip": f"127.0.2.{i + 1}"}
+        if d["name"] == "5ax-04":
+            # both rotary axes through the table centre, fixed here so the figures of these
+            # tests do not move with the demo's choice (the R-tests need a reachable ball)
+            d["pivots_mm"] = {"C": [400.0, 300.0, -200.0], "A": [400.0, 300.0, -150.0]}
+        out.append(Spec(d, f"secret-of-{d['name']}-0123456789", fm.seed))
+    out.append(Spec({"name": "vmc-06", "controller": "siemens", "ip": "127.0.2.6",
+                     "chain": "w X b Y Z t", "travel_mm": TRAVEL, "tool_length_mm": 100.0},
+                    "secret-of-vmc-06-0123456789", 16))
+    return tuple(out)
+
+
+FLEET = _fleet()
+"""vmc-01 (Fanuc, w X Y b Z t), gantry-02 (Siemens, w b Y X Z t), hmc-03 (Fanuc, type 3),
+5ax-04 (Siemens, w C A X b Y Z t), arch-05 (Fanuc, two spindles), vmc-06 (Siemens,
+w X b Y Z t)."""
+
+THERMAL = Spec({"name": "hot-07", "controller": "fanuc", "ip": "127.0.2.7",
+                "chain": "w X Y b Z t", "travel_mm": TRAVEL, "tool_length_mm": 100.0},
+               "secret-of-hot-07-0123456789", 17,
+               Effects(drift=(ThermalDrift("z", "spindle", -2.5, reference_C=20.0),),
+                       noise=NOISE))
+"""A Fanuc machine whose spindle grows along z (-2.5 µm/K), for the thermal tests."""
+
+
+def spec(name: str) -> Spec:
+    for s in (*FLEET, THERMAL):
+        if s.name == name:
+            return s
+    raise KeyError(name)
+
+
+@functools.cache
+def campaign(name: str) -> tuple[SimulatedMachine, Measurements, str]:
+    """The simulated machine, its standard laser campaign and that campaign as CSV text
+    (computed once per test session: the simulation is deterministic by seed)."""
+    s = spec(name)
+    m = s.machine
+    rng = np.random.default_rng(s.seed)
+    sim = SimulatedMachine(m, random_geometry(m, rng, scale=2.0), s.effects, seed=s.seed)
+    readings = standard_campaign(sim, rng)
+    buf = io.StringIO()
+    write_measurements(buf, readings)
+    return sim, readings, buf.getvalue()
+
+
+def require_loopback_aliases() -> None:
+    ok = True
+    with socket.socket() as s:
+        try:
+            s.bind(("127.0.2.1", 0))
+        except OSError:
+            ok = False
+    require("loopback aliases", ok, "127.0.0.0/8 must all be loopback")
+
+
+# -- the center
+
+@dataclass
+class Plant:
+    """A running center: the app, a REST client with the API key, the machine services."""
+
+    app: FastAPI
+    client: httpx.AsyncClient
+    services: MachineServices
+
+    @property
+    def center(self) -> Center:
+        center = self.app.state.center
+        assert isinstance(center, Center)
+        return center
+
+    @property
+    def port(self) -> int:
+        return self.services.server.port
+
+    async def register(self, s: Spec) -> None:
+        r = await self.client.post("/api/machines", json={**s.description, "secret": s.secret})
+        assert r.status_code == 201, r.text
+
+    async def fit_from_campaign(self, name: str) -> int:
+        """Upload the machine's campaign and fit its model through the REST API; the
+        model version."""
+        _, _, text = await asyncio.to_thread(campaign, name)
+        r = await self.client.post(f"/api/machines/{name}/measurements",
+                                   params={"set_name": "campaign"}, content=text,
+                                   headers={"Content-Type": "text/csv"})
+        assert r.status_code == 201, r.text
+        r = await self.client.post(f"/api/machines/{name}/models/fit",
+                                   json={"measurement_sets": ["campaign"]})
+        assert r.status_code == 201, r.text
+        return int(r.json()["version"])
+
+    async def post_model(self, name: str, body: dict[str, Any]) -> int:
+        r = await self.client.post(f"/api/machines/{name}/models",
+                                   json={"source": "upload", "body": body})
+        assert r.status_code == 201, r.text
+        return int(r.json()["version"])
+
+    async def status(self, name: str) -> dict[str, Any]:
+        r = await self.client.get(f"/api/machines/{name}/status")
+        assert r.status_code == 200, r.text
+        body: dict[str, Any] = r.json()
+        return body
+
+    async def deliveries(self, name: str) -> list[dict[str, Any]]:
+        r = await self.client.get(f"/api/machines/{name}/deliveries")
+        assert r.status_code == 200, r.text
+        rows: list[dict[str, Any]] = r.json()
+        return rows
+
+    async def maps(self, name: str) -> list[dict[str, Any]]:
+        r = await self.client.get(f"/api/machines/{name}/maps")
+        assert r.status_code == 200, r.text
+        rows: list[dict[str, Any]] = r.json()
+        return rows
+
+    async def events(self, **params: Any) -> list[dict[str, Any]]:
+        r = await self.client.get("/api/events", params={"limit": 1000, **params})
+        assert r.status_code == 200, r.text
+        rows: list[dict[str, Any]] = r.json()
+        return rows
+
+    async def metric(self, name: str, **labels: str) -> float:
+        """One sample of ``/metrics`` (0 when absent)."""
+        r = await self.client.get("/metrics")
+        assert r.status_code == 200, r.text
+        want = name + ("{" + ",".join(f'{k}="{v}"' for k, v in labels.items()) + "}"
+                       if labels else "")
+        for line in r.text.splitlines():
+            key, _, value = line.rpartition(" ")
+            if key == want:
+                return float(value)
+        return 0.0
+
+    async def applied_version(self, name: str) -> int | None:
+        v = (await self.status(name))["map_version_applied"]
+        return None if v is None else int(v)
+
+    def applied(self, name: str, version: int) -> Callable[[], Awaitable[bool]]:
+        """A check for :func:`until`: the database shows ``version`` applied by ``name``."""
+
+        async def check() -> bool:
+            return await self.applied_version(name) == version
+
+        return check
+
+
+@asynccontextmanager
+async def center(database_url: str, *, machine_port: int = 0,
+                 mqtt: tuple[str, int] | None = None, prefix: str = "ednc",
+                 machines_file: Path | None = None, period_s: float = 1.0,
+                 stale_after_s: float = 60.0,
+                 mqtt_options: dict[str, Any] | None = None) -> AsyncIterator[Plant]:
+    """``ednc serve``'s app and services, lifespan running, machine port on loopback."""
+    settings = load_settings(
+        database_url=database_url, api_key=API_KEY, machine_host="127.0.0.1",
+        machine_port=machine_port, heartbeat_s=HEARTBEAT_S, push_period_s=period_s,
+        mqtt_host=mqtt[0] if mqtt else None, mqtt_port=mqtt[1] if mqtt else 1883,
+        mqtt_topic_prefix=prefix, machines_file=machines_file)
+    found: dict[str, MachineServices] = {}
+
+    @asynccontextmanager
+    async def services(c: Center) -> AsyncIterator[MachineServices]:
+        timing = LinkTiming(handshake_s=5.0, heartbeat_s=HEARTBEAT_S, telemetry_period_ms=100)
+        async with machine_services(c, timing=timing, stale_after_s=stale_after_s,
+                                    push_options={"tolerance_um": TOLERANCE_UM},
+                                    mqtt_options=mqtt_options) as svc:
+            found["svc"] = svc
+            yield svc
+
+    app = create_app(settings, services=[services])
+    async with app.router.lifespan_context(app):
+        transport = httpx.ASGITransport(app=app)
+        async with httpx.AsyncClient(transport=transport, base_url="http://center",
+                                     headers=WRITE, timeout=120) as client:
+            yield Plant(app, client, found["svc"])
+
+
+def machines_file(path: Path, specs: list[Spec]) -> Path:
+    """A machines file (``EDNC_MACHINES_FILE``) naming ``specs``."""
+    import json
+
+    path.write_text(json.dumps({"machines": [{"machine": s.description, "secret": s.secret}
+                                             for s in specs]}))
+    return path
+
+
+# -- machines
+
+def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
+        host: str = "127.0.0.1", mqtt: MqttTarget | None = None) -> SimulatedCNC:
+    """The simulated CNC of ``s`` connecting to ``host:port`` from its own address."""
+    m = s.machine
+    runtime = MachineRuntime(m, seed=s.seed, fanuc=FanucConfig(max_step_counts=1000))
+    return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
+                        ip=ip, cycle_s=0.02, backoff=Backoff(0.05, 2.0, 0.5), mqtt=mqtt)
+
+
+async def until(check: Callable[[], Awaitable[bool]] | Callable[[], bool],
+                step_s: float = 0.05) -> None:
+    """Poll ``check`` until it holds (the caller's asyncio.timeout bounds the wait)."""
+    while True:
+        result = check()
+        if not isinstance(result, bool):
+            result = await result
+        if result:
+            return
+        await asyncio.sleep(step_s)
+
+
+# -- a relay between a machine and the center
+
+FrameHook = Callable[[int, bytes], bytes | None]
+"""Center → machine frames: ``hook(kind, payload)`` returns a new payload or None (keep)."""
+
+_HEAD = struct.Struct(">4sBBHII")
+_CRC = struct.Struct(">I")
+
+
+def reframe(frame: bytes, hook: FrameHook) -> bytes:
+    """One whole frame after ``hook``: a changed payload gets its length and CRC fixed, so
+    the frame layer passes it and only the layer above can tell."""
+    head = frame[:_HEAD.size]
+    magic, version, kind, flags, seq, length = _HEAD.unpack(head)
+    payload = frame[_HEAD.size:_HEAD.size + length]
+    new = hook(kind, payload)
+    if new is None:
+        return frame
+    head = _HEAD.pack(magic, version, kind, flags, seq, len(new))
+    return head + new + _CRC.pack(zlib.crc32(head + new))
+
+
+class Relay:
+    """Listen on 127.0.0.1 (port 0) and forward each connection to the center from
+    ``source`` (the machine's address); can be cut and restored on the same port, and can
+    pass the center's frames through a :data:`FrameHook`."""
+
+    def __init__(self, center_port: int, source: str) -> None:
+        self.center_port = center_port
+        self.source = source
+        self.port = 0
+        self.hook: FrameHook | None = None
+        self._server: asyncio.Server | None = None
+        self._writers: set[asyncio.StreamWriter] = set()
+        self._tasks: set[asyncio.Task[None]] = set()
+
+    async def start(self) -> None:
+        self._server = await asyncio.start_server(self._handle, "127.0.0.1", self.port)
+        self.port = int(self._server.sockets[0].getsockname()[1])
+
+    async def stop(self) -> None:
+        """Stop listening and cut every forwarded connection."""
+        if self._server is not None:
+            self._server.close()
+            self._server = None
+        for w in list(self._writers):
+            w.close()
+        for t in list(self._tasks):
+            t.cancel()
+        await asyncio.gather(*self._tasks, return_exceptions=True)
+
+    async def __aenter__(self) -> Relay:
+        await self.start()
+        return self
+
+    async def __aexit__(self, *exc: object) -> None:
+        await self.stop()
+
+    async def _up(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        with contextlib.suppress(OSError, ConnectionError):
+            while data := await reader.read(65536):
+                writer.write(data)
+                await writer.drain()
+        writer.close()
+
+    async def _down(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        buf = b""
+        with contextlib.suppress(OSError, ConnectionError):
+            while data := await reader.read(65536):
+                buf += data
+                out = b""
+                while len(buf) >= _HEAD.size:
+                    length = _HEAD.unpack(buf[:_HEAD.size])[5]
+                    end = _HEAD.size + length + _CRC.size
+                    if len(buf) < end:
+                        break
+                    frame, buf = buf[:end], buf[end:]
+                    out += frame if self.hook is None else reframe(frame, self.hook)
+                writer.write(out)
+                await writer.drain()
+        writer.close()
+
+    async def _handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
+        task = asyncio.current_task()
+        assert task is not None
+        self._tasks.add(task)
+        try:
+            up_reader, up_writer = await asyncio.open_connection(
+                "127.0.0.1", self.center_port, local_addr=(self.source, 0))
+        except OSError:
+            writer.close()
+            self._tasks.discard(task)
+            return
+        self._writers |= {writer, up_writer}
+        try:
+            await asyncio.gather(self._up(reader, up_writer), self._down(up_reader, writer))
+        except asyncio.CancelledError:
+            writer.close()
+            up_writer.close()
+        finally:
+            self._writers -= {writer, up_writer}
+            self._tasks.discard(task)
+
+
+def map_chunk_hook(version: int, change: Callable[[bytes], bytes]) -> FrameHook:
+    """A hook passing the data of every MapChunk of map ``version`` through ``change``."""
+
+    def hook(kind: int, payload: bytes) -> bytes | None:
+        if kind != MessageType.MAP_CHUNK:
+            return None
+        v, _index = struct.unpack(">II", payload[:8])
+        if v != version:
+            return None
+        return payload[:8] + change(payload[8:])
+
+    return hook
