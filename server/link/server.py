@@ -60,6 +60,7 @@ from protocol import (
     RemoteProtocolError,
     Telemetry,
     Welcome,
+    clip_text,
     new_nonce,
     verify_mac,
 )
@@ -107,14 +108,20 @@ SessionWorker = Callable[[MachineSession, MachineRow], Coroutine[Any, Any, None]
 
 
 class Refused(Exception):
-    """The handshake failed: answer with Reject(code, text) and record ``reason``."""
+    """The handshake failed: answer with Reject and record ``text`` under ``reason``.
 
-    def __init__(self, code: ErrorCode, text: str, reason: str, who: str) -> None:
+    The Reject carries ``text`` only for a peer that has authenticated (``told``: a second
+    session, a lease held elsewhere); anyone else gets the code alone.
+    """
+
+    def __init__(self, code: ErrorCode, text: str, reason: str, who: str, *,
+                 told: bool = False) -> None:
         super().__init__(text)
         self.code = code
         self.text = text
         self.reason = reason
         self.who = who
+        self.told = told
 
 
 @dataclass(frozen=True, slots=True)
@@ -278,7 +285,7 @@ class MachineServer:
                 self.slots.release(slot)
         except Refused as r:
             with contextlib.suppress(LinkClosed):
-                session.send(Reject(r.code, ""))  # the code only; the detail is ours
+                session.send(Reject(r.code, clip_text(r.text) if r.told else ""))
             log.info("refused %s (%s): %s", session.address, r.reason, r.text)
             await self._refused(r.who, r.text, r.reason)
             session.abort(None, r.text)
@@ -390,7 +397,7 @@ class MachineServer:
             if silent < self.timing.heartbeat_s:
                 raise Refused(ErrorCode.DUPLICATE_SESSION,
                               f"machine {row.name!r} already has a live session from "
-                              f"{old.address}", "duplicate", row.name)
+                              f"{old.address}", "duplicate", row.name, told=True)
             old.abort(ErrorCode.DUPLICATE_SESSION,
                       f"replaced by a new session from {session.address}")
         if self.leases is not None:
@@ -398,7 +405,7 @@ class MachineServer:
                 row.id, row.name, session,
                 lambda why: session.abort(ErrorCode.DUPLICATE_SESSION, why))
             if refusal is not None:
-                raise Refused(ErrorCode.DUPLICATE_SESSION, refusal, "owned", row.name)
+                raise Refused(ErrorCode.DUPLICATE_SESSION, refusal, "owned", row.name, told=True)
         try:
             session.send(Welcome(int(self.timing.heartbeat_s * 1000),
                                  self.timing.telemetry_period_ms))
