@@ -15,7 +15,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from tests.test_diagnose import N_CASES, make_case, run_case
+from tests.support.diagnose import N_CASES, make_case, run_case
 
 
 def main() -> None:

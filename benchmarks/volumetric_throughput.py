@@ -40,12 +40,12 @@ def grid(m: Machine, n_total: int) -> NDArray[np.float64]:
 
 
 def naive_rate(m: Machine, e: GeometricErrors, q: NDArray[np.float64]) -> float:
-    """Points per second of the per-point 4x4 loop (the helper of tests/test_kinematics.py)."""
+    """Points per second of the per-point 4x4 loop (the helper in tests/support/kinematics.py)."""
     import sys
     from pathlib import Path
 
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
-    from tests.test_kinematics import naive_pose
+    from tests.support.kinematics import naive_pose
 
     t0 = time.perf_counter()
     for row in q:

@@ -6,26 +6,15 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from tests.test_kinematics import arch, machine, random_errors, random_q
+from tests.support.compensate import realistic_arch_errors
+from tests.support.kinematics import arch, machine, random_errors, random_q
 from volumetric.compensate.solver import Compensation, CompensationError, Weights, compensate
-from volumetric.model.components import GeometricErrors, Polynomial, component_names
+from volumetric.model.components import GeometricErrors, Polynomial
 from volumetric.model.exact import volumetric_error
 from volumetric.model.linear import jacobian
 from volumetric.model.machine import Machine
 
 F64 = NDArray[np.float64]
-
-
-def realistic_arch_errors(m: Machine, rng: np.random.Generator) -> GeometricErrors:
-    """Cubic component errors of some 10 µm / 10 µrad per coefficient and squareness of
-    tens of µrad: before compensation the tool tips are off by tens of µm, as in Table 1."""
-    comps = {}
-    for a in m.axes:
-        span = a.travel[1] - a.travel[0]
-        for n in component_names(a):
-            comps[n] = Polynomial(tuple(rng.normal(0, 8.0, 4)), a.travel[0], span)
-    locs = {"EC0Y": 40.0, "EA0Z1": -25.0, "EB0Z1": 30.0, "EA0Z2": 35.0, "EB0Z2": -20.0}
-    return GeometricErrors(comps, locs)
 
 
 def workspace_grid(m: Machine, n: int = 7) -> F64:

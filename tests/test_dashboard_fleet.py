@@ -30,10 +30,10 @@ from server.center import Center
 from server.link import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
+from tests.support.api import API_KEY, WRITE
+from tests.support.browser import CHROMIUM, MM, Live, serving
+from tests.support.link import model_body
 from tests.support.services import require
-from tests.test_dashboard_browser import CHROMIUM, MM, Live, serving
-from tests.test_server_api import API_KEY, WRITE
-from tests.test_server_link import model_body
 from volumetric.model.machine import parse_machine
 
 pytestmark = [pytest.mark.browser, pytest.mark.slow]

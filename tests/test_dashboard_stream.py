@@ -11,8 +11,8 @@ import httpx
 import pytest
 
 from server.dashboard import live as live_module
-from tests.test_dashboard_browser import Live, live_server  # noqa: F401  (fixture)
-from tests.test_server_api import SECRET, VMC, WRITE
+from tests.support.api import SECRET, VMC, WRITE
+from tests.support.browser import Live
 
 
 def first_event(lines: Iterator[str]) -> str:
@@ -28,7 +28,7 @@ def first_event(lines: Iterator[str]) -> str:
     raise AssertionError("the stream ended without a snapshot")
 
 
-def test_a_viewer_that_leaves_is_let_go(live_server: Live) -> None:  # noqa: F811
+def test_a_viewer_that_leaves_is_let_go(live_server: Live) -> None:
     live = live_server
     with httpx.Client(base_url=live.url, headers=WRITE, timeout=10) as client:
         r = client.post("/api/machines", json={**VMC, "secret": SECRET})
@@ -46,7 +46,7 @@ def test_a_viewer_that_leaves_is_let_go(live_server: Live) -> None:  # noqa: F81
 
 
 def test_an_open_stream_does_not_hold_the_shutdown(
-    live_server: Live, monkeypatch: pytest.MonkeyPatch  # noqa: F811
+    live_server: Live, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     live = live_server
     monkeypatch.setattr(live_module, "MAX_STREAM_S", 2.0)

@@ -15,8 +15,8 @@ from numpy.typing import NDArray
 
 from protocol.mapformat import decode_map, encode_map
 from server.mapcodec import grid_from_payload, grid_to_payload
-from tests.test_compensate import realistic_arch_errors
-from tests.test_kinematics import arch, machine, random_errors, random_q
+from tests.support.compensate import realistic_arch_errors
+from tests.support.kinematics import arch, machine, random_errors, random_q
 from volumetric.compensate.gridmap import ErrorMap, GridDim, MapBuildError, build_map
 from volumetric.compensate.solver import Weights, compensate
 from volumetric.errors import ComponentErrorSpecError

@@ -24,7 +24,8 @@ from machine_sim.link import SimulatedCNC
 from server.db.tables import Base
 from server.mqtt import Backoff
 from server.numeric import plain_json
-from tests.integration_support import (
+from tests.support.db import postgres_url  # noqa: F401  (fixture)
+from tests.support.integration import (
     DEADLINE_S,
     THERMAL,
     Plant,
@@ -38,8 +39,7 @@ from tests.integration_support import (
     spec,
     until,
 )
-from tests.test_server_db import postgres_url  # noqa: F401  (fixture)
-from tests.test_server_mqtt import TcpProxy
+from tests.support.mqtt import TcpProxy
 from volumetric.diagnose.diagnosis import diagnose
 
 pytestmark = pytest.mark.slow

@@ -17,7 +17,7 @@ import pytest
 from machine_sim.campaign import map_compensation, run_campaign
 from machine_sim.lookup import GridMap
 from machine_sim.testprograms import diagonal_test
-from tests.integration_support import (
+from tests.support.integration import (
     DEADLINE_S,
     FLEET,
     TOLERANCE_UM,

@@ -18,7 +18,7 @@ import pytest
 from machine_sim.lookup import GridMap
 from server.mqtt import Backoff
 from server.numeric import plain_json
-from tests.integration_support import (
+from tests.support.integration import (
     DEADLINE_S,
     THERMAL,
     campaign,

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 from numpy.typing import NDArray
 
-from tests.test_compensate import realistic_arch_errors
-from tests.test_kinematics import arch, machine, random_errors, random_q
+from tests.support.compensate import realistic_arch_errors
+from tests.support.kinematics import arch, machine, random_errors, random_q
 from volumetric.compensate.gridmap import build_map
 from volumetric.compensate.maps import MapBuildError, MapProblem
 from volumetric.compensate.solver import Weights, corrections

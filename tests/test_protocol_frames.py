@@ -41,7 +41,7 @@ from protocol import (
 from protocol.codec import decode_payload, encode_payload
 from protocol.codes import MessageType
 from protocol.limits import MAX_CHUNK_BYTES, MAX_FRAME, MAX_PAYLOAD
-from tests.test_protocol_support import HELLO, frame
+from tests.support.protocol import HELLO, frame
 
 
 def center_with(data: bytes) -> Connection:

@@ -49,7 +49,7 @@ from protocol.codec import decode_payload, encode_payload
 from protocol.frames import FrameBuffer, encode_frame
 from protocol.limits import MAX_MAP_BYTES
 from protocol.messages import TYPE_OF
-from tests.test_protocol_support import sample_map
+from tests.support.protocol import sample_map
 
 FUZZ = settings(deadline=None, max_examples=300,
                 suppress_health_check=[HealthCheck.too_slow])

@@ -33,7 +33,7 @@ from protocol import (
 from protocol.codec import decode_payload, encode_payload
 from protocol.frames import FrameBuffer, encode_frame
 from protocol.messages import TYPE_OF
-from tests.test_protocol_support import GOLDEN, HELLO, frame
+from tests.support.protocol import GOLDEN, HELLO, frame
 
 # The worked example of protocol/README.md: the machine's first frame, every byte literal.
 HELLO_FRAME = bytes.fromhex(

@@ -29,7 +29,7 @@ from protocol import (
     pack_values,
     split_into_chunks,
 )
-from tests.test_protocol_support import sample_map
+from tests.support.protocol import sample_map
 
 INT32 = MapEncoding.INT32_INCREMENTS
 FLOAT32 = MapEncoding.FLOAT32_MM

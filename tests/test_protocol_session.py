@@ -44,7 +44,7 @@ from protocol import (
     split_into_chunks,
     verify_mac,
 )
-from tests.test_protocol_support import HELLO, SECRET, sample_map
+from tests.support.protocol import HELLO, SECRET, sample_map
 
 
 class Machine:

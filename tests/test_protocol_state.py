@@ -9,8 +9,6 @@ import pytest
 
 from protocol import (
     NEED_DATA,
-    AuthResponse,
-    Challenge,
     Channel,
     Connection,
     Error,
@@ -32,50 +30,17 @@ from protocol import (
     Role,
     State,
     Telemetry,
-    Welcome,
 )
 from protocol.codec import encode_payload
 from protocol.messages import TYPE_OF
 from protocol.state import CHANNEL_OF, INITIAL, TRANSITIONS
-from tests.test_protocol_support import HELLO, deliver, frame
+from tests.support.protocol import HELLO, deliver, frame
+from tests.support.protocol_pair import AUTH, CHALLENGE, WELCOME, Raw, pair
 
-CHALLENGE = Challenge(bytes(32))
-AUTH = AuthResponse(bytes(32))
-WELCOME = Welcome(5000, 1000)
 TELEMETRY = Telemetry(1, "idle", 0)
 BEGIN = MapBegin(3, 10, 1, bytes(32))
 CHUNK = MapChunk(3, 0, bytes(10))
 END = MapEnd(3)
-
-
-def pair(upto: str = "ready") -> tuple[Connection, Connection]:
-    """(center, machine), driven through the handshake as far as ``upto``."""
-    center, machine = Connection(Role.CENTER), Connection(Role.MACHINE)
-    steps: list[tuple[Connection, Connection, Message, str]] = [
-        (machine, center, HELLO, "hello"),
-        (center, machine, CHALLENGE, "challenge"),
-        (machine, center, AUTH, "auth"),
-        (center, machine, WELCOME, "ready"),
-    ]
-    if upto == "start":
-        return center, machine
-    for sender, receiver, msg, name in steps:
-        deliver(sender, receiver, msg)
-        if name == upto:
-            break
-    return center, machine
-
-
-class Raw:
-    """Writes frames a real peer could not produce, with the right sequence numbers."""
-
-    def __init__(self) -> None:
-        self.seq = 0
-
-    def __call__(self, msg: Message) -> bytes:
-        wire = frame(TYPE_OF[type(msg)], self.seq, encode_payload(msg))
-        self.seq += 1
-        return wire
 
 
 def test_table_entries_stay_in_one_channel_and_cover_every_message() -> None:

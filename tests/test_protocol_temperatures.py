@@ -27,7 +27,7 @@ from protocol import (
 )
 from protocol.codec import decode_payload, encode_payload
 from protocol.codes import MessageType
-from tests.test_protocol_state import Raw, pair
+from tests.support.protocol_pair import Raw, pair
 
 MSG = Temperatures(1_700_000_000_000, (TemperatureReading("spindle", 21.25, 150),
                                        TemperatureReading("air", 20.5)))

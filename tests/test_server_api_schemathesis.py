@@ -29,8 +29,8 @@ from server.app import create_app
 from server.db import Database, error_models, machines, make_engine, maps, measurements, reports
 from server.db.tables import Base
 from server.settings import Settings
-from tests.test_server_api import backlash_csv
-from tests.test_server_db import postgres_url  # noqa: F401  (fixture)
+from tests.support.api import backlash_csv
+from tests.support.db import postgres_url  # noqa: F401  (fixture)
 
 API_KEY = "fuzz-api-key-0123"
 SEEDED = "vmc-01"

@@ -38,9 +38,9 @@ from server.leasing import LeaseKeeper
 from server.plant import PlantView
 from server.settings import load_settings
 from server.state import Registry
+from tests.support.db import PG_ADMIN, database_url, postgres_url  # noqa: F401
+from tests.support.link import SECRET, description, model_body, rig, until
 from tests.support.services import reachable, require
-from tests.test_server_db import PG_ADMIN, database_url, postgres_url  # noqa: F401
-from tests.test_server_link import SECRET, description, model_body, rig, until
 from volumetric.model.machine import parse_machine
 
 T0 = dt.datetime(2026, 1, 1, 12, 0, tzinfo=dt.UTC)

@@ -26,7 +26,7 @@ from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.events import EventKind
 from server.push import Delivery, thermal_sensors
-from tests.test_server_link import (
+from tests.support.link import (
     DEADLINE_S,
     RawMachine,
     model_body,
