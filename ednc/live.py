@@ -30,7 +30,7 @@ from rich.table import Table
 from ednc.demo import DIAGONALS, Prepared
 from machine_sim.campaign import map_compensation, run_campaign
 from machine_sim.link import MqttTarget, SimulatedCNC
-from machine_sim.lookup import GridMap
+from machine_sim.lookup import ActiveMap
 from machine_sim.runtime import MachineRuntime
 from machine_sim.testprograms import diagonal_test
 from server.app import create_app
@@ -105,7 +105,7 @@ async def _register(client: httpx.AsyncClient, p: Prepared, ip: str, secret: str
     r.raise_for_status()
 
 
-async def _verify(client: httpx.AsyncClient, p: Prepared, grid: GridMap) -> tuple[float, float]:
+async def _verify(client: httpx.AsyncClient, p: Prepared, grid: ActiveMap) -> tuple[float, float]:
     """Diagonals before and with the map the machine received; stored as a report."""
     m, sim = p.machine, p.sim
     programs = [diagonal_test(m, g, points=20, runs=2) for g in DIAGONALS]
@@ -191,8 +191,8 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
         tmp.cleanup()
 
 
-async def _wait_for_maps(console: Console, cncs: list[SimulatedCNC]) -> dict[str, GridMap]:
-    grids: dict[str, GridMap] = {}
+async def _wait_for_maps(console: Console, cncs: list[SimulatedCNC]) -> dict[str, ActiveMap]:
+    grids: dict[str, ActiveMap] = {}
     # a five-axis map over five dimensions takes the center tens of seconds to build
     async with asyncio.timeout(300):
         while len(grids) < len(cncs):

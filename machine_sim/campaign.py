@@ -32,7 +32,7 @@ from volumetric.model.machine import Machine
 
 from .effects import lagged_key
 from .instruments import SimulatedMachine
-from .lookup import GridMap
+from .lookup import ActiveMap
 from .program import (
     Dwell,
     Instruction,
@@ -213,7 +213,7 @@ def run_campaign(
     return CampaignResult(m, trajectory, history, true_value)
 
 
-def map_compensation(machine: Machine, grid_map: GridMap, *,
+def map_compensation(machine: Machine, grid_map: ActiveMap, *,
                      increment_mm: float | None = None) -> Compensation:
     """The shift a controller applies from an error map, as a campaign ``compensation``.
 

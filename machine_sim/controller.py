@@ -3,7 +3,9 @@
 Per cycle the controller wants a compensation per axis (mm, degrees for rotary axes):
 
 * with a map in use: the map looked up at the current (commanded, uncompensated) machine
-  coordinates of its grid axes (:mod:`machine_sim.lookup`), on its output axes; the values
+  coordinates of its grid axes (:mod:`machine_sim.lookup`), on its output axes (a tables
+  map: evaluated through the chain at the coordinates of its chain axes and the latest
+  temperatures, :mod:`machine_sim.chaineval`); the values
   are the corrections for a positive approach, so while an output axis last moved in the
   negative direction its reversal value is added (protocol/README.md section 6: reversal =
   negative-approach minus positive-approach correction; a backlash of ``-(B/2)·d`` in
@@ -66,6 +68,7 @@ class Compensator:
         self.now_s = 0.0
         self.temperatures = TemperatureStore()
         """Latest temperatures (own sensors or the center's Temperatures), read each cycle."""
+        self._folded_s = float("-inf")  # updated_s of the readings folded into the map
 
     # -- to be provided by the personality
     def applied_mm(self) -> F64:
@@ -82,6 +85,11 @@ class Compensator:
                 self.released_owed += 1
             self._release = None
         return reply
+
+    def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """Fold temperatures (°C by sensor label) into a tables map's thermal records now;
+        the cycle does it by itself from :attr:`temperatures` whenever those change."""
+        self.store.set_temperatures(temperatures)
 
     def release(self, now_s: float, ramp_s: float) -> None:
         """Ramp the applied compensation linearly to zero over ``ramp_s``, then drop the map."""
@@ -128,6 +136,10 @@ class Compensator:
                 return np.zeros(len(self.axes))
             out: F64 = r.snapshot * (1.0 - frac)
             return out
+        if self.temperatures.updated_s != self._folded_s:
+            # new readings (own sensors or the center's): refold a tables map's thermal terms
+            self._folded_s = self.temperatures.updated_s
+            self.store.set_temperatures(self.temperatures.values(now_s))
         m = self.store.active
         wanted = np.zeros(len(self.axes))
         if m is None:

@@ -123,6 +123,7 @@ class FanucPMC(Compensator):
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"a Fanuc path has 1 to {MAX_AXES} axes here, got {len(axes)}")
         c = self.config
+        # a ladder has no trigonometry: grid maps only, never tables
         store = MapStore(machine, axes, accepted=MapEncoding.INT32_INCREMENTS,
                          limit_mm=c.limit_counts * c.increment_mm)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)

@@ -51,7 +51,6 @@ from protocol import (
     MapAck,
     MapBegin,
     MapChunk,
-    MapEncoding,
     MapEnd,
     ProtocolError,
     Reject,
@@ -298,7 +297,9 @@ class SimulatedCNC:
         return Hello(
             name=self.machine.name, ip=self.ip,
             controller=Controller.FANUC if fanuc else Controller.SIEMENS,
-            map_formats=MapEncoding.INT32_INCREMENTS if fanuc else MapEncoding.FLOAT32_MM,
+            # what the controller's map store takes: Fanuc int32 grids; Siemens float32
+            # grids and tables maps
+            map_formats=self.runtime.controller.store.assembler.accepted,
             software_version=self.software_version, chain=self.machine.chain,
         )
 
@@ -309,8 +310,10 @@ class SimulatedCNC:
         # is the loopback, so a simulated machine with such an ip connects *from* it, as a
         # real CNC connects from its own address.
         local = (self.ip, 0) if _is_loopback(self.ip) and _is_loopback(host) else None
-        reader, writer = await asyncio.wait_for(
-            asyncio.open_connection(host, port, local_addr=local), HANDSHAKE_S)
+        # asyncio.timeout, not wait_for: wait_for can swallow a cancellation that arrives
+        # as the inner call completes (under load), and the link task would never end
+        async with asyncio.timeout(HANDSHAKE_S):
+            reader, writer = await asyncio.open_connection(host, port, local_addr=local)
         self.stats.connects += 1
         self._conn, self._writer = Connection(Role.MACHINE), writer
         self._release_pending = False
@@ -336,7 +339,8 @@ class SimulatedCNC:
         assert conn is not None
         timeout = (DEAD_PEER_PERIODS * self._heartbeat_s if self._welcomed_this_time
                    else None)
-        data = await asyncio.wait_for(reader.read(READ_BYTES), timeout)
+        async with asyncio.timeout(timeout):  # see _session: never wait_for
+            data = await reader.read(READ_BYTES)
         conn.receive_data(data)
         while True:
             try:

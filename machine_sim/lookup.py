@@ -1,4 +1,10 @@
-"""Error-map lookup as a PLC does it: multilinear interpolation on a regular grid.
+"""Error-map lookup as a PLC does it, for both map kinds.
+
+A ``grid`` map (format version 1) is looked up by multilinear interpolation on a regular
+grid, below. A ``tables`` map (format version 2) is evaluated through the machine's chain
+by :mod:`machine_sim.chaineval`; :class:`TablesMap` wraps it with the same face as
+:class:`GridMap` (``lookup``, ``outputs``, ``reversal``), and :func:`active_map` builds
+whichever a payload calls for.
 
 A map (``protocol.mapformat``) holds K output values at every node of a regular grid of
 D dimensions (``start + i·step``, ``i = 0 .. count-1``), row-major with the output axis
@@ -15,16 +21,20 @@ the same :func:`interpolate`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
-from dataclasses import dataclass
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
 from protocol.mapformat import ErrorMapPayload
+from protocol.maptables import TablesPayload
 
-__all__ = ["FleetLadder", "FleetLookup", "GridMap", "interpolate"]
+from .chaineval import ChainBatch
+
+__all__ = ["ActiveMap", "FleetLadder", "FleetLookup", "GridMap", "TablesMap", "active_map",
+           "interpolate"]
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
@@ -144,6 +154,74 @@ class GridMap:
                            np.broadcast_to(self.step, qa.shape),
                            np.broadcast_to(self.count, qa.shape),
                            np.broadcast_to(self.strides, qa.shape), qa)
+
+
+@dataclass(eq=False)
+class TablesMap:
+    """A decoded tables map, evaluated through the chain every lookup.
+
+    Attributes
+    ----------
+    machine : str
+    version, valid_s : int
+    grid : tuple of str
+        The chain axes (upper case): the columns of the positions ``lookup`` takes (the
+        name matches :class:`GridMap`, whose looked-up axes are its grid).
+    outputs : tuple of str
+        Corrected axes.
+    reversal : ndarray, shape (K,)
+        Per output, negative- minus positive-approach correction, mm (degrees).
+    batch : ChainBatch
+        The evaluation (one machine).
+    """
+
+    machine: str
+    version: int
+    valid_s: int
+    grid: tuple[str, ...]
+    outputs: tuple[str, ...]
+    reversal: F64
+    batch: ChainBatch
+    payload: TablesPayload = field(repr=False)
+
+    @staticmethod
+    def from_payload(p: TablesPayload,
+                     temperatures: Mapping[str, float] | None = None) -> TablesMap:
+        """Build the evaluation of ``p`` with its thermal records at ``temperatures``."""
+        batch = ChainBatch([p])
+        if temperatures:
+            batch.set_temperatures(0, temperatures)
+        scale = p.increment_mm if p.encoding is MapEncoding.INT32_INCREMENTS else 1.0
+        rev = np.array([0.0 if o.reversal is None else o.reversal * scale for o in p.outputs])
+        return TablesMap(p.machine, p.version, p.valid_s, batch.axes, batch.outputs, rev,
+                         batch, p)
+
+    def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """The latest temperatures, °C by sensor label, for the thermal records."""
+        self.batch.set_temperatures(0, temperatures)
+
+    def lookup(self, q: F64) -> F64:
+        """Applied corrections for a positive approach at positions q, shape (N, A) in
+        ``grid`` order → (N, K), mm or degrees: solved, clamped and rounded to the
+        encoding."""
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        return self.batch.applied(None, qa)
+
+    def corrections(self, q: F64) -> F64:
+        """The solver's corrections (N, K) before clamping and rounding, mm or degrees."""
+        return self.batch.corrections(None, np.atleast_2d(np.asarray(q, dtype=float)))
+
+
+ActiveMap = GridMap | TablesMap
+"""The map a machine has in use, of either kind."""
+
+
+def active_map(p: ErrorMapPayload | TablesPayload,
+               temperatures: Mapping[str, float] | None = None) -> ActiveMap:
+    """The evaluable form of a decoded payload of either kind."""
+    if isinstance(p, TablesPayload):
+        return TablesMap.from_payload(p, temperatures)
+    return GridMap.from_payload(p)
 
 
 class FleetLookup:

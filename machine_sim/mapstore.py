@@ -7,7 +7,14 @@ the problem:
 
 * every grid dimension and every output is an axis of this machine;
 * every value (and reversal) is within ``±limit_mm``: the range the controller's
-  compensation channel can hold (EMZPS range, SD43900 limit).
+  compensation channel can hold (EMZPS range, SD43900 limit);
+* a tables map: every chain axis is an axis of this machine, every reversal within
+  ``±limit_mm``, and the map evaluates to finite corrections at the centre and the
+  corners of the travel (a probe of its tables, thermal records and solve). Its
+  corrections are clamped to the smaller of the map's limits and ``limit_mm``.
+
+A map of either kind is kept as :data:`~machine_sim.lookup.ActiveMap`; a tables map folds
+in the latest temperatures (:meth:`MapStore.set_temperatures`) before it is swapped in.
 
 Only then does the store swap to the new map, in one assignment between two scans. On
 any rejection the map in use stays as it was.
@@ -15,7 +22,9 @@ any rejection the map in use stays as it was.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+import dataclasses
+import itertools
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -23,10 +32,12 @@ import numpy as np
 from protocol.codes import MapEncoding, MapRejectReason
 from protocol.limits import MAX_MAP_BYTES
 from protocol.mapformat import ErrorMapPayload
+from protocol.maptables import TablesPayload
 from protocol.maptransfer import MapAccepted, MapAssembler, MapRejected
 from protocol.messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject
 
-from .lookup import GridMap
+from .chaineval import StructureError
+from .lookup import ActiveMap, GridMap, TablesMap
 
 __all__ = ["MapStore", "StoreEvent"]
 
@@ -64,9 +75,16 @@ class MapStore:
         self.axes = tuple(a.upper() for a in axes)
         self.limit_mm = float(limit_mm)
         self.assembler = MapAssembler(machine, accepted, max_bytes)
-        self.active: GridMap | None = None
+        self.active: ActiveMap | None = None
         self.applied_at_s: float | None = None
         self.events: list[StoreEvent] = []
+        self.temperatures: dict[str, float] = {}
+
+    def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """The latest temperatures (°C by sensor label); sensors not named keep theirs."""
+        self.temperatures.update({k: float(v) for k, v in temperatures.items()})
+        if isinstance(self.active, TablesMap):
+            self.active.set_temperatures(self.temperatures)
 
     def feed(self, msg: MapBegin | MapChunk | MapEnd, now_s: float
              ) -> MapAck | MapReject | None:
@@ -81,9 +99,12 @@ class MapStore:
         if verdict is None:
             return None
         if isinstance(verdict, MapAccepted):
-            problem = self.check(verdict.payload)
+            p = verdict.payload
+            problem = self.check(p) if isinstance(p, ErrorMapPayload) else self.check_tables(p)
             if problem is None:
-                self.active = GridMap.from_payload(verdict.payload)  # the one-step swap
+                built = (GridMap.from_payload(p) if isinstance(p, ErrorMapPayload)
+                         else TablesMap.from_payload(self._clamped(p), self.temperatures))
+                self.active = built  # the one-step swap, after everything is built
                 self.applied_at_s = now_s
                 self.assembler.applied_version = verdict.version
                 self.events.append(StoreEvent(now_s, "applied", verdict.version, ""))
@@ -114,6 +135,34 @@ class MapStore:
         if big.size:
             return (f"map reversal {g.reversal[big[0]]:.6g} mm for axis "
                     f"{g.outputs[int(big[0])]} exceeds ±{self.limit_mm:g} mm")
+        return None
+
+    def _clamped(self, p: TablesPayload) -> TablesPayload:
+        return dataclasses.replace(p, limit_mm=min(p.limit_mm, self.limit_mm),
+                                   limit_deg=min(p.limit_deg, self.limit_mm))
+
+    def check_tables(self, p: TablesPayload) -> str | None:
+        """Why this controller refuses an otherwise valid tables map, or None."""
+        for a in p.axes:
+            if a.name.upper() not in self.axes:
+                return (f"map chain axis {a.name!r} is not an axis of {self.machine} "
+                        f"({' '.join(self.axes)})")
+        scale = p.increment_mm if p.encoding is MapEncoding.INT32_INCREMENTS else 1.0
+        for o in p.outputs:
+            if o.reversal is not None and abs(o.reversal * scale) > self.limit_mm:
+                return (f"map reversal {o.reversal * scale:.6g} for axis {o.name} exceeds "
+                        f"the controller's ±{self.limit_mm:g}")
+        # probe: the centre and every corner of the travel (at most 2^6 corners)
+        travel = [a.travel for a in p.axes]
+        probes = [[0.5 * (lo + hi) for lo, hi in travel]]
+        if len(travel) <= 6:
+            probes += [list(c) for c in itertools.product(*travel)]
+        try:
+            dq = TablesMap.from_payload(p, self.temperatures).corrections(np.array(probes))
+        except (StructureError, ValueError, FloatingPointError) as exc:
+            return f"map does not evaluate: {exc}"
+        if not np.all(np.isfinite(dq)):
+            return "map evaluates to non-finite corrections within the travel"
         return None
 
     def expired(self, now_s: float) -> bool:

@@ -16,7 +16,9 @@ Writing SD43900 while MD32750 bit 0 is off is refused with alarm ``SD43900_DISAB
 
 The PLC part (every ``plc_every`` interpolation cycles) looks the map up at the current
 machine coordinates (:mod:`machine_sim.controller`) and writes the result to SD43900; the
-NC part runs every interpolation cycle (:meth:`SiemensNC.ipo_cycle`).
+NC part runs every interpolation cycle (:meth:`SiemensNC.ipo_cycle`). The machine takes
+grid maps and tables maps (Hello: float32 mm and tables); a tables map is evaluated
+through the chain every PLC cycle (:mod:`machine_sim.chaineval`).
 """
 
 from __future__ import annotations
@@ -108,7 +110,9 @@ class SiemensNC(Compensator):
     def __init__(self, machine: str, axes: Sequence[str], config: SiemensConfig | None = None
                  ) -> None:
         self.config = c = config or SiemensConfig()
-        store = MapStore(machine, axes, accepted=MapEncoding.FLOAT32_MM, limit_mm=c.limit_mm)
+        # the NC's PLC evaluates tables maps itself (chain, tables, solve), float32 mm
+        store = MapStore(machine, axes, accepted=MapEncoding.FLOAT32_MM | MapEncoding.TABLES,
+                         limit_mm=c.limit_mm)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)
         n = len(self.axes)
         self.md: dict[int, F64] = {

@@ -48,6 +48,9 @@ class MapEncoding(IntFlag):
     """int32 little-endian, in units of the increment given in the map header (Fanuc)."""
     FLOAT32_MM = 2
     """float32 little-endian IEEE 754, in mm (Siemens)."""
+    TABLES = 4
+    """Hello only: the machine also evaluates ``tables`` maps (format version 2), whose
+    corrections it rounds to one of the value encodings above."""
 
 
 class ErrorCode(IntEnum):

@@ -106,6 +106,20 @@ def _f32(value: float) -> float:
     return rounded
 
 
+def checked_output(encoding: MapEncoding, o: OutputAxis) -> OutputAxis:
+    """``o`` with its reversal in the encoding's unit: a whole int32 count, or rounded to
+    float32 (what the wire will carry); ValueError when it does not fit."""
+    if o.reversal is None:
+        return o
+    if encoding is MapEncoding.INT32_INCREMENTS:
+        r = o.reversal
+        if r != int(r) or not _INT32_MIN <= r <= _INT32_MAX:
+            raise ValueError(f"output axis {o.name} reversal must be an int32 count for "
+                             f"an int32 map, got {r}")
+        return OutputAxis(o.name, int(r))
+    return OutputAxis(o.name, _f32(o.reversal))
+
+
 @dataclass(frozen=True, slots=True)
 class ErrorMapPayload:
     """A decoded error map.
@@ -166,15 +180,7 @@ class ErrorMapPayload:
                 raise ValueError(f"map value {bad} (flat index) is not finite")
 
     def _checked_output(self, o: OutputAxis) -> OutputAxis:
-        if o.reversal is None:
-            return o
-        if self.encoding is MapEncoding.INT32_INCREMENTS:
-            r = o.reversal
-            if r != int(r) or not _INT32_MIN <= r <= _INT32_MAX:
-                raise ValueError(f"output axis {o.name} reversal must be an int32 count for "
-                                 f"an int32 map, got {r}")
-            return OutputAxis(o.name, int(r))
-        return OutputAxis(o.name, _f32(o.reversal))
+        return checked_output(self.encoding, o)
 
     @property
     def shape(self) -> tuple[int, ...]:

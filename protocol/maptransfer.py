@@ -16,7 +16,8 @@ from dataclasses import dataclass, field
 from .codes import MapEncoding, MapRejectReason
 from .errors import LocalProtocolError
 from .limits import MAX_CHUNK_BYTES, MAX_MAP_BYTES
-from .mapformat import ErrorMapPayload, MapFormatError, decode_map
+from .mapformat import ErrorMapPayload, MapFormatError
+from .maptables import TablesPayload, decode_payload
 from .messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject, clip_text
 
 _ALL: MapEncoding = MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM
@@ -43,7 +44,7 @@ class MapAccepted:
     """A whole, verified map: swap to ``payload``, then send ``ack()``."""
 
     version: int
-    payload: ErrorMapPayload
+    payload: ErrorMapPayload | TablesPayload
     data: bytes
 
     def ack(self) -> MapAck:
@@ -189,7 +190,7 @@ class MapAssembler:
             return t.failure
         data = bytes(t.data)
         try:
-            payload = decode_map(data)
+            payload = decode_payload(data)
         except MapFormatError as exc:
             return MapRejected(b.version, MapRejectReason.DECODE_ERROR, str(exc))
         if payload.version != b.version:
@@ -199,6 +200,9 @@ class MapAssembler:
         if payload.machine != self.machine:
             return MapRejected(b.version, MapRejectReason.WRONG_MACHINE,
                                f"map is for {payload.machine!r}, this is {self.machine!r}")
+        if isinstance(payload, TablesPayload) and not self.accepted & MapEncoding.TABLES:
+            return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
+                               "a tables map, and this machine evaluates only grid maps")
         if not payload.encoding & self.accepted:
             return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
                                f"map encoding {payload.encoding.name} is not one this "

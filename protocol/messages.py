@@ -28,7 +28,8 @@ from .limits import (
 NONCE_BYTES: Final = 32
 MAC_BYTES: Final = 32
 SHA256_BYTES: Final = 32
-_ALL_FORMATS: Final = MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM
+_VALUE_FORMATS: Final = MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM
+_ALL_FORMATS: Final = _VALUE_FORMATS | MapEncoding.TABLES
 ABSOLUTE_ZERO_C: Final = -273.15
 _AXIS_TOKEN = re.compile(r"[XYZABC][0-9]?")
 
@@ -85,7 +86,7 @@ class Hello:
             raise ValueError(f"Hello.ip {self.ip!r} must be written canonically: {canonical!r}")
         check.member("Hello.controller", self.controller, Controller)
         check.member("Hello.map_formats", self.map_formats, MapEncoding)
-        if not self.map_formats or self.map_formats & ~_ALL_FORMATS:
+        if not self.map_formats & _VALUE_FORMATS or self.map_formats & ~_ALL_FORMATS:
             raise ValueError(f"Hello.map_formats must name at least one known format, "
                              f"got {int(self.map_formats)}")
         check.text("Hello.software_version", self.software_version, MAX_LABEL_BYTES, empty=False)

@@ -145,10 +145,11 @@ async def push(s: Session, p: ErrorMapPayload, chunk: int = 64) -> Message:
 async def test_session_map_telemetry_heartbeat_release(center: MiniCenter, controller: str,
                                                        encoding: MapEncoding) -> None:
     m = machine(controller)
+    formats = encoding | (MapEncoding.TABLES if controller == "siemens" else MapEncoding(0))
     async with asyncio.timeout(DEADLINE_S), cnc(m, center.port) as sim:
         s = await center.sessions.get()
         assert s.hello is not None and s.hello.name == m.name
-        assert s.hello.map_formats == encoding and s.hello.chain == m.chain
+        assert s.hello.map_formats == formats and s.hello.chain == m.chain
         ack = await push(s, map_payload(m.name, 0.012, encoding))
         assert isinstance(ack, MapAck) and ack.version == 1
         while True:  # the telemetry shows the map applied once the ramp is done
@@ -261,7 +262,7 @@ async def test_a_generated_fleet_all_connect_and_sum_up(center: MiniCenter) -> N
             assert s.hello is not None
             names.add(s.hello.name)
             formats = {"fanuc": MapEncoding.INT32_INCREMENTS,
-                       "siemens": MapEncoding.FLOAT32_MM}
+                       "siemens": MapEncoding.FLOAT32_MM | MapEncoding.TABLES}
             kind = next(e.machine.controller for e in entries if e.machine.name == s.hello.name)
             assert s.hello.map_formats == formats[kind]
         await asyncio.gather(*(c.ready.wait() for c in fleet.machines))

@@ -1,0 +1,497 @@
+"""The machine endpoint's evaluation of a ``tables`` map: chain, errors, corrections.
+
+Written from protocol/README.md section 6.2 alone, on purpose without importing
+:mod:`volumetric` (a PLC programmer has only the README); ``tests/test_sim_tables.py``
+pins it against the center's solver. Per point and cycle:
+
+1. each axis's six component errors: its tables interpolated linearly at the axis's
+   commanded position (end values hold outside), µm and µrad; thermal records add
+   ``coefficient · ΔT`` (drift) or ``coefficient · ΔT · (q - q_min) · 1e-3`` (expansion)
+   to ``E<K><K>`` at the latest temperatures;
+2. the tool tip's pose relative to the workpiece, per spindle, exactly: a backward pass
+   from the tool over the branch's links, each link one rigid motion (README table),
+   error rotations by the exact Rodrigues formula; once with and once without errors;
+3. the corrections: ``dq = -G e`` with ``G`` the column-normalised, weighted minimum-norm
+   pseudo-inverse of the nominal Jacobian at q (singular values below 1e-9 σ_max count as
+   zero), refined ``dq ← dq - G r(dq)`` with the exact residual at ``q + dq`` until no
+   correction changes by more than 1e-7 mm (deg), at most 6 steps;
+4. clamp to ±limit (mm or deg), round to the map's encoding, add the reversal while the
+   axis last moved in the negative direction.
+
+Everything is vectorised over rows of (machine, point): :class:`ChainBatch` holds M
+machines whose maps share one chain structure (same axes, sides, branches, outputs) and
+evaluates any number of rows, each with its machine index, in one call; a whole fleet's
+PLC cycle is one call per chain structure (``benchmarks/fleet_scan.py``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import NDArray
+
+from protocol.codes import MapEncoding
+from protocol.maptables import THERMAL_DRIFT, TablesPayload
+
+__all__ = ["ChainBatch", "StructureError", "sensor_key", "structure_of"]
+
+F64 = NDArray[np.float64]
+I64 = NDArray[np.int64]
+RCOND = 1e-9
+"""Singular values of the column-normalised weighted Jacobian below RCOND · σ_max are zero
+(an unobservable axis gets no correction). README section 6.2."""
+STEP_TOL = 1e-7
+"""Refinement stops once no correction changes by more than this, mm or degrees."""
+MAX_STEPS = 6
+_DEG = math.pi / 180.0
+_SERIES = 1e-4  # θ² below which the Rodrigues series are exact to double precision
+_DIRS = "XYZABC"
+
+
+class StructureError(ValueError):
+    """Maps that cannot share one batch (different chains), or bad evaluation input."""
+
+
+def sensor_key(name: str) -> str:
+    """The machine sensor a label names: ``T_spindle_C`` and ``spindle`` are the same."""
+    if len(name) > 4 and name.startswith("T_") and name.endswith("_C"):
+        return name[2:-2]
+    return name
+
+
+def structure_of(p: TablesPayload) -> tuple[object, ...]:
+    """What maps must share to be evaluated in one batch."""
+    return (tuple((a.name, a.rotary, a.tool_side) for a in p.axes),
+            tuple(s.axes for s in p.spindles), tuple(o.name for o in p.outputs))
+
+
+# --- small vectorised rigid-body helpers over (N, 3) -----------------------------------
+
+def _cross(a: F64, b: F64) -> F64:
+    return np.stack((a[..., 1] * b[..., 2] - a[..., 2] * b[..., 1],
+                     a[..., 2] * b[..., 0] - a[..., 0] * b[..., 2],
+                     a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]), axis=-1)
+
+
+def _rodrigues(w: F64) -> tuple[F64, F64]:
+    """sin θ/θ and (1 - cos θ)/θ² of rotation vectors w (..., 3)."""
+    t2 = np.einsum("...i,...i->...", w, w)
+    if float(np.max(t2, initial=0.0)) < _SERIES:
+        return 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0), 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0)
+    t = np.sqrt(t2)
+    safe = np.where(t2 > 0, t, 1.0)
+    return (np.where(t2 > 0, np.sin(safe) / safe, 1.0),
+            np.where(t2 > 0, (1.0 - np.cos(safe)) / (safe * safe), 0.5))
+
+
+def _rotate(w: F64, v: F64) -> F64:
+    """Rotate v (N, 3) by rotation vectors w (N, 3): exact."""
+    a, b = _rodrigues(w)
+    wv = _cross(w, v)
+    out: F64 = v + a[..., None] * wv + b[..., None] * _cross(w, wv)
+    return out
+
+
+def _skew(w: F64) -> F64:
+    z = np.zeros(w.shape[:-1])
+    return np.stack((np.stack((z, -w[..., 2], w[..., 1]), -1),
+                     np.stack((w[..., 2], z, -w[..., 0]), -1),
+                     np.stack((-w[..., 1], w[..., 0], z), -1)), -2)
+
+
+def _matrix(w: F64) -> F64:
+    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3)."""
+    a, b = _rodrigues(w)
+    k = _skew(w)
+    out: F64 = np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k)
+    return out
+
+
+def _turn_matrix(d: F64, theta: F64) -> F64:
+    """Rotations (N, 3, 3) by θ (N,) rad about unit axes d (N, 3)."""
+    k = _skew(d)
+    out: F64 = (np.eye(3) + np.sin(theta)[:, None, None] * k
+                + (1.0 - np.cos(theta))[:, None, None] * (k @ k))
+    return out
+
+
+def _turn(d: F64, theta: F64, v: F64) -> F64:
+    """Rotate v (N, 3) by θ (N,) rad about unit axes d (N, 3)."""
+    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
+    out: F64 = v * c + _cross(d, v) * s + d * (np.einsum("ni,ni->n", d, v)[:, None] * (1 - c))
+    return out
+
+
+def _log(r: F64) -> F64:
+    """Rotation vectors (N, 3) of rotation matrices (N, 3, 3)."""
+    v = 0.5 * np.stack((r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0],
+                        r[:, 1, 0] - r[:, 0, 1]), -1)
+    s = np.linalg.norm(v, axis=1)
+    c = np.clip(0.5 * (np.trace(r, axis1=1, axis2=2) - 1.0), -1.0, 1.0)
+    theta = np.arctan2(s, c)
+    small = theta < 1e-4
+    factor = np.where(small, 1.0 + theta * theta / 6.0, theta / np.where(small, 1.0, s))
+    out: F64 = v * factor[:, None]
+    return out
+
+
+def _frame_from_z(d: tuple[float, float, float]) -> F64:
+    """The smallest rotation taking the base z axis onto unit d (spindle axes' frame)."""
+    dv = np.asarray(d, dtype=float)
+    axis = np.cross([0.0, 0.0, 1.0], dv)
+    s, c = float(np.linalg.norm(axis)), float(dv[2])
+    if s < 1e-15:
+        flip: F64 = np.eye(3) if c > 0 else np.diag([1.0, -1.0, -1.0])
+        return flip
+    out: F64 = _turn_matrix((axis / s)[None, :], np.array([math.atan2(s, c)]))[0]
+    return out
+
+
+# --- the batch --------------------------------------------------------------------------
+
+@dataclass(frozen=True)
+class _Pose:
+    p: F64  # (N, 3) mm
+    r: F64 | None  # (N, 3, 3)
+
+
+class ChainBatch:
+    """M tables maps with one chain structure, evaluated together.
+
+    Parameters
+    ----------
+    maps : sequence of TablesPayload
+        All with the same :func:`structure_of`.
+
+    Attributes
+    ----------
+    axes : tuple of str
+        Chain axes: the columns of the positions ``q`` (mm, degrees).
+    outputs : tuple of str
+        Corrected axes: the columns of the corrections.
+    """
+
+    def __init__(self, maps: Sequence[TablesPayload]) -> None:
+        if not maps:
+            raise StructureError("a ChainBatch needs at least one map")
+        first = structure_of(maps[0])
+        for i, p in enumerate(maps):
+            if structure_of(p) != first:
+                raise StructureError(f"map {i} ({p.machine}) has another chain structure "
+                                     f"than map 0 ({maps[0].machine})")
+        p0 = maps[0]
+        self.maps = tuple(maps)
+        self.axes = p0.axis_names
+        self.outputs = tuple(o.name for o in p0.outputs)
+        self.rotary = np.array([a.rotary for a in p0.axes])
+        self.tool_side = tuple(a.tool_side for a in p0.axes)
+        self.links = tuple(tuple(self.axes.index(a) for a in s.axes) for s in p0.spindles)
+        self.out_col = np.array([self.axes.index(o) for o in self.outputs], dtype=np.int64)
+        self.out_rotary = self.rotary[self.out_col]
+        m, a = len(maps), len(self.axes)
+        self.direction = np.array([[x.direction for x in p.axes] for p in maps])  # (M, A, 3)
+        self.pivot = np.array([[x.pivot_mm for x in p.axes] for p in maps])
+        self.frame = np.array([[_frame_from_z(x.direction) if x.name[1:] else np.eye(3)
+                                for x in p.axes] for p in maps])  # (M, A, 3, 3)
+        self.tool = np.array([[np.multiply(s.tool_length_mm, s.tool_direction)
+                               for s in p.spindles] for p in maps])  # (M, S, 3)
+        self.weights = np.array([[s.weights for s in p.spindles] for p in maps])  # (M, S, 6)
+        self.orient = bool(np.any(self.weights[:, :, 3:] > 0))
+        self._locations(maps)
+        self._tables(maps)
+        self.thermal0 = np.zeros((m, a))  # µm added to E<K><K>, constant part
+        self.thermal1 = np.zeros((m, a))  # µm per mm of q
+        lim = np.array([[p.limit_mm, p.limit_deg] for p in maps])
+        self.limit = np.where(self.out_rotary[None, :], lim[:, 1:2], lim[:, 0:1])  # (M, K)
+        self.int32 = np.array([p.encoding is MapEncoding.INT32_INCREMENTS for p in maps])
+        self.increment = np.array([p.increment_mm if p.encoding is
+                                   MapEncoding.INT32_INCREMENTS else 1.0 for p in maps])
+        self.reversal = np.array([[0.0 if o.reversal is None else o.reversal
+                                   for o in p.outputs] for p in maps])  # encoding units
+        self._g_const: F64 | None = None
+        if not self.rotary.any():  # linear axes only: the Jacobian is the same everywhere
+            idx = np.arange(m)
+            self._g_const = self._pinv(idx, np.zeros((m, a)))
+
+    def __len__(self) -> int:
+        return len(self.maps)
+
+    # -- set-up
+    def _locations(self, maps: Sequence[TablesPayload]) -> None:
+        m, a = len(maps), len(self.axes)
+        self.tilt = np.zeros((m, a, 3))  # rad, base frame
+        self.offset = np.zeros((m, a, 3))  # mm
+        self.zero = np.zeros((m, a))  # rad
+        for i, p in enumerate(maps):
+            loc = dict(p.locations)
+            for j, ax in enumerate(p.axes):
+                ang = np.array([loc.get(f"E{c}0{ax.name}", 0.0) for c in "ABC"]) * 1e-6
+                if ax.rotary:
+                    d = self.direction[i, j]
+                    self.zero[i, j] = float(ang @ d)
+                    self.tilt[i, j] = ang - self.zero[i, j] * d
+                    self.offset[i, j] = np.array(
+                        [loc.get(f"E{c}0{ax.name}", 0.0) for c in "XYZ"]) * 1e-3
+                else:
+                    self.tilt[i, j] = self.frame[i, j] @ ang
+        # a linear axis's tilted line of motion, once
+        self.line = _rotate(self.tilt.reshape(-1, 3),
+                            self.direction.reshape(-1, 3)).reshape(m, a, 3)
+
+    def _tables(self, maps: Sequence[TablesPayload]) -> None:
+        m, a = len(maps), len(self.axes)
+        values: list[float] = [0.0]  # entry 0: the shared zero of every missing table
+        self.t_first = np.zeros((m, a, 6), dtype=np.int64)
+        self.t_last = np.zeros((m, a, 6), dtype=np.int64)  # count - 1
+        self.t_start = np.zeros((m, a, 6))
+        self.t_step = np.ones((m, a, 6))
+        for i, p in enumerate(maps):
+            for t in p.tables:
+                j = self.axes.index(t.axis)
+                c = _DIRS.index(t.name[1])
+                self.t_first[i, j, c] = len(values)
+                self.t_last[i, j, c] = len(t.values) - 1
+                self.t_start[i, j, c] = t.start
+                self.t_step[i, j, c] = t.step if len(t.values) > 1 else 1.0
+                values.extend(t.values)
+        self.t_values = np.asarray(values, dtype=np.float64)
+        self.t_cap = np.maximum(self.t_last - 1, 0)
+        self.t_scale = np.array([1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6])  # → mm and rad
+
+    def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
+        """Fold machine ``machine``'s thermal records at these temperatures (°C, keyed by
+        sensor label or ``T_<label>_C``) into its errors; a sensor without a value counts
+        as at its reference temperature."""
+        temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
+        self.thermal0[machine] = 0.0
+        self.thermal1[machine] = 0.0
+        for rec in self.maps[machine].thermal:
+            t = temps.get(sensor_key(rec.sensor))
+            if t is None or not math.isfinite(t):
+                continue
+            j = self.axes.index(rec.axis)
+            dt = t - rec.t_ref_C
+            if rec.kind == THERMAL_DRIFT:
+                self.thermal0[machine, j] += rec.coefficient * dt
+            else:
+                slope = rec.coefficient * dt * 1e-3
+                self.thermal0[machine, j] -= slope * rec.q_min
+                self.thermal1[machine, j] += slope
+
+    # -- step 1: component errors
+    def components(self, idx: I64, q: F64) -> F64:
+        """Component errors (N, A, 6) in mm and rad of rows (machine idx, positions q)."""
+        first, last, cap = self.t_first[idx], self.t_last[idx], self.t_cap[idx]
+        u = (q[:, :, None] - self.t_start[idx]) / self.t_step[idx]
+        u = np.clip(u, 0.0, last)
+        i0 = np.minimum(np.floor(u).astype(np.int64), cap)
+        f = u - i0
+        lo = self.t_values[first + i0]
+        hi = self.t_values[first + np.minimum(i0 + 1, last)]
+        e = lo + f * (hi - lo)
+        if self.thermal0.any() or self.thermal1.any():
+            add = self.thermal0[idx] + self.thermal1[idx] * q
+            for j, name in enumerate(self.axes):
+                if not self.rotary[j]:
+                    e[:, j, _DIRS.index(name[0])] += add[:, j]
+        out: F64 = e * self.t_scale
+        return out
+
+    # -- step 2: the pose
+    def pose(self, idx: I64, q: F64, spindle: int, comps: F64 | None,
+             orientation: bool) -> _Pose:
+        """Tool tip pose of one spindle relative to the workpiece: position (N, 3) mm and
+        orientation (N, 3, 3); ``comps`` None for the nominal machine."""
+        n = q.shape[0]
+        p = self.tool[idx, spindle].copy()
+        r = np.broadcast_to(np.eye(3), (n, 3, 3)).copy() if orientation else None
+        for j in reversed(self.links[spindle]):
+            qj = q[:, j]
+            err = None
+            if comps is not None:
+                fr = self.frame[idx, j]
+                err = (np.einsum("nij,nj->ni", fr, comps[:, j, :3]),
+                       np.einsum("nij,nj->ni", fr, comps[:, j, 3:]))
+            if self.rotary[j]:
+                if self.tool_side[j]:
+                    p, r = self._rotary(idx, j, qj, p, r, comps is not None)
+                    p, r = self._error(err, self.pivot[idx, j], p, r)
+                else:
+                    p, r = self._error(err, self.pivot[idx, j], p, r)
+                    p, r = self._rotary(idx, j, qj, p, r, comps is not None)
+            else:
+                d = self.line[idx, j] if comps is not None else self.direction[idx, j]
+                if self.tool_side[j]:
+                    p, r = self._error(err, None, p, r)
+                    p = p + qj[:, None] * d
+                else:
+                    p = p + qj[:, None] * d
+                    p, r = self._error(err, None, p, r)
+        return _Pose(p, r)
+
+    @staticmethod
+    def _error(err: tuple[F64, F64] | None, pivot: F64 | None, p: F64, r: F64 | None
+               ) -> tuple[F64, F64 | None]:
+        if err is None:
+            return p, r
+        delta, eps = err
+        p = (_rotate(eps, p) if pivot is None else _rotate(eps, p - pivot) + pivot) + delta
+        if r is not None:
+            r = _matrix(eps) @ r
+        return p, r
+
+    def _rotary(self, idx: I64, j: int, qj: F64, p: F64, r: F64 | None, actual: bool
+                ) -> tuple[F64, F64 | None]:
+        c, d = self.pivot[idx, j], self.direction[idx, j]
+        theta = qj * _DEG
+        if not actual:
+            p = _turn(d, theta, p - c) + c
+            return p, (None if r is None else _turn_matrix(d, theta) @ r)
+        # L R(θ + zero) L⁻¹, L the axis's tilt about the pivot and its offset
+        theta = theta + self.zero[idx, j]
+        tilt, off = self.tilt[idx, j], self.offset[idx, j]
+        x = _rotate(-tilt, p - c - off)
+        x = _turn(d, theta, x)
+        p = _rotate(tilt, x) + c + off
+        if r is not None:
+            rl = _matrix(tilt)
+            r = rl @ _turn_matrix(d, theta) @ np.swapaxes(rl, 1, 2) @ r
+        return p, r
+
+    # -- step 3: the corrections
+    def _rows(self, idx: I64) -> F64:
+        """Weights (N, R) of the stacked error rows (per spindle x y z, then a b c when
+        the batch weighs orientation)."""
+        w = self.weights[idx] if self.orient else self.weights[idx][:, :, :3]
+        out: F64 = w.reshape(idx.shape[0], -1)
+        return out
+
+    def jacobian(self, idx: I64, q: F64) -> F64:
+        """Nominal Jacobian (N, R, K): rows µm and µrad, columns per mm or degree of each
+        output axis."""
+        n = q.shape[0]
+        per = 6 if self.orient else 3
+        jac = np.zeros((n, per * len(self.links), len(self.outputs)))
+        for s, links in enumerate(self.links):
+            after: dict[int, F64] = {}
+            p = self.tool[idx, s].copy()
+            for j in reversed(links):  # tool tip seen from after each link
+                after[j] = p
+                d = self.direction[idx, j]
+                if self.rotary[j]:
+                    c = self.pivot[idx, j]
+                    p = _turn(d, q[:, j] * _DEG, p - c) + c
+                else:
+                    p = p + q[:, j, None] * d
+            rot = np.broadcast_to(np.eye(3), (n, 3, 3))
+            for j in links:  # rotation of the frame before each link, forwards
+                d = self.direction[idx, j]
+                hits = np.flatnonzero(self.out_col == j)
+                if self.rotary[j]:
+                    turn = _turn_matrix(d, q[:, j] * _DEG)
+                    if hits.size:
+                        arm = np.einsum("nij,nj->ni", turn, after[j] - self.pivot[idx, j])
+                        k = int(hits[0])
+                        jac[:, per * s:per * s + 3, k] = np.einsum(
+                            "nij,nj->ni", rot, _cross(d, arm)) * (1e3 * _DEG)
+                        if self.orient:
+                            jac[:, per * s + 3:per * s + 6, k] = np.einsum(
+                                "nij,nj->ni", rot, d) * (1e6 * _DEG)
+                    rot = rot @ turn
+                elif hits.size:
+                    jac[:, per * s:per * s + 3, int(hits[0])] = np.einsum(
+                        "nij,nj->ni", rot, d) * 1e3
+        return jac
+
+    def _pinv(self, idx: I64, q: F64) -> F64:
+        """``G`` (N, K, R) with ``dq = -G e``: weighted, column-normalised min-norm
+        pseudo-inverse of the nominal Jacobian."""
+        jac = self.jacobian(idx, q)
+        sw = np.sqrt(self._rows(idx))
+        a = jac * sw[:, :, None]
+        norms = np.linalg.norm(a, axis=1)
+        scale = np.where(norms > 0, norms, 1.0)
+        a = a / scale[:, None, :]
+        u, s, vt = np.linalg.svd(a, full_matrices=False)
+        keep = s > RCOND * s[:, :1]
+        inv = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
+        g = np.einsum("nji,nj,nkj->nik", vt, inv, u)
+        out: F64 = g / scale[:, :, None] * sw[:, None, :]
+        return out
+
+    def _residual(self, idx: I64, q: F64, dq: F64, nominal: list[_Pose]) -> F64:
+        """Stacked tool-tip errors (N, R) at q + dq against the nominal poses at q."""
+        qc = q + dq
+        comps = self.components(idx, qc)
+        rows = []
+        for s in range(len(self.links)):
+            act = self.pose(idx, qc, s, comps, self.orient)
+            rows.append((act.p - nominal[s].p) * 1e3)
+            r_act, r_nom = act.r, nominal[s].r
+            if r_act is not None and r_nom is not None:
+                rows.append(_log(r_act @ np.swapaxes(r_nom, 1, 2)) * 1e6)
+        return np.concatenate(rows, axis=1)
+
+    def errors(self, idx: I64, q: F64) -> F64:
+        """Tool-tip errors (N, R) at q: per spindle position µm (and orientation µrad when
+        weighed), before any correction."""
+        idx, q = self._check(idx, q)
+        nominal = [self.pose(idx, q, s, None, self.orient) for s in range(len(self.links))]
+        return self._residual(idx, q, np.zeros_like(q), nominal)
+
+    def corrections(self, idx: I64 | None, q: F64) -> F64:
+        """Unrounded, unclamped corrections (N, K), mm or degrees, of the outputs.
+
+        Parameters
+        ----------
+        idx : ndarray of int, shape (N,), or None
+            The machine of each row (None: machine 0 for every row).
+        q : ndarray, shape (N, A)
+            Commanded positions of the chain axes, mm or degrees.
+        """
+        idx, q = self._check(idx, q)
+        nominal = [self.pose(idx, q, s, None, self.orient) for s in range(len(self.links))]
+        g = self._g_const[idx] if self._g_const is not None else self._pinv(idx, q)
+        dq = np.zeros_like(q)
+        for _ in range(MAX_STEPS):
+            res = self._residual(idx, q, dq, nominal)
+            delta = -np.einsum("nkr,nr->nk", g, res)
+            dq[:, self.out_col] += delta
+            if float(np.abs(delta).max(initial=0.0)) <= STEP_TOL:
+                break
+        out: F64 = dq[:, self.out_col]
+        return out
+
+    def applied(self, idx: I64 | None, q: F64, directions: NDArray[np.generic] | None = None
+                ) -> F64:
+        """What the machine applies (N, K), mm or degrees: corrections clamped to ±limit,
+        rounded to the encoding, plus the reversal where ``directions`` (N, K) < 0."""
+        idx, q = self._check(idx, q)
+        c = np.clip(self.corrections(idx, q), -self.limit[idx], self.limit[idx])
+        inc = self.increment[idx][:, None]
+        int32 = self.int32[idx][:, None]
+        rounded = np.where(int32, np.rint(c / inc),
+                           c.astype(np.float32).astype(np.float64))
+        if directions is not None:
+            neg = np.asarray(directions, dtype=float) < 0
+            rounded = rounded + np.where(neg, self.reversal[idx], 0.0)
+        out: F64 = np.where(int32, rounded * inc, rounded)
+        return out
+
+    def _check(self, idx: I64 | None, q: F64) -> tuple[I64, F64]:
+        qa = np.asarray(q, dtype=np.float64)
+        if qa.ndim != 2 or qa.shape[1] != len(self.axes):
+            raise StructureError(f"positions must have shape (N, {len(self.axes)}) for axes "
+                                 f"{' '.join(self.axes)}, got {qa.shape}")
+        if not np.all(np.isfinite(qa)):
+            raise StructureError("positions contain NaN or infinity")
+        ia = (np.zeros(qa.shape[0], dtype=np.int64) if idx is None
+              else np.asarray(idx, dtype=np.int64))
+        if ia.shape != (qa.shape[0],) or (ia.size and not 0 <= ia.min() <= ia.max()
+                                          < len(self.maps)):
+            raise StructureError(f"machine indices must have shape ({qa.shape[0]},) and lie "
+                                 f"in 0..{len(self.maps) - 1}")
+        return ia, qa
