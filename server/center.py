@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import datetime as dt
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from server.db import Database
 from server.db import events as event_repo
@@ -18,6 +19,9 @@ from server.events import EventKind
 from server.metrics import Metrics
 from server.settings import Settings
 from server.state import Registry
+
+if TYPE_CHECKING:  # the intake imports this module
+    from server.intake import TemperatureIntake
 
 
 def _now() -> dt.datetime:
@@ -33,6 +37,8 @@ class Center:
     registry: Registry = field(default_factory=Registry)
     metrics: Metrics = field(default_factory=Metrics)
     started_at: dt.datetime = field(default_factory=_now)
+    intake: TemperatureIntake | None = None
+    """The temperature intake while the machine services run (REST posts go to it)."""
 
     def __post_init__(self) -> None:
         self.metrics.track_connected(self.registry.connected_count)

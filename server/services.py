@@ -9,7 +9,9 @@ which ``ednc serve`` uses): inside it run, started in this order and stopped in 
    links in the database for every node's dashboard; its last write comes after the
    sessions closed),
 3. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``,
-4. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
+4. the :class:`~server.intake.TemperatureIntake` (checks, stores and forwards every
+   temperature; handed to the Center for the REST API),
+5. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
    otherwise; a configured broker that is down does not stop start-up: the bridge keeps
    retrying in the background).
 """
@@ -24,6 +26,7 @@ from typing import Any
 
 from server.center import Center
 from server.feed import Feed
+from server.intake import TemperatureIntake
 from server.leasing import LeaseKeeper
 from server.link import LinkTiming, MachineServer
 from server.link.server import MAX_HANDSHAKES
@@ -46,6 +49,7 @@ class MachineServices:
     mqtt: MqttBridge | None
     leases: LeaseKeeper | None = None
     links: LinkPublisher | None = None
+    intake: TemperatureIntake | None = None
 
 
 @asynccontextmanager
@@ -86,6 +90,10 @@ async def machine_services(
             center, feed, temperatures, worker=push.serve, host=settings.machine_host,
             port=settings.machine_port, timing=timing, leases=leases,
             max_handshakes=max_handshakes))
+        intake = await stack.enter_async_context(
+            TemperatureIntake(center, temperatures, feed, sessions=server.sessions))
+        center.intake = intake
+        stack.callback(setattr, center, "intake", None)
         mqtt = None
         if settings.mqtt_host is not None:
             mqtt = await stack.enter_async_context(MqttBridge(
@@ -93,4 +101,4 @@ async def machine_services(
                 prefix=settings.mqtt_topic_prefix, **(mqtt_options or {})))
         else:
             log.info("EDNC_MQTT_HOST is not set: MQTT is off")
-        yield MachineServices(feed, temperatures, push, server, mqtt, leases, links)
+        yield MachineServices(feed, temperatures, push, server, mqtt, leases, links, intake)

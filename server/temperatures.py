@@ -6,6 +6,10 @@ by machine and by the model's column name: the sensor ``spindle`` of a topic or 
 Telemetry is the column ``T_spindle_C`` of a measurement CSV and of a thermal model term
 (formats.md §2). The push scheduler listens for changes.
 
+An intake (:class:`server.intake.TemperatureIntake`) may install a ``screen`` on the board:
+every update, whatever its path (MQTT, REST, Telemetry), is checked by it first, and a
+refused reading changes nothing (the last good one stays).
+
 A reading is *stale* when it is older than ``stale_after_s`` or when its source went away
 (the broker disconnected); a stale reading is kept, and still used, until a fresh one
 replaces it: the last known temperature is a better input to a map than none.
@@ -19,7 +23,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from typing import Literal
 
-Source = Literal["mqtt", "telemetry"]
+Source = Literal["mqtt", "telemetry", "rest"]
 _SENSOR = re.compile(r"^[A-Za-z0-9_]{1,64}$")
 MAX_READINGS = 100_000
 """Bound on (machine, sensor) pairs kept: topics come from the network, names are free."""
@@ -50,7 +54,7 @@ class Reading:
         When it was measured, s since the Unix epoch (the sender's stamp, else receipt).
     received : float
         When it arrived, ``time.monotonic()`` s (for the staleness check).
-    source : {"mqtt", "telemetry"}
+    source : {"mqtt", "telemetry", "rest"}
     stale : bool
     """
 
@@ -63,6 +67,10 @@ class Reading:
 
 Listener = Callable[[str, str, float], None]
 """Called with (machine, column, °C) after every update."""
+
+Screen = Callable[[str, str, float, Source, float], str | None]
+"""Called with (machine, column, °C, source, time taken in s since the epoch) before a
+reading is stored; returns why it is refused, or None to let it in."""
 
 
 class TemperatureBoard:
@@ -77,6 +85,10 @@ class TemperatureBoard:
         self._listeners: list[Listener] = []
         self.dropped = 0
         """Readings refused because :data:`MAX_READINGS` pairs are already kept."""
+        self.screen: Screen | None = None
+        """The intake's check, run before every update (see the module docstring)."""
+        self.refused = 0
+        """Readings the screen refused."""
 
     def subscribe(self, listener: Listener) -> Callable[[], None]:
         self._listeners.append(listener)
@@ -86,9 +98,15 @@ class TemperatureBoard:
                at: float | None = None) -> bool:
         """Store a reading of ``sensor`` (a name or a column) and tell the listeners.
 
-        Returns False when it was dropped (too many distinct sensors kept).
+        Returns False when it was dropped (too many distinct sensors kept) or the
+        screen refused it.
         """
         column = column_of(sensor)
+        taken = at if at is not None else time.time()
+        if self.screen is not None and self.screen(machine, column, celsius, source,
+                                                   taken) is not None:
+            self.refused += 1
+            return False
         per = self._readings.get(machine)
         if per is None or column not in per:
             if self._count >= MAX_READINGS:
@@ -97,10 +115,15 @@ class TemperatureBoard:
             self._count += 1
             per = self._readings.setdefault(machine, {})
         now = time.monotonic()
-        per[column] = Reading(celsius, at if at is not None else time.time(), now, source)
+        per[column] = Reading(celsius, taken, now, source)
         for listener in list(self._listeners):
             listener(machine, column, celsius)
         return True
+
+    def reading(self, machine: str, column: str) -> Reading | None:
+        """One column's reading, None when it has none (no copy: the cheap path)."""
+        per = self._readings.get(machine)
+        return None if per is None else per.get(column)
 
     def readings(self, machine: str) -> dict[str, Reading]:
         """The machine's readings by column (a copy)."""

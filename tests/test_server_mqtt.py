@@ -124,6 +124,7 @@ async def test_bad_payloads_are_counted_and_the_bridge_goes_on(
     async with asyncio.timeout(DEADLINE_S), \
             rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
             publisher(mqtt_broker) as pub:
+        await r.register(model=model_body(thermal_sensor="T_spindle_C"))  # a known sensor
         bridge = r.services.mqtt
         assert bridge is not None
         await bridge.connected.wait()
@@ -183,6 +184,7 @@ async def test_broker_outage_keeps_temperatures_stale_and_recovers(
         async with asyncio.timeout(DEADLINE_S), \
                 rig(tmp_path, mqtt=("127.0.0.1", proxy.port), prefix=top,
                     mqtt_options=FAST) as r, publisher(mqtt_broker) as pub:
+            await r.register(model=model_body(thermal_sensor="T_spindle_C"))
             bridge = r.services.mqtt
             board = r.services.temperatures
             assert bridge is not None

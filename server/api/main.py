@@ -13,12 +13,14 @@ from server.api.routes import (
     metrics,
     models,
     status,
+    temperatures,
     verifications,
 )
 from server.dashboard import routes as dashboard
 
 api_router = APIRouter(prefix="/api")
-for module in (machines, status, models, measurements, maps, diagnoses, verifications, events):
+for module in (machines, status, models, measurements, maps, diagnoses, verifications, events,
+               temperatures):
     api_router.include_router(module.router)
 api_router.include_router(dashboard.api)
 

@@ -12,7 +12,9 @@ from typing import Any, ClassVar
 
 from sqlalchemy import (
     JSON,
+    BigInteger,
     DateTime,
+    Float,
     ForeignKey,
     Index,
     Integer,
@@ -217,3 +219,26 @@ class LiveLinkRow(Base):
     last_seen: Mapped[dt.datetime | None]
     telemetry: Mapped[dict[str, Any]]
     updated_at: Mapped[dt.datetime]
+
+
+class TemperatureReadingRow(Base):
+    """One temperature reading of one machine's sensor, as the center accepted it: the
+    time series behind the dashboard's plots and later re-identification
+    (:mod:`server.db.temperatures`; pruned after a retention period like ``events``).
+
+    ``sensor`` is the model column (``T_spindle_C``); ``time`` when the reading was taken
+    (the sender's stamp, else its arrival); ``source`` ``mqtt``, ``rest`` or ``telemetry``.
+    The id is 64-bit on PostgreSQL: a plant writes hundreds of rows a second.
+    """
+
+    __tablename__ = "temperature_readings"
+    __table_args__ = (Index("ix_temperature_readings_machine_sensor_time",
+                            "machine_id", "sensor", "time"),)
+
+    id: Mapped[int] = mapped_column(BigInteger().with_variant(Integer, "sqlite"),
+                                    primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk())
+    sensor: Mapped[str] = mapped_column(String(64))
+    celsius: Mapped[float] = mapped_column(Float)
+    time: Mapped[dt.datetime] = mapped_column(index=True)
+    source: Mapped[str] = mapped_column(String(16))

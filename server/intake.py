@@ -1,0 +1,464 @@
+"""Temperature intake: every reading the center gets, checked, kept and forwarded.
+
+Readings arrive by MQTT (:mod:`server.mqtt`), by REST (``POST
+/api/machines/{name}/temperatures``) and in Siemens-style machines' Telemetry
+(:mod:`server.link`). All of them pass the :class:`~server.temperatures.TemperatureBoard`,
+on which :class:`TemperatureIntake` installs its screen, so one set of rules holds for
+every path. A reading is refused (counted in ``ednc_temperatures_refused{reason}``,
+logged, kept in the intake's recent refusals and, at most once per machine, sensor and
+reason every 10 minutes, recorded as an ``error`` event) when
+
+* ``not_finite``: it is NaN or infinite;
+* ``out_of_range``: it is outside the plausible range (-20..100 °C by default);
+* ``unknown_machine``: no machine of that name is registered;
+* ``unknown_sensor``: the sensor is not one of the machine's: the temperature columns of
+  its current model's terms, or those its description lists under ``"sensors"``
+  (e.g. ``["spindle", "air"]``, to record sensors no model uses yet). A machine's own
+  Telemetry names its sensors itself, so this check does not apply to it;
+* ``too_fast``: it moved from the sensor's last good reading by more than
+  ``max_rate_K_per_s`` times the time between them plus ``jump_allowance_K`` (a sensor
+  fault or a unit mix-up, not a machine warming up).
+
+A refused reading changes nothing: the board and the machine keep the last good value.
+
+An accepted reading is
+
+* kept on the board (the latest value per sensor, with staleness; the dashboard, the
+  MQTT status and the push scheduler read it);
+* appended to the ``temperature_readings`` time series, written in batches every
+  ``flush_s`` (bounded buffer: when the database is away the oldest unwritten readings
+  are dropped and counted); rows older than ``retention_days`` are pruned hourly;
+* forwarded to the machine in a Temperatures message by the
+  :class:`~server.forward.TemperatureForwarder` unless it came from the machine itself
+  (coalesced: at most one message per machine per ``forward_interval_s``). A machine
+  that connects gets every reading the board holds for it at once.
+
+The known machines and sensors are cached: loaded at start, reloaded every
+``refresh_s``, and for one machine when a reading names a machine or a sensor the cache
+does not know (at most every 2 s per machine): such a reading is held until the lookup
+returns and then screened again, so a machine registered or a model uploaded a moment
+ago loses no reading.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import datetime as dt
+import logging
+import math
+import time
+from collections import deque
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from types import TracebackType
+from typing import Any, Final
+
+from prometheus_client import Counter
+from sqlalchemy import func, select
+from sqlalchemy.exc import SQLAlchemyError
+from sqlalchemy.orm import Session
+
+from server.center import Center
+from server.db import temperatures as reading_repo
+from server.db.tables import MachineRow, ModelRow
+from server.db.temperatures import NewReading
+from server.events import EventKind
+from server.feed import Feed, Notice
+from server.forward import INTERVAL_S, TemperatureForwarder
+from server.link.session import MachineSession
+from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor
+
+log = logging.getLogger(__name__)
+
+PLAUSIBLE_C: Final = (-20.0, 100.0)
+"""A machine tool's temperatures in a shop; outside is a sensor or unit fault."""
+
+MAX_RATE_K_PER_S: Final = 1.0
+"""A machine's structure warms by hundredths of a kelvin per second, a spindle bearing
+by a tenth at most; 1 K/s is a fault."""
+
+JUMP_ALLOWANCE_K: Final = 2.0
+"""Allowed on top of the rate: noise, quantisation, a real step of a heater or coolant
+switched on; a unit mix-up (°F for °C) or a broken sensor jumps far more."""
+
+RETENTION_DAYS: Final = 30.0
+"""Readings kept this long (re-identification wants weeks of warm-ups)."""
+
+MAX_BUFFER: Final = 200_000
+"""Readings waiting for the database at most (~7 min at 500/s) before the oldest go."""
+
+EVENT_EVERY_S: Final = 600.0
+RELOAD_EVERY_S: Final = 2.0
+
+
+@dataclass(frozen=True, slots=True)
+class Refusal:
+    """A refused reading: which, why (``reason`` a fixed label, ``text`` for people)."""
+
+    machine: str
+    sensor: str
+    celsius: float
+    source: str
+    reason: str
+    text: str
+    time: float
+    """When it was refused, s since the epoch."""
+
+
+@dataclass(frozen=True, slots=True)
+class _Known:
+    id: int
+    columns: frozenset[str]
+
+
+def model_columns(body: Mapping[str, Any]) -> frozenset[str]:
+    """The temperature columns a stored model's terms use (every term naming a sensor:
+    the thermal ones, and whatever thermal kind is added later)."""
+    terms = body.get("terms") or []
+    return frozenset(column_of(str(t["sensor"])) for t in terms
+                     if isinstance(t, Mapping) and isinstance(t.get("sensor"), str))
+
+
+def description_columns(description: Mapping[str, Any]) -> frozenset[str]:
+    """The columns a machine description lists under ``"sensors"`` (optional)."""
+    listed = description.get("sensors")
+    if not isinstance(listed, list):
+        return frozenset()
+    return frozenset(column_of(s) for s in listed if isinstance(s, str) and valid_sensor(s))
+
+
+def load_known(session: Session, name: str | None = None) -> dict[str, _Known]:
+    """Machines (all, or the one named) with their known temperature columns."""
+    latest = (select(ModelRow.machine_id, func.max(ModelRow.version).label("version"))
+              .group_by(ModelRow.machine_id).subquery())
+    query = (select(MachineRow.id, MachineRow.name, MachineRow.description, ModelRow.body)
+             .outerjoin(latest, latest.c.machine_id == MachineRow.id)
+             .outerjoin(ModelRow, (ModelRow.machine_id == MachineRow.id)
+                        & (ModelRow.version == latest.c.version)))
+    if name is not None:
+        query = query.where(MachineRow.name == name)
+    out: dict[str, _Known] = {}
+    for machine_id, machine, description, body in session.execute(query):
+        columns = description_columns(description or {})
+        if isinstance(body, Mapping):
+            columns |= model_columns(body)
+        out[machine] = _Known(machine_id, columns)
+    return out
+
+
+@dataclass
+class IntakeStats:
+    accepted: int = 0
+    refused: int = 0
+    stored: int = 0
+    unstored: int = 0
+    """Readings dropped from a full buffer (database away too long)."""
+
+
+class TemperatureIntake:
+    """Checks, keeps and forwards temperatures (module docstring); an async context
+    manager that hooks itself on ``board`` while it runs.
+
+    Parameters
+    ----------
+    center : Center
+    board : TemperatureBoard
+    feed : Feed, optional
+        For refusal events and for sending a machine its readings when it connects.
+    sessions : mapping of machine name to MachineSession, optional
+        This node's live sessions (``MachineServer.sessions``); without them nothing is
+        forwarded.
+    plausible_C : (float, float)
+    max_rate_K_per_s, jump_allowance_K : float
+    forward_interval_s : float
+    flush_s : float
+        How often accepted readings are written to the database, s.
+    retention_days : float
+    refresh_s : float
+        Full reload of the known machines and sensors, s.
+    """
+
+    def __init__(self, center: Center, board: TemperatureBoard, feed: Feed | None = None, *,
+                 sessions: Mapping[str, MachineSession] | None = None,
+                 plausible_C: tuple[float, float] = PLAUSIBLE_C,
+                 max_rate_K_per_s: float = MAX_RATE_K_PER_S,
+                 jump_allowance_K: float = JUMP_ALLOWANCE_K,
+                 forward_interval_s: float = INTERVAL_S, flush_s: float = 0.5,
+                 retention_days: float = RETENTION_DAYS, refresh_s: float = 60.0) -> None:
+        lo, hi = plausible_C
+        if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
+            raise ValueError(f"plausible_C must be a finite (low, high), got {plausible_C!r}")
+        if not (max_rate_K_per_s > 0 and jump_allowance_K >= 0 and flush_s > 0
+                and retention_days > 0 and refresh_s > 0):
+            raise ValueError("max_rate_K_per_s, flush_s, retention_days and refresh_s must "
+                             "be > 0, jump_allowance_K >= 0")
+        self.center = center
+        self.board = board
+        self.feed = feed
+        self.plausible_C = (float(lo), float(hi))
+        self.max_rate_K_per_s = float(max_rate_K_per_s)
+        self.jump_allowance_K = float(jump_allowance_K)
+        self.flush_s = float(flush_s)
+        self.retention_days = float(retention_days)
+        self.refresh_s = float(refresh_s)
+        self.forwarder = TemperatureForwarder(sessions if sessions is not None else {},
+                                              interval_s=forward_interval_s)
+        self.stats = IntakeStats()
+        self.refusals: deque[Refusal] = deque(maxlen=200)
+        """The latest refusals, newest last (the REST view shows them)."""
+        self._known: dict[str, _Known] = {}
+        self._reloaded: dict[str, float] = {}
+        self._deferred: dict[str, list[tuple[str, float, Source, float]]] = {}
+        self._buffer: deque[NewReading] = deque()
+        self._last_refusal: Refusal | None = None
+        self._evented: dict[tuple[str, str, str], float] = {}
+        self._tasks: set[asyncio.Task[None]] = set()
+        self._unhook: list[Callable[[], None]] = []
+        registry = center.metrics.registry
+        self._refused = Counter("ednc_temperatures_refused",
+                                "Temperature readings refused, by reason.", ["reason"],
+                                registry=registry)
+        self._accepted = Counter("ednc_temperatures_accepted",
+                                 "Temperature readings accepted, by source.", ["source"],
+                                 registry=registry)
+
+    # -- lifetime
+    async def __aenter__(self) -> TemperatureIntake:
+        self._known = await self.center.db.run(load_known)
+        if self.board.screen is not None:
+            raise RuntimeError("the temperature board already has a screen")
+        self.board.screen = self.screen
+        self._unhook.append(self._clear_screen)
+        self._unhook.append(self.board.subscribe(self._on_stored))
+        if self.feed is not None:
+            self._unhook.append(self.feed.subscribe(self._on_notice))
+        for coro, name in ((self._flush_loop(), "temperatures:flush"),
+                           (self._retention_loop(), "temperatures:retention"),
+                           (self._refresh_loop(), "temperatures:refresh")):
+            self._spawn(coro, name)
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        for unhook in reversed(self._unhook):
+            unhook()
+        self._unhook.clear()
+        self.forwarder.close()
+        tasks, self._tasks = list(self._tasks), set()
+        for task in tasks:
+            task.cancel()
+        await asyncio.gather(*tasks, return_exceptions=True)
+        with contextlib.suppress(SQLAlchemyError):  # the last batch, if the database is up
+            await self.flush()
+
+    def _clear_screen(self) -> None:
+        if self.board.screen == self.screen:
+            self.board.screen = None
+
+    def _spawn(self, coro: Any, name: str) -> None:
+        task = asyncio.create_task(coro, name=name)
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    # -- the entry points
+    def take(self, machine: str, sensor: str, celsius: float, *, source: Source = "rest",
+             at: float | None = None) -> Refusal | None:
+        """Take one reading (``sensor`` a name or a column, ``at`` s since the epoch,
+        arrival by default); returns the refusal, or None when it was accepted."""
+        self._last_refusal = None
+        if not valid_sensor(sensor):
+            return self._refuse(machine, sensor, celsius, source, "unknown_sensor",
+                                "sensor names are 1..64 letters, digits and '_'")
+        if self.board.update(machine, sensor, celsius, source=source, at=at):
+            return None
+        refusal = self._last_refusal
+        if refusal is None and machine in self._deferred:
+            return None  # held for the lookup, taken (or refused) when it returns
+        if refusal is None:  # the board's own bound on distinct sensors
+            refusal = self._refuse(machine, sensor, celsius, source, "too_many_sensors",
+                                   "the board keeps no more distinct sensors")
+        return refusal
+
+    def forward(self, machine: str) -> None:
+        """Send ``machine`` every forwardable reading the board holds, as soon as the
+        forwarding interval allows (what happens by itself when it connects)."""
+        self.forwarder.resend(machine, (
+            (column, r.celsius, r.time) for column, r in self.board.readings(machine).items()
+            if r.source != "telemetry"))
+
+    # -- the screen and what follows acceptance
+    def screen(self, machine: str, column: str, celsius: float, source: Source,
+               taken: float) -> str | None:
+        """The board's screen: None to accept, else the refusal text (module docstring)."""
+        lo, hi = self.plausible_C
+        if not isinstance(celsius, int | float) or not math.isfinite(celsius):
+            return self._refuse(machine, column, celsius, source, "not_finite",
+                                f"{celsius!r} is not a finite number").text
+        if not lo <= celsius <= hi:
+            return self._refuse(machine, column, celsius, source, "out_of_range",
+                                f"{celsius:g} °C is outside {lo:g}..{hi:g} °C").text
+        known = self._known.get(machine)
+        if known is None:
+            if self._defer(machine, column, celsius, source, taken):
+                return "deferred: the machine is looked up in the database"
+            return self._refuse(machine, column, celsius, source, "unknown_machine",
+                                f"no machine named {machine[:64]!r} is registered").text
+        if source != "telemetry" and column not in known.columns:
+            if self._defer(machine, column, celsius, source, taken):
+                return "deferred: the machine's sensors are looked up in the database"
+            have = ", ".join(sorted(known.columns)) or "none"
+            return self._refuse(machine, column, celsius, source, "unknown_sensor",
+                                f"{column} is not a sensor of {machine} (its model and "
+                                f"description name: {have})").text
+        last = self.board.reading(machine, column)
+        if last is not None:
+            gap = max(taken - last.time, time.monotonic() - last.received, 0.0)
+            allowed = self.max_rate_K_per_s * gap + self.jump_allowance_K
+            if abs(celsius - last.celsius) > allowed:
+                return self._refuse(
+                    machine, column, celsius, source, "too_fast",
+                    f"{celsius:g} °C is {abs(celsius - last.celsius):.2f} K from the last "
+                    f"good {last.celsius:g} °C {gap:.1f} s earlier (allowed "
+                    f"{allowed:.2f} K)").text
+        return None
+
+    def _on_stored(self, machine: str, column: str, celsius: float) -> None:
+        r = self.board.reading(machine, column)
+        known = self._known.get(machine)
+        if r is None or known is None:
+            return
+        self.stats.accepted += 1
+        self._accepted.labels(source=r.source).inc()
+        if len(self._buffer) >= MAX_BUFFER:
+            self._buffer.popleft()
+            self.stats.unstored += 1
+        self._buffer.append(NewReading(known.id, column, float(celsius),
+                                       dt.datetime.fromtimestamp(r.time, dt.UTC), r.source))
+        if r.source != "telemetry":  # the machine has its own readings already
+            self.forwarder.note(machine, column, float(celsius), r.time)
+
+    def _on_notice(self, notice: Notice) -> None:
+        if notice.kind is EventKind.CONNECTED:
+            self.forward(notice.machine)
+        elif notice.kind is EventKind.DISCONNECTED:
+            self.forwarder.forget(notice.machine)
+
+    def _refuse(self, machine: str, sensor: str, celsius: float, source: str, reason: str,
+                text: str) -> Refusal:
+        now = time.time()
+        refusal = Refusal(machine, sensor, celsius, source, reason, text, now)
+        self._last_refusal = refusal
+        self.refusals.append(refusal)
+        self.stats.refused += 1
+        self._refused.labels(reason=reason).inc()
+        key = (machine, sensor, reason)
+        if now - self._evented.get(key, -math.inf) >= EVENT_EVERY_S:
+            if len(self._evented) > 10_000:  # names come from the network: bound the memory
+                self._evented.clear()
+            self._evented[key] = now
+            log.warning("temperature %s of %s (%s) refused: %s", sensor, machine, source, text)
+            if self.feed is not None and reason != "unknown_machine":
+                # an event names a machine; an unknown one stays in the log and counter
+                self._spawn(self.feed.record(EventKind.ERROR, machine,
+                                             f"temperature {sensor} refused: {text}"),
+                            "temperatures:event")
+        return refusal
+
+    # -- the cache of known machines and sensors
+    def _defer(self, machine: str, column: str, celsius: float, source: Source,
+               taken: float) -> bool:
+        """Hold a reading the cache does not know while the machine is looked up (at
+        most every RELOAD_EVERY_S per machine); False: the lookup is recent, refuse."""
+        waiting = self._deferred.get(machine)
+        if waiting is None:
+            now = time.monotonic()
+            if now - self._reloaded.get(machine, -math.inf) < RELOAD_EVERY_S:
+                return False
+            if len(self._reloaded) > 10_000:  # names come from the network
+                self._reloaded.clear()
+            self._reloaded[machine] = now
+            waiting = self._deferred[machine] = []
+            self._spawn(self._reload(machine), "temperatures:reload")
+        if len(waiting) < 64:
+            waiting.append((column, celsius, source, taken))
+        return True
+
+    async def _reload(self, machine: str) -> None:
+        """Look one machine up again, then take the readings held for it."""
+        try:
+            found = await self.center.db.run(load_known, machine)
+        except SQLAlchemyError as exc:
+            log.warning("could not reload machine %s: %s", machine, exc)
+            found = {}
+        finally:
+            waiting = self._deferred.pop(machine, [])
+        self._known.update(found)
+        for column, celsius, source, taken in waiting:  # screened again, now for good
+            self.board.update(machine, column, celsius, source=source, at=taken)
+
+    async def lookup(self, machine: str) -> frozenset[str] | None:
+        """Reload ``machine`` from the database now; its known columns, None if unknown."""
+        self._reloaded[machine] = time.monotonic()
+        self._known.update(await self.center.db.run(load_known, machine))
+        return self.knows(machine)
+
+    async def _refresh_loop(self) -> None:
+        while True:
+            await asyncio.sleep(self.refresh_s)
+            try:
+                self._known = await self.center.db.run(load_known)
+            except SQLAlchemyError as exc:
+                log.warning("could not refresh the known sensors: %s", exc)
+
+    def knows(self, machine: str) -> frozenset[str] | None:
+        """The known columns of ``machine``, None when it is not known."""
+        known = self._known.get(machine)
+        return None if known is None else known.columns
+
+    # -- the time series
+    async def flush(self) -> int:
+        """Write the buffered readings now (one transaction); returns how many."""
+        if not self._buffer:
+            return 0
+        batch = list(self._buffer)
+        self._buffer.clear()
+        try:
+            n = await self.center.db.run(reading_repo.add_readings, batch)
+        except SQLAlchemyError:
+            room = MAX_BUFFER - len(self._buffer)  # put them back in front, if room
+            keep = batch[-room:] if room > 0 else []
+            self.stats.unstored += len(batch) - len(keep)
+            self._buffer.extendleft(reversed(keep))
+            raise
+        self.stats.stored += n
+        return n
+
+    async def _flush_loop(self) -> None:
+        while True:
+            await asyncio.sleep(self.flush_s)
+            try:
+                await self.flush()
+            except SQLAlchemyError as exc:
+                log.warning("temperature readings not stored yet: %s",
+                            str(exc).splitlines()[0])
+
+    async def prune_once(self) -> int:
+        """Delete readings older than the retention period; returns how many."""
+        cutoff = dt.datetime.now(dt.UTC) - dt.timedelta(days=self.retention_days)
+        return await self.center.db.run(reading_repo.delete_readings_before, cutoff)
+
+    async def _retention_loop(self) -> None:
+        while True:
+            try:
+                deleted = await self.prune_once()
+                if deleted:
+                    log.info("deleted %d temperature readings older than %g days", deleted,
+                             self.retention_days)
+            except SQLAlchemyError as exc:
+                log.warning("temperature retention failed: %s", exc)
+            await asyncio.sleep(3600.0)
+
+
+__all__ = ["JUMP_ALLOWANCE_K", "MAX_RATE_K_PER_S", "PLAUSIBLE_C", "RETENTION_DAYS", "Refusal",
+           "TemperatureIntake", "description_columns", "load_known", "model_columns"]
