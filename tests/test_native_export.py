@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from tests.test_kinematics import machine, random_q
+from tests.support.kinematics import machine, random_q
 from volumetric.compensate.native import cec_mpf, cec_tables, iso230_1_tables
 from volumetric.compensate.solver import corrections
 from volumetric.compensate.tablesmap import build_tables_map
