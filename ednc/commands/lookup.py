@@ -1,0 +1,167 @@
+"""``ednc lookup``: the corrections a machine endpoint applies from a map file.
+
+Computed by the simulated machines' own endpoint code (:mod:`machine_sim.lookup` for grid
+maps, :mod:`machine_sim.chaineval` for tables maps), the implementation written from the
+protocol README, not by the center's solver: comparing the two is what this command is for
+(``../shared/spec/formats.md`` section 3). Positive approach (no reversal); a tables map's
+corrections are clamped to its limits and rounded to its encoding, as the machine applies
+them.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import math
+from pathlib import Path
+from typing import Annotated, Any
+
+import numpy as np
+import typer
+from numpy.typing import NDArray
+
+from ednc.cli import UserError
+from ednc.commands.compensate import parse_temperatures
+from machine_sim.chaineval import StructureError, sensor_key
+from machine_sim.lookup import GridMap, TablesMap
+from protocol.mapformat import ErrorMapPayload, MapFormatError
+from protocol.maptables import TablesPayload, decode_payload
+
+F64 = NDArray[np.float64]
+
+
+def read_map(path: Path) -> ErrorMapPayload | TablesPayload:
+    """A map payload file (protocol/README.md section 6), either kind."""
+    try:
+        data = path.read_bytes()
+    except OSError as exc:
+        raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    try:
+        return decode_payload(data)
+    except MapFormatError as exc:
+        raise UserError(f"{path}: not an EDNC map payload: {exc}") from None
+
+
+def map_axes(p: ErrorMapPayload | TablesPayload) -> tuple[list[str], list[str]]:
+    """The axes of the output (upper case, in order) and the ones whose position the
+    evaluation needs. Tables: the chain axes, all needed; grid: the grid axes (needed)
+    then output axes not in the grid."""
+    if isinstance(p, TablesPayload):
+        names = list(p.axis_names)
+        return names, names
+    grid = [g.name.upper() for g in p.grid]
+    rest = [o.name.upper() for o in p.outputs if o.name.upper() not in grid]
+    return grid + rest, grid
+
+
+def _unit(axis: str) -> str:
+    return "deg" if axis[0] in "ABC" else "mm"
+
+
+def _number(text: str, where: str) -> float:
+    try:
+        v = float(text)
+    except ValueError:
+        raise UserError(f"{where}: {text.strip()!r} is not a number") from None
+    if not math.isfinite(v):
+        raise UserError(f"{where}: must be finite")
+    return v
+
+
+def read_points(path: Path, axes: list[str], needed: list[str]) -> tuple[F64, list[str]]:
+    """Points (N, len(axes)) from a CSV whose header names the axes (``x`` or ``x_mm``,
+    ``c`` or ``c_deg``); an axis the evaluation does not need may be missing (0). Returns
+    the array and the axes the file gave."""
+    try:
+        with path.open(newline="") as fh:
+            rows = list(csv.reader(fh))
+    except OSError as exc:
+        raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    except (UnicodeDecodeError, csv.Error) as exc:
+        raise UserError(f"{path}: not a CSV text file ({exc})") from None
+    if not rows:
+        raise UserError(f"{path}: empty; expected a header naming the axes")
+    header = [h.strip().lower() for h in rows[0]]
+    cols: dict[str, int] = {}
+    for a in axes:
+        key = a.lower()
+        found = [j for j, h in enumerate(header) if h in (key, f"{key}_{_unit(a)}")]
+        if found:
+            cols[a] = found[0]
+        elif a in needed:
+            raise UserError(f"{path}: no column for axis {key} (expected {key!r} or "
+                            f"{key + '_' + _unit(a)!r}); the header is {','.join(header)}")
+    out = []
+    for line, row in enumerate(rows[1:], start=2):
+        if not any(c.strip() for c in row):
+            continue
+        if len(row) < len(header):
+            raise UserError(f"{path}: line {line} has {len(row)} cells, the header "
+                            f"{len(header)}")
+        out.append([_number(row[cols[a]], f"{path}: line {line}, column {header[cols[a]]}")
+                    if a in cols else 0.0 for a in axes])
+    if not out:
+        raise UserError(f"{path}: no points after the header")
+    return np.array(out), [a for a in axes if a in cols]
+
+
+def evaluate(p: ErrorMapPayload | TablesPayload, q: F64, axes: list[str],
+             temperatures: dict[str, float]) -> F64:
+    """Corrections (N, len(axes)), mm or degrees, that the endpoint applies at q."""
+    out = np.zeros(q.shape)
+    if isinstance(p, TablesPayload):
+        have = {sensor_key(k) for k in temperatures}
+        missing = sorted({r.sensor for r in p.thermal if sensor_key(r.sensor) not in have})
+        if missing:
+            raise UserError(f"the map's thermal records need temperatures of {missing}; "
+                            f"give them with --temperature SENSOR=°C")
+        tm = TablesMap.from_payload(p, temperatures)
+        try:
+            values = tm.lookup(q)
+        except StructureError as exc:
+            raise UserError(str(exc)) from None
+    else:
+        g = GridMap.from_payload(p)
+        values = g.lookup(q[:, [axes.index(a) for a in g.grid]])
+    outputs = [o.name.upper() for o in p.outputs]
+    for k, name in enumerate(outputs):
+        out[:, axes.index(name)] = values[:, k]
+    return out
+
+
+def register(app: typer.Typer) -> None:
+    @app.command("lookup")
+    def lookup_cmd(
+        map_path: Annotated[Path, typer.Option(
+            "--map", help="Map payload file (grid or tables), as 'ednc map --out' writes.")],
+        points: Annotated[Path, typer.Option(
+            "--points", help="CSV of points, a header naming the axes (x or x_mm, ...).")],
+        temperature: Annotated[list[str] | None, typer.Option(
+            "--temperature", help="SENSOR=°C for a tables map's thermal records; may "
+                                  "repeat.")] = None,
+        as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    ) -> None:
+        """Corrections the machine endpoint applies at each point (positive approach),
+        computed by the endpoint's own implementation."""
+        p = read_map(map_path)
+        axes, needed = map_axes(p)
+        q, given = read_points(points, axes, needed)
+        corr = evaluate(p, q, axes, parse_temperatures(temperature or []))
+        keys = [a.lower() for a in axes]
+        if as_json:
+            body: dict[str, Any] = {
+                "machine": p.machine, "version": p.version,
+                "kind": "tables" if isinstance(p, TablesPayload) else "grid",
+                "axes": keys, "units": {k: _unit(a) for k, a in zip(keys, axes, strict=True)},
+                "points": [{"q": {a.lower(): float(q[n, axes.index(a)]) for a in given},
+                            "correction": dict(zip(keys, corr[n].tolist(), strict=True))}
+                           for n in range(q.shape[0])],
+            }
+            typer.echo(json.dumps(body))
+            return
+        typer.echo(f"{p.machine} map version {p.version}: corrections (mm, degrees on rotary "
+                   f"axes), positive approach")
+        for n in range(q.shape[0]):
+            where = " ".join(f"{a.lower()}={q[n, axes.index(a)]:g}" for a in given)
+            corr_txt = "  ".join(f"d{k} {v:+.6f}" for k, v in zip(keys, corr[n], strict=True))
+            typer.echo(f"point {n + 1}: {where}\n  {corr_txt}")
