@@ -3,7 +3,8 @@
 The lifespan is the one place where long-lived services start and stop, in an
 :class:`~contextlib.AsyncExitStack` (last started, first stopped):
 
-1. the database (tables created if missing) and the machines of ``EDNC_MACHINES_FILE``,
+1. the database (tables created if missing, machine secrets sealed with the settings'
+   key) and the machines of ``EDNC_MACHINES_FILE``,
 2. the :class:`~server.center.Center` stored as ``app.state.center``,
 3. the built-in services (:class:`~server.retention.EventRetention`), then each factory
    in ``services``, called with the Center; the machine TCP server, the push scheduler and
@@ -14,21 +15,26 @@ from __future__ import annotations
 
 import logging
 import math
+import secrets
 from collections.abc import AsyncIterator, Callable, Sequence
 from contextlib import AbstractAsyncContextManager, AsyncExitStack, asynccontextmanager
+from pathlib import Path
 from typing import Any
 
 from fastapi import FastAPI, Request
 from fastapi.encoders import jsonable_encoder
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from sqlalchemy.engine import make_url
 
 from ednc import __version__
+from server.api.guard import Guard
 from server.api.main import api_router, root_router
 from server.api.routes.measurements import MAX_UPLOAD_BYTES
 from server.bootstrap import read_machines_file, register_machines
 from server.center import Center
 from server.db import Database
+from server.db.secretbox import SecretBox, seal_all
 from server.retention import EventRetention
 from server.settings import Settings, load_settings
 
@@ -61,6 +67,21 @@ async def _validation_error(request: Request, exc: Exception) -> JSONResponse:
     return JSONResponse(status_code=422, content=jsonable_encoder({"detail": errors}))
 
 
+def secret_box(settings: Settings) -> SecretBox:
+    """The box that seals machine secrets: ``EDNC_SECRET_KEY``, else a key file beside an
+    SQLite database (a random key for an in-memory one), else none (clear text)."""
+    if settings.secret_key is not None:
+        return SecretBox.from_text(settings.secret_key.get_secret_value())
+    url = make_url(settings.database_url)
+    if url.get_backend_name() == "sqlite":
+        if url.database in (None, "", ":memory:"):
+            return SecretBox(secrets.token_bytes(32))  # the data dies with the process
+        return SecretBox.from_key_file(Path(f"{url.database}.key"))
+    log.warning("EDNC_SECRET_KEY is not set: machine secrets are stored in clear text in "
+                "the database")
+    return SecretBox(None)
+
+
 def create_app(
     settings: Settings | None = None, *, services: Sequence[ServiceFactory] = ()
 ) -> FastAPI:
@@ -80,9 +101,13 @@ def create_app(
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
         async with AsyncExitStack() as stack:
             db = await stack.enter_async_context(Database.open(settings.database_url))
+            db.secrets = secret_box(settings)
+            sealed = await db.run(seal_all, db.secrets)  # a wrong key stops start-up here
+            if sealed:
+                log.info("sealed %d machine secrets stored in clear text", sealed)
             if settings.machines_file is not None:
                 machines = read_machines_file(settings.machines_file)
-                counts = await db.run(register_machines, machines)
+                counts = await db.run(register_machines, machines, db.secrets)
                 log.info("machines file %s: %s", settings.machines_file, counts)
             center = Center(settings=settings, db=db)
             app.state.center = center
@@ -98,14 +123,20 @@ def create_app(
         version=__version__,
         summary="Machines, error models, measurements, error maps and their delivery.",
         description=(
-            "Reads are open. Requests that change data need the service's API key in the "
-            "`X-API-Key` header (401 without it, 403 when the service runs read-only)."
+            "Requests that change data need the service's API key in the `X-API-Key` "
+            "header (401 without it, 403 when the service runs read-only), checked before "
+            "the body is read; bodies are limited per route (413). Reads of models, maps "
+            "and measurements need the read key (or the API key) when the service has one "
+            "(`EDNC_READ_KEY`); other reads are open."
         ),
         lifespan=lifespan,
         # Bounds every request body, also chunked ones without a Content-Length: the
         # largest legitimate one is a measurement upload plus multipart overhead.
         max_body_size=MAX_UPLOAD_BYTES + 1024 * 1024,
     )
+    api_key = settings.api_key.get_secret_value() if settings.api_key else None
+    read_key = settings.read_key.get_secret_value() if settings.read_key else None
+    app.add_middleware(Guard, keys=lambda: (api_key, read_key))
     app.add_exception_handler(RequestValidationError, _validation_error)
     app.include_router(api_router)
     app.include_router(root_router)

@@ -21,6 +21,7 @@ from pydantic import ValidationError
 from sqlalchemy.orm import Session
 
 from server.db import machines as machine_repo
+from server.db.secretbox import SecretBox
 from server.schemas.machine import MachineCreate
 
 
@@ -62,8 +63,13 @@ def read_machines_file(path: Path) -> list[MachineCreate]:
     return out
 
 
-def register_machines(session: Session, machines: list[MachineCreate]) -> dict[str, int]:
-    """Create or update each machine; counts of each."""
+def register_machines(session: Session, machines: list[MachineCreate],
+                      box: SecretBox | None = None) -> dict[str, int]:
+    """Create or update each machine (secrets sealed by ``box``); counts of each.
+
+    A machine whose secret is already the file's keeps its row untouched, so a restart
+    does not close sessions as a changed secret would.
+    """
     created = updated = 0
     for m in machines:
         description = m.as_json()
@@ -71,9 +77,13 @@ def register_machines(session: Session, machines: list[MachineCreate]) -> dict[s
         if machine_repo.get_machine(session, m.name) is None:
             machine_repo.create_machine(session, name=m.name, ip=description["ip"],
                                         controller=m.controller, description=description,
-                                        secret=secret)
+                                        secret=secret, box=box)
             created += 1
         else:
-            machine_repo.update_machine(session, m.name, description=description, secret=secret)
+            row = machine_repo.get_machine(session, m.name)
+            box = box or SecretBox(None)
+            same = row is not None and box.open(row.secret, row.id) == secret
+            machine_repo.update_machine(session, m.name, description=description,
+                                        secret=None if same else secret, box=box)
             updated += 1
     return {"created": created, "updated": updated}

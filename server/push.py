@@ -115,8 +115,9 @@ def _load_inputs(session: Session, machine_id: int) -> _Inputs:
 
 def _store_map(session: Session, machine_id: int, built: ErrorMap, model_version: int,
                temperatures: dict[str, float]) -> MapVersionRow:
-    latest = map_repo.get_map_version(session, machine_id, with_payload=False)
-    version = (latest.version if latest else 0) + 1
+    # above every version a machine of this name ever received: registered again, it still
+    # holds its last map and would reject a lower version (STALE_VERSION)
+    version = map_repo.next_map_version(session, machine_id)
     payload = encode_map(grid_to_payload(dataclasses.replace(built, version=version)))
     row = map_repo.add_map_version(session, machine_id, payload=payload,
                                    model_version=model_version, temperatures=temperatures)

@@ -9,6 +9,12 @@ variable                        default                    meaning
 ==============================  =========================  ===============================
 ``EDNC_DATABASE_URL``           ``sqlite:///./ednc.db``    SQLite file or PostgreSQL URL
 ``EDNC_API_KEY``                unset (read-only API)      key for writes, ``X-API-Key``
+``EDNC_READ_KEY``               unset (open reads)         key for reading models, maps and
+                                                           measurements (required when the
+                                                           HTTP host is not loopback)
+``EDNC_SECRET_KEY``             a key file beside SQLite   encrypts machine secrets at rest
+                                                           (unset on PostgreSQL: stored in
+                                                           clear, with a warning)
 ``EDNC_HTTP_HOST/PORT``         ``127.0.0.1`` / 8080       REST API and dashboard
 ``EDNC_MACHINE_HOST/PORT``      ``0.0.0.0`` / 7878         machine TCP server
 ``EDNC_MQTT_HOST/PORT``         unset (MQTT off) / 1883    MQTT broker
@@ -26,13 +32,14 @@ variable                        default                    meaning
 
 from __future__ import annotations
 
+import ipaddress
 import os
 import re
 import socket
 from pathlib import Path
 from typing import Annotated, Any, Literal
 
-from pydantic import Field, SecretStr, ValidationError, field_validator
+from pydantic import Field, SecretStr, ValidationError, field_validator, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import ArgumentError
@@ -83,6 +90,16 @@ def normalize_database_url(url: str) -> str:
     )
 
 
+def is_loopback(host: str) -> bool:
+    """Whether ``host`` is reachable from this machine only (``localhost``, 127/8, ::1)."""
+    if host.lower() == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host.strip("[]")).is_loopback
+    except ValueError:
+        return False  # a host name: it may resolve to anything
+
+
 class Settings(BaseSettings):
     """The control center's configuration (see the module docstring for the variables)."""
 
@@ -98,6 +115,19 @@ class Settings(BaseSettings):
     api_key: SecretStr | None = Field(
         default=None,
         description="Key that write requests carry in the X-API-Key header; unset = read-only.",
+    )
+    read_key: SecretStr | None = Field(
+        default=None,
+        description="Key that reads of models, maps and measurements carry in X-API-Key "
+                    "(the API key opens them too); unset = open reads, allowed only on a "
+                    "loopback HTTP host.",
+    )
+    secret_key: SecretStr | None = Field(
+        default=None,
+        description="Encrypts the machines' secrets in the database (AES-256-GCM, key "
+                    "derived by HKDF-SHA256); at least 16 characters. Unset on SQLite: a "
+                    "random key in '<database file>.key' (mode 0600); unset on PostgreSQL: secrets "
+                    "in clear text, with a warning at start-up.",
     )
     http_host: str = "127.0.0.1"
     http_port: Port = 8080
@@ -153,6 +183,33 @@ class Settings(BaseSettings):
         if len(value.get_secret_value()) < 8:
             raise ValueError("must be at least 8 characters (or unset for a read-only API)")
         return value
+
+    @field_validator("read_key")
+    @classmethod
+    def _read_key(cls, value: SecretStr | None) -> SecretStr | None:
+        if value is None or value.get_secret_value() == "":
+            return None
+        if len(value.get_secret_value()) < 8:
+            raise ValueError("must be at least 8 characters (or unset for open reads)")
+        return value
+
+    @field_validator("secret_key")
+    @classmethod
+    def _secret_key(cls, value: SecretStr | None) -> SecretStr | None:
+        if value is None or value.get_secret_value() == "":
+            return None
+        if len(value.get_secret_value().encode()) < 16:
+            raise ValueError("must be at least 16 bytes (e.g. `openssl rand -base64 32`)")
+        return value
+
+    @model_validator(mode="after")
+    def _keys_where_needed(self) -> Settings:
+        # The API and the database may each be reachable from the plant network; what they
+        # guard must not then be open (reads) or in clear text (secrets).
+        if self.read_key is None and not is_loopback(self.http_host):
+            raise ValueError(f"EDNC_READ_KEY is required when EDNC_HTTP_HOST "
+                             f"({self.http_host}) is not a loopback address")
+        return self
 
     @field_validator("http_host", "machine_host")
     @classmethod
@@ -214,6 +271,9 @@ def load_settings(env_file: str | Path | None = None, **overrides: Any) -> Setti
     except ValidationError as exc:
         lines = []
         for err in exc.errors(include_url=False, include_input=False):
-            field = ".".join(str(p) for p in err["loc"]) or "settings"
-            lines.append(f"{ENV_PREFIX}{field.upper()}: {err['msg']}")
+            field = ".".join(str(p) for p in err["loc"])
+            if field:
+                lines.append(f"{ENV_PREFIX}{field.upper()}: {err['msg']}")
+            else:  # a rule over several variables names them itself
+                lines.append(err["msg"].removeprefix("Value error, "))
         raise SettingsError("invalid settings:\n  " + "\n  ".join(lines)) from None

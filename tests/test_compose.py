@@ -58,7 +58,10 @@ def test_the_center_environment_is_valid_settings(compose: dict[str, Any],
     center = compose["services"]["center"]
     assert center["command"] == ["ednc", "serve"]  # the command the tests run natively
     env = dict(center["environment"])
-    env["EDNC_API_KEY"] = "a-key-for-the-test"  # ${EDNC_API_KEY:?...}: required from the host
+    for key in ("EDNC_API_KEY", "EDNC_READ_KEY", "EDNC_SECRET_KEY"):
+        # ${EDNC_...:?...}: required from the host
+        assert str(env[key]).startswith("${" + key + ":?"), key
+        env[key] = f"{key.lower()}-for-the-test"
     env["EDNC_MACHINES_FILE"] = str(_mounted(center, env["EDNC_MACHINES_FILE"]))
     for key in list(env):
         assert key.startswith("EDNC_"), key
@@ -70,6 +73,7 @@ def test_the_center_environment_is_valid_settings(compose: dict[str, Any],
     published = {p.split(":")[1] for p in center["ports"]}
     assert {str(s.http_port), str(s.machine_port)} <= published
     assert s.http_host == "0.0.0.0" and s.machine_host == "0.0.0.0"
+    assert s.read_key is not None and s.secret_key is not None  # published API, PostgreSQL
     assert set(center["depends_on"]) >= {"postgres", "mosquitto"}
     pg = compose["services"]["postgres"]["environment"]
     assert f":{pg['POSTGRES_PASSWORD']}@" in s.database_url

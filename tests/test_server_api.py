@@ -133,7 +133,14 @@ async def test_extension_keys_are_kept(client: httpx.AsyncClient) -> None:
         ({"travel_mm": {"x": [0, 500], "y": [0, 300]}}, ["body"], "'z'"),
         ({"travel_mm": {"x": [0, "far"]}}, ["body", "travel_mm", "x", 1], "number"),
         ({"tool_length_mm": "long"}, ["body", "tool_length_mm"], "number"),
-        ({"secret": "short"}, ["body", "secret"], "8"),
+        ({"secret": "short"}, ["body", "secret"], "16 bytes"),
+        # registrations that could never log in or never get a map (issue 12)
+        ({"secret": "fifteen-chars!!"}, ["body", "secret"], "16 bytes"),
+        ({"secret": "é" * 7}, ["body", "secret"], "got 14"),  # 7 characters, 14 bytes
+        ({"name": "m" * 33}, ["body", "name"], "31}"),  # the protocol's 32-byte name field
+        ({"travel_mm": {"x": [0, 1e308], "y": [0, 300], "z": [-300, 0]}},
+         ["body", "travel_mm", "x", 1], "100000"),
+        ({"tool_length_mm": -1e308}, ["body", "tool_length_mm"], "-100000"),
     ],
 )
 async def test_bad_description_is_422_naming_the_field(
@@ -231,7 +238,12 @@ async def test_secret_is_stored_but_never_returned(api: tuple[FastAPI, httpx.Asy
         seen.append((await client.get(path)).text)
     assert not any(SECRET in text for text in seen)
     row = await center_of(app).db.run(_get_machine, "vmc-01")
-    assert row.secret == SECRET + "-new"  # the center keeps it for the challenge-response
+    # the center keeps it for the challenge-response, sealed (AES-GCM) at rest: with a key
+    # file beside SQLite; on PostgreSQL only with EDNC_SECRET_KEY, which this app lacks
+    box = center_of(app).db.secrets
+    assert box.seals == (row.secret.startswith("aesgcm1:") and SECRET not in row.secret)
+    assert box.seals or "postgresql" in center_of(app).settings.database_url
+    assert box.open(row.secret, row.id) == SECRET + "-new"
 
 
 def _get_machine(session: Any, name: str) -> Any:

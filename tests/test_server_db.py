@@ -47,7 +47,8 @@ def _machine(db: Database, name: str = "vmc-01", ip: str = "10.0.0.21") -> int:
 def test_schema_has_every_table(db: Database) -> None:
     names = set(inspect(db.engine).get_table_names())
     assert names == {"machines", "models", "measurement_sets", "map_versions", "applied",
-                     "diagnoses", "events", "leases", "live_links"}
+                     "diagnoses", "events", "leases", "live_links", "temperature_readings",
+                     "map_version_marks"}
 
 
 def test_machine_round_trip_keeps_secret_and_description(db: Database) -> None:

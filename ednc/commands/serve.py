@@ -54,5 +54,7 @@ def register(app: typer.Typer) -> None:
             db.engine.dispose()
         app = create_app(settings, services=[machine_services])
         # a dashboard stream ends itself within 10 s; do not let it hold a shutdown longer
+        from server.api.http import uvicorn_options  # header deadline (408), header size
+
         uvicorn.run(app, host=settings.http_host, port=settings.http_port, log_level="info",
-                    timeout_graceful_shutdown=5)
+                    timeout_graceful_shutdown=5, **uvicorn_options())

@@ -11,16 +11,18 @@ thread per call costs nothing that matters while keeping the event loop free.
 from __future__ import annotations
 
 import asyncio
+import os
 from collections.abc import AsyncIterator, Callable, Iterator
 from contextlib import asynccontextmanager, contextmanager
 from typing import Any, Concatenate, ParamSpec, TypeVar
 
-from sqlalchemy import Engine, create_engine, event
+from sqlalchemy import Engine, create_engine, event, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session, sessionmaker
 from sqlalchemy.pool import StaticPool
 
+from server.db.secretbox import SecretBox
 from server.db.tables import Base
 
 P = ParamSpec("P")
@@ -38,6 +40,8 @@ def make_engine(url: str) -> Engine:
         # pre_ping: a PostgreSQL restart must not turn the next request into a 500.
         return create_engine(url, pool_pre_ping=True)
     memory = parsed.database in (None, "", ":memory:")
+    if not memory and parsed.database is not None:
+        _create_private(parsed.database)
     engine = create_engine(
         url,
         # Sessions run on worker threads (asyncio.to_thread); each connection is used by one
@@ -60,6 +64,21 @@ def make_engine(url: str) -> Engine:
     return engine
 
 
+def _create_private(path: str) -> None:
+    """Create the SQLite file readable by its owner only (0600) if it does not exist.
+
+    It holds the machines' (sealed) secrets and the plant's models; SQLite would create it
+    with the umask's mode, usually 0644. Its -wal and -shm files take the file's mode.
+    """
+    try:
+        fd = os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except FileExistsError:
+        return
+    except OSError:
+        return  # a directory that does not exist: SQLite's own error names it
+    os.close(fd)
+
+
 class Database:
     """An engine plus a session factory; the one object the service holds for persistence.
 
@@ -73,6 +92,8 @@ class Database:
         # expire_on_commit=False: rows returned from a committed transaction stay readable
         # after the session is gone (they are handed to the API layer on another thread).
         self._sessions = sessionmaker(engine, expire_on_commit=False)
+        self.secrets = SecretBox(None)
+        """Seals and opens machine secrets; the app's lifespan gives it the settings' key."""
 
     @classmethod
     @asynccontextmanager
@@ -95,6 +116,16 @@ class Database:
         """
         try:
             Base.metadata.create_all(self.engine)
+            if self.engine.dialect.name == "postgresql":
+                # tables made before secrets were sealed have varchar(256)
+                with self.engine.begin() as conn:
+                    width = conn.scalar(text(
+                        "SELECT character_maximum_length FROM information_schema.columns "
+                        "WHERE table_schema = current_schema() AND table_name = 'machines' "
+                        "AND column_name = 'secret'"))
+                    if width is not None and width < 512:
+                        conn.execute(text(
+                            "ALTER TABLE machines ALTER COLUMN secret TYPE varchar(512)"))
         except OperationalError as exc:
             where = self.engine.url.render_as_string(hide_password=True)
             reason = str(exc.orig).strip().splitlines()[0] if exc.orig else str(exc)

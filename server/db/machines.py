@@ -9,6 +9,7 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session
 
 from server.db.errors import DuplicateError
+from server.db.secretbox import SecretBox
 from server.db.tables import MachineRow
 
 
@@ -33,15 +34,22 @@ def _flush(session: Session, name: str) -> None:
 
 def create_machine(
     session: Session, *, name: str, ip: str, controller: str,
-    description: dict[str, Any], secret: str,
+    description: dict[str, Any], secret: str, box: SecretBox | None = None,
 ) -> MachineRow:
-    """Add a machine; raise :class:`DuplicateError` when its name or ip is taken."""
+    """Add a machine; raise :class:`DuplicateError` when its name or ip is taken.
+
+    ``box`` seals the secret (bound to the new row's id, hence after the first flush);
+    without it the secret is stored as given.
+    """
     _check_unique(session, name, ip)
     row = MachineRow(
         name=name, ip=ip, controller=controller, description=description, secret=secret
     )
     session.add(row)
     _flush(session, name)
+    if box is not None and box.seals:
+        row.secret = box.seal(secret, row.id)
+        session.flush()
     return row
 
 
@@ -61,7 +69,8 @@ def list_machines(session: Session) -> list[MachineRow]:
 
 
 def update_machine(
-    session: Session, name: str, *, description: dict[str, Any], secret: str | None = None
+    session: Session, name: str, *, description: dict[str, Any], secret: str | None = None,
+    box: SecretBox | None = None,
 ) -> MachineRow | None:
     """Replace a machine's description (its name, ip and controller follow it) and,
     when given, its secret. None when there is no such machine."""
@@ -75,7 +84,7 @@ def update_machine(
     row.controller = str(description["controller"])
     row.description = description
     if secret is not None:
-        row.secret = secret
+        row.secret = box.seal(secret, row.id) if box is not None else secret
     _flush(session, new_name)
     return row
 

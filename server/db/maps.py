@@ -12,20 +12,35 @@ from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session, defer
 
 from server.db.errors import DuplicateError
-from server.db.tables import AppliedRow, MapVersionRow, utcnow
+from server.db.tables import AppliedRow, MachineRow, MapVersionMarkRow, MapVersionRow, utcnow
+
+
+def _name(session: Session, machine_id: int) -> str | None:
+    return session.scalar(select(MachineRow.name).where(MachineRow.id == machine_id))
+
+
+def next_map_version(session: Session, machine_id: int) -> int:
+    """The version the machine's next map gets: above its own maps and above every version
+    stored for its name before (a machine deleted and registered again, see
+    :class:`~server.db.tables.MapVersionMarkRow`)."""
+    latest = session.scalar(
+        select(func.max(MapVersionRow.version)).where(MapVersionRow.machine_id == machine_id)
+    ) or 0
+    name = _name(session, machine_id)
+    mark = session.get(MapVersionMarkRow, name) if name is not None else None
+    return max(latest, mark.version if mark is not None else 0) + 1
 
 
 def add_map_version(
     session: Session, machine_id: int, *, payload: bytes, model_version: int | None,
     temperatures: dict[str, Any] | None = None,
 ) -> MapVersionRow:
-    """Store an encoded map as the machine's next version (sha256 and size computed here)."""
-    latest = session.scalar(
-        select(func.max(MapVersionRow.version)).where(MapVersionRow.machine_id == machine_id)
-    )
+    """Store an encoded map as the machine's next version (:func:`next_map_version`;
+    sha256 and size computed here) and raise its name's mark to it."""
+    version = next_map_version(session, machine_id)
     row = MapVersionRow(
         machine_id=machine_id,
-        version=(latest or 0) + 1,
+        version=version,
         model_version=model_version,
         payload=payload,
         sha256=hashlib.sha256(payload).hexdigest(),
@@ -33,9 +48,16 @@ def add_map_version(
         temperatures=dict(temperatures or {}),
     )
     session.add(row)
+    name = _name(session, machine_id)
+    if name is not None:
+        mark = session.get(MapVersionMarkRow, name)
+        if mark is None:
+            session.add(MapVersionMarkRow(machine=name, version=version))
+        elif mark.version < version:
+            mark.version = version
     try:
         session.flush()
-    except IntegrityError:
+    except IntegrityError:  # another writer took the version (or the mark) meanwhile
         raise DuplicateError("map", "version", str(row.version)) from None
     return row
 

@@ -73,8 +73,9 @@ def _machine_fk() -> ForeignKey:
 class MachineRow(Base):
     """A machine the center knows: identity, description (formats.md §1) and its secret.
 
-    ``secret`` is kept in clear because the center must compute HMAC responses with it; the
-    API never returns it.
+    ``secret`` is sealed (AES-GCM, :mod:`server.db.secretbox`) because the center must
+    compute HMAC responses with it, so a hash would not do; the API never returns it. 512
+    characters: a sealed 256-byte secret takes 388.
     """
 
     __tablename__ = "machines"
@@ -84,7 +85,7 @@ class MachineRow(Base):
     ip: Mapped[str] = mapped_column(String(45), unique=True)
     controller: Mapped[str] = mapped_column(String(16))
     description: Mapped[dict[str, Any]]
-    secret: Mapped[str] = mapped_column(String(256))
+    secret: Mapped[str] = mapped_column(String(512))
     created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
     updated_at: Mapped[dt.datetime] = mapped_column(default=utcnow, onupdate=utcnow)
 
@@ -133,6 +134,17 @@ class MapVersionRow(Base):
     size_bytes: Mapped[int] = mapped_column(Integer)
     temperatures: Mapped[dict[str, Any]]
     created_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
+
+
+class MapVersionMarkRow(Base):
+    """The highest map version ever stored for a machine name, kept when the machine is
+    deleted: a machine registered again under its old name still holds its last map and
+    would reject any lower version (STALE_VERSION), so its versions continue above."""
+
+    __tablename__ = "map_version_marks"
+
+    machine: Mapped[str] = mapped_column(String(64), primary_key=True)
+    version: Mapped[int] = mapped_column(Integer)
 
 
 class AppliedRow(Base):

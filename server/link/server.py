@@ -68,6 +68,7 @@ from protocol.messages import Heartbeat
 from server.center import Center
 from server.db import events as event_repo
 from server.db import machines as machine_repo
+from server.db.secretbox import SecretKeyError
 from server.db.tables import MachineRow
 from server.events import EventKind
 from server.feed import Feed, Notice
@@ -382,8 +383,9 @@ class MachineServer:
             raise LinkClosed(f"machine error {answer.code.name}: {answer.text}")
         assert isinstance(answer, AuthResponse)  # the codec allows nothing else here
         try:
-            good = verify_mac(row.secret.encode("utf-8"), nonce, row.name, answer.mac)
-        except ValueError as exc:  # a registered secret the protocol cannot use
+            secret = self.center.db.secrets.open(row.secret, row.id)
+            good = verify_mac(secret.encode("utf-8"), nonce, row.name, answer.mac)
+        except (ValueError, SecretKeyError) as exc:  # unusable secret, or not our key
             log.error("machine %s: %s", row.name, exc)
             good = False
         if not good:

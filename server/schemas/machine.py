@@ -1,9 +1,16 @@
-"""Machine descriptions (formats.md §1) at the API edge: Create / Update / Public."""
+"""Machine descriptions (formats.md §1) at the API edge: Create / Update / Public.
+
+A registration that could never log in or never get a map is refused here (422 with the
+reason) rather than accepted and failing later: the name fits the protocol's name field
+(:data:`protocol.limits.MAX_NAME_BYTES`), the secret is long enough for the challenge
+(:data:`protocol.auth.MIN_SECRET_BYTES`), travels and tool lengths are finite and within
+:data:`MAX_LENGTH_MM`, and the kinematics are what the numeric core accepts.
+"""
 
 from __future__ import annotations
 
 import datetime as dt
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Final, Literal
 
 from pydantic import (
     BaseModel,
@@ -17,8 +24,26 @@ from pydantic import (
     model_validator,
 )
 
+from protocol.auth import MIN_SECRET_BYTES
+from protocol.limits import MAX_NAME_BYTES
 from server.numeric import check_machine_description
-from server.schemas.common import Name, check_json_object
+from server.schemas.common import check_json_object
+
+MAX_LENGTH_MM: Final = 100_000.0
+"""Largest travel end or tool length, mm (degrees for rotary travels): 100 m is beyond any
+machine tool, and keeps every grid coordinate of a map far inside what a Fanuc map's int32
+increments hold (±2.1e6 mm at 0.001 mm). A travel of [0, 1e308] passes as a float but
+no map can be built over it."""
+
+MAX_SECRET_BYTES: Final = 256
+"""A secret's longest UTF-8 form: sealed (server/db/secretbox.py) it fits its column."""
+
+MachineName = Annotated[
+    str,
+    StringConstraints(pattern=rf"^[A-Za-z0-9][A-Za-z0-9._\-]{{0,{MAX_NAME_BYTES - 1}}}$"),
+    Field(description=f"1-{MAX_NAME_BYTES} letters, digits, '.', '_' or '-', starting with "
+                      "a letter or digit (the protocol's name field)", examples=["vmc-01"]),
+]
 
 Controller = Literal["fanuc", "siemens"]
 AxisKey = Annotated[str, StringConstraints(pattern=r"^[xyzabc][0-9]*$")]
@@ -26,11 +51,28 @@ Chain = Annotated[str, StringConstraints(min_length=1, max_length=64,
                                          pattern=r"^[wbtXYZABC ]+$")]
 TypeNumber = Annotated[int, Field(ge=0, le=99)]
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
+Length = Annotated[float, Field(allow_inf_nan=False, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM)]
 Secret = Annotated[
     SecretStr,
-    Field(min_length=8, max_length=256,
-          description="Shared secret for the machine's challenge-response; write-only."),
+    Field(min_length=1, max_length=MAX_SECRET_BYTES,
+          description=f"Shared secret for the machine's challenge-response, "
+                      f"{MIN_SECRET_BYTES}-{MAX_SECRET_BYTES} bytes of printable UTF-8; "
+                      "write-only."),
 ]
+
+
+def _check_secret(value: SecretStr) -> SecretStr:
+    text = value.get_secret_value()
+    if not text.isprintable():
+        raise ValueError("must be printable text (no control characters)")
+    size = len(text.encode("utf-8"))
+    if size < MIN_SECRET_BYTES:
+        # the protocol's HMAC wants this much; a shorter one could never log in
+        raise ValueError(f"must be at least {MIN_SECRET_BYTES} bytes (the protocol's "
+                         f"minimum for the challenge-response), got {size}")
+    if size > MAX_SECRET_BYTES:
+        raise ValueError(f"must be at most {MAX_SECRET_BYTES} bytes of UTF-8, got {size}")
+    return value
 
 
 class SpindleSpec(BaseModel):
@@ -42,7 +84,7 @@ class SpindleSpec(BaseModel):
                                            pattern=r"^[A-Za-z0-9._\-]+$")]
     axis: Annotated[str, StringConstraints(pattern=r"^[XYZ][0-9]+$")]
     direction: tuple[FiniteFloat, FiniteFloat, FiniteFloat]
-    tool_length_mm: FiniteFloat | None = None
+    tool_length_mm: Length | None = None
 
 
 class _DescriptionFields(BaseModel):
@@ -53,10 +95,10 @@ class _DescriptionFields(BaseModel):
     chain: Chain | None = Field(default=None, examples=["w X Y b Z t"])
     translational_type: TypeNumber | None = None
     rotary_type: TypeNumber | None = None
-    travel_mm: dict[AxisKey, tuple[FiniteFloat, FiniteFloat]] = Field(
+    travel_mm: dict[AxisKey, tuple[Length, Length]] = Field(
         default_factory=dict, examples=[{"x": [0, 500], "y": [0, 300], "z": [-300, 0]}]
     )
-    tool_length_mm: FiniteFloat = 0.0
+    tool_length_mm: Length = 0.0
     spindles: Annotated[list[SpindleSpec], Field(max_length=16)] | None = None
 
     @model_validator(mode="after")
@@ -68,7 +110,7 @@ class _DescriptionFields(BaseModel):
 class MachineDescription(_DescriptionFields):
     """A complete machine description, checked by the numeric core when it is present."""
 
-    name: Name
+    name: MachineName
     controller: Controller
     ip: IPvAnyAddress = Field(examples=["10.0.0.21"])
 
@@ -97,27 +139,23 @@ class MachineCreate(MachineDescription):
 
     @field_validator("secret")
     @classmethod
-    def _printable(cls, value: SecretStr) -> SecretStr:
-        if not value.get_secret_value().isprintable():
-            raise ValueError("must be printable text (no control characters)")
-        return value
+    def _secret(cls, value: SecretStr) -> SecretStr:
+        return _check_secret(value)
 
 
 class MachineUpdate(_DescriptionFields):
     """Changes to a machine: any subset of the description's keys (``null`` removes an
     optional key, e.g. ``"chain": null`` to switch to type numbers) and a new secret."""
 
-    name: Name | None = None
+    name: MachineName | None = None
     controller: Controller | None = None
     ip: IPvAnyAddress | None = None
     secret: Secret | None = None
 
     @field_validator("secret")
     @classmethod
-    def _printable(cls, value: SecretStr | None) -> SecretStr | None:
-        if value is not None and not value.get_secret_value().isprintable():
-            raise ValueError("must be printable text (no control characters)")
-        return value
+    def _secret(cls, value: SecretStr | None) -> SecretStr | None:
+        return None if value is None else _check_secret(value)
 
     def changes(self) -> dict[str, Any]:
         """The keys the request set, as JSON (``None`` for keys to remove)."""

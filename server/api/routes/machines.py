@@ -45,6 +45,7 @@ async def create_machine(db: DatabaseDep, machine: MachineCreate) -> MachinePubl
             machine_repo.create_machine,
             name=machine.name, ip=description["ip"], controller=machine.controller,
             description=description, secret=machine.secret.get_secret_value(),
+            box=db.secrets,
         )
     except DuplicateError as exc:
         raise HTTPException(status.HTTP_409_CONFLICT, str(exc)) from None
@@ -76,7 +77,8 @@ async def update_machine(
     secret = update.secret.get_secret_value() if update.secret is not None else None
     try:
         row = await center.db.run(
-            machine_repo.update_machine, machine.name, description=description, secret=secret
+            machine_repo.update_machine, machine.name, description=description, secret=secret,
+            box=center.db.secrets,
         )
     except DuplicateError as exc:
         raise HTTPException(status.HTTP_409_CONFLICT, str(exc)) from None

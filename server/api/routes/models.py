@@ -61,8 +61,15 @@ async def list_models(db: DatabaseDep, machine: MachineDep) -> list[ModelSummary
 async def add_model(db: DatabaseDep, machine: MachineDep, model: ModelCreate) -> ModelPublic:
     """Store a model (``MachineModel.to_json`` of the numeric core) as the next version.
 
-    422 when the core cannot read it or it names errors of axes the machine lacks.
+    422 when the core cannot read it, it names errors of axes the machine lacks, or it
+    was written for another machine (its ``machine``): its maps would carry that name and
+    the machine would reject every one (WRONG_MACHINE).
     """
+    written_for = model.body.get("machine")
+    if written_for is not None and written_for != machine.name:
+        raise unprocessable(["body", "body", "machine"],
+                            f"the model is for machine {written_for!r}, not {machine.name!r}",
+                            "wrong_machine")
     try:
         await asyncio.to_thread(check_model, model.body, machine.description)
     except ModelError as exc:
