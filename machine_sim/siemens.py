@@ -19,6 +19,12 @@ machine coordinates (:mod:`machine_sim.controller`) and writes the result to SD4
 NC part runs every interpolation cycle (:meth:`SiemensNC.ipo_cycle`). The machine takes
 grid maps and tables maps (Hello: float32 mm and tables); a tables map is evaluated
 through the chain every PLC cycle (:mod:`machine_sim.chaineval`).
+
+Thermal terms can go in as the NC's own temperature compensation (:meth:`SiemensNC.
+write_temp_comp`, data from :mod:`machine_sim.siemens_thermal`): the slope in
+SD43910/SD43920 where MD32750 bit 1 is on (the NC evaluates it at the axis's position every
+IPO cycle, without lookup latency), else evaluated by the PLC; the offset added to the
+PLC's SD43900 writes. Bit 2 (compensation in tool direction, SD42960) is not simulated.
 """
 
 from __future__ import annotations
@@ -33,6 +39,7 @@ from protocol.codes import MapEncoding
 
 from .controller import Compensator
 from .mapstore import MapStore
+from .siemens_thermal import TempCompData
 
 __all__ = [
     "MD_MAX_AX_VELO",
@@ -123,6 +130,11 @@ class SiemensNC(Compensator):
         self.sd: dict[int, F64] = {k: np.zeros(n) for k in _SETTING_DATA}
         self.applied = np.zeros(n)
         self._last_desired = np.zeros(n)
+        # thermal part (write_temp_comp): an offset the PLC adds to its SD43900 writes, and
+        # the slope the NC cannot take (MD32750 bit 1 off), which the PLC then evaluates
+        self.thermal_offset_mm = np.zeros(n)
+        self._plc_slope = np.zeros(n)
+        self._plc_ref_mm = np.zeros(n)
         self.cycles = 0
         self.alarms: list[str] = []
 
@@ -194,7 +206,8 @@ class SiemensNC(Compensator):
         compensation applied per axis, mm."""
         pos = self._vector(positions, float)
         if self.cycles % self.config.plc_every == 0:
-            wanted = self.wanted_mm(now_s, pos, directions)
+            wanted = (self.wanted_mm(now_s, pos, directions) + self.thermal_offset_mm
+                      + self._plc_slope * (pos - self._plc_ref_mm))
             for j, axis in enumerate(self.axes):
                 if wanted[j] == self.sd[SD_ABS_VALUE][j]:
                     continue
@@ -211,6 +224,31 @@ class SiemensNC(Compensator):
         self.applied = self.applied + np.clip(desired - self.applied, -step, step)
         self.cycles += 1
         return self.applied
+
+    def write_temp_comp(self, data: Mapping[str, TempCompData]) -> None:
+        """Write thermal setting data per axis (:func:`~machine_sim.siemens_thermal.
+        temp_comp_data`): the slope to SD43910/SD43920 where MD32750 bit 1 enables them,
+        else to the PLC, which then adds it to its SD43900 writes at the position it reads
+        (a cycle late, as any PLC value); the offset joins the PLC's SD43900 writes.
+
+        Raises
+        ------
+        SiemensAlarm
+            An offset while MD32750 bit 0 is off (nothing is then changed for that axis).
+        """
+        for axis, d in data.items():
+            j = self._axis(axis)
+            comp_type = int(self.md[MD_TEMP_COMP_TYPE][j])
+            if d.offset_mm != 0.0 and not comp_type & 1:
+                raise SiemensAlarm("SD43900_DISABLED", f"axis {self.axes[j]}: thermal offset "
+                                   f"refused, MD32750 = {comp_type} has bit 0 off")
+            if comp_type & 2:
+                self.write_sd(SD_SLOPE, axis, d.slope)
+                self.write_sd(SD_REF_POSITION, axis, d.ref_mm)
+                self._plc_slope[j], self._plc_ref_mm[j] = 0.0, 0.0
+            else:
+                self._plc_slope[j], self._plc_ref_mm[j] = d.slope, d.ref_mm
+            self.thermal_offset_mm[j] = d.offset_mm
 
     def reset_alarms(self) -> None:
         """Operator reset."""

@@ -1,0 +1,108 @@
+"""Thermal terms as a Siemens NC's own temperature compensation setting data.
+
+The NC corrects each axis by (Sinumerik 840D, function "temperature compensation")
+
+    ΔK = SD43900 + SD43910 · (P - SD43920)
+
+with SD43900 ``$SA_TEMP_COMP_ABS_VALUE`` (mm, MD32750 bit 0), SD43910
+``$SA_TEMP_COMP_SLOPE`` (the gradient tan β, mm per mm) and SD43920
+``$SA_TEMP_COMP_REF_POSITION`` (P0, mm; both MD32750 bit 1), P the axis's machine
+coordinate. That is exactly what a model's thermal terms (:class:`ThermalTerm`) are at a
+given temperature: a drift ``k·(T - T_ref)`` µm is an offset, an expansion
+``α·(T - T_ref)·(q - q_min)`` µm(with α in µm/(m·K), q in mm, hence 1e-3) is a slope
+about ``q_min``. The correction cancels the error: ΔK = -ΔE / 1000 mm.
+
+Several terms on one axis add up: their offsets add, and slopes about different reference
+positions are one slope about the first term's reference plus a constant folded into
+the offset (``s1 (q - r1) + s2 (q - r2) = (s1 + s2)(q - r1) + s2 (r1 - r2)``).
+
+The PLC writes these when temperatures change (every few seconds), not per cycle: the NC
+evaluates the slope at the axis's own position each interpolation cycle, so a
+position-dependent thermal correction carries no lookup latency at all, and MD32760 limits
+how fast the applied value may follow a new setting.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass
+
+from volumetric.model.model import ThermalTerm
+
+__all__ = ["TempCompData", "temp_comp_data"]
+
+
+@dataclass(frozen=True)
+class TempCompData:
+    """One axis's temperature compensation setting data.
+
+    Attributes
+    ----------
+    offset_mm : float
+        SD43900, mm.
+    slope : float
+        SD43910, mm per mm of travel.
+    ref_mm : float
+        SD43920, mm.
+    """
+
+    offset_mm: float = 0.0
+    slope: float = 0.0
+    ref_mm: float = 0.0
+
+    def correction_mm(self, position_mm: float) -> float:
+        """The NC's correction at an axis position, mm (module docstring)."""
+        return self.offset_mm + self.slope * (position_mm - self.ref_mm)
+
+    @property
+    def needs_slope(self) -> bool:
+        """Whether SD43910/SD43920 (MD32750 bit 1) are needed."""
+        return self.slope != 0.0
+
+
+def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, float],
+                   axes: Sequence[str]) -> dict[str, TempCompData]:
+    """The setting data of each axis that cancel ``terms`` at ``temperatures``.
+
+    Parameters
+    ----------
+    terms : iterable of ThermalTerm
+        Drift (µm/K) and expansion (µm/(m·K)) terms, each on one linear axis.
+    temperatures : mapping of column to float
+        °C by the terms' sensor columns (``T_spindle_C``).
+    axes : sequence of str
+        The NC's axes (any case).
+
+    Returns
+    -------
+    dict of str to TempCompData
+        By upper-case axis name, for every axis of ``axes`` (zero where no term acts).
+
+    Raises
+    ------
+    ValueError
+        A term's axis is not one of ``axes``, or its sensor has no temperature.
+    """
+    names = [a.upper() for a in axes]
+    offset = dict.fromkeys(names, 0.0)
+    slope = dict.fromkeys(names, 0.0)
+    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    for t in terms:
+        axis = t.axis.upper()
+        if axis not in offset:
+            raise ValueError(f"{t.kind} term on axis {t.axis!r}, which the NC does not have "
+                             f"({' '.join(names)})")
+        if t.sensor not in temperatures:
+            raise ValueError(f"{t.kind} term of axis {t.axis} needs {t.sensor}; have "
+                             f"{sorted(temperatures)}")
+        dt_K = float(temperatures[t.sensor]) - t.t_ref_C
+        if t.kind == "thermal_drift":
+            offset[axis] -= t.coefficient * dt_K * 1e-3  # µm → mm, cancelling the error
+            continue
+        s = -t.coefficient * dt_K * 1e-6  # µm/(m·K) · K → mm/mm, cancelling the error
+        r = ref[axis]
+        if r is None:
+            ref[axis] = r = t.q_min
+        slope[axis] += s
+        offset[axis] += s * (r - t.q_min)  # a slope about another reference (docstring)
+    return {a: TempCompData(offset[a], slope[a], ref[a] or 0.0) for a in names}
