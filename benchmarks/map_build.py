@@ -1,22 +1,35 @@
-"""Error-map build time and size for a 3-axis and a 5-axis machine, and lookup throughput.
+"""Map kinds side by side, and grid lookup throughput.
 
-    .venv/bin/python benchmarks/map_build.py
+    .venv/bin/python benchmarks/map_build.py [--quick]
 
-Prints, per machine: build time, grid, nodes, payload bytes and the worst interpolation
-error on the independent check set; then the vectorised ``ErrorMap.lookup`` against a plain
-per-point Python loop over the same map, measured in the same run.
+First the kinds: per machine and tolerance, the ``tables`` map and the ``grid`` map (the
+grid bounded by the 16 MiB map memory), each with payload bytes, worst tool-tip error as
+sent against the exact model (independent random points over the whole travel, rotary axes
+included) and build time; what ``auto`` picks for a Siemens-style (tables or grid) and a
+Fanuc-style (grid only) endpoint. Then the grid build and the vectorised
+``ErrorMap.lookup`` against a plain per-point Python loop over the same map.
 """
 
 from __future__ import annotations
 
 import math
+import sys
 import time
 
 import numpy as np
 from numpy.typing import NDArray
 
+from server.mapcodec import build_for, encode, kind_of
 from volumetric.compensate.gridmap import ErrorMap, build_map
-from volumetric.model.components import GeometricErrors, Polynomial, component_names, location_names
+from volumetric.compensate.maps import MapTooLargeError
+from volumetric.model.components import (
+    GeometricErrors,
+    Polynomial,
+    Sinusoid,
+    Sum,
+    component_names,
+    location_names,
+)
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import MachineModel
 
@@ -82,7 +95,68 @@ def bench(label: str, spec: dict[str, object], tolerance_um: float, controller: 
           f"(x{(slow_s / few.shape[0]) / (fast_s / pts.shape[0]):.0f})")
 
 
+FIVE_AX_04 = {
+    "name": "5ax-04", "chain": "w C A X b Y Z t", "tool_length_mm": 100.0,
+    "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0], "a": [-110, 110],
+                  "c": [-180, 180]},
+    "pivots_mm": {"A": [0.0, 300.0, -150.0], "C": [400.0, 300.0, -100.0]},
+}
+TRUNNION = {
+    "name": "trunnion", "chain": "w C A X Y b Z t", "tool_length_mm": 100.0,
+    "travel_mm": {"x": [-250, 250], "y": [-200, 200], "z": [-300, 0],
+                  "a": [-120, 30], "c": [-180, 180]},
+    "pivots_mm": {"A": [0.0, 0.0, 50.0]},
+}
+VMC = {"name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
+       "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}}
+
+
+def kinds(label: str, spec: dict[str, object], tolerance_um: float, controller: str,
+          periodic: bool = False) -> None:
+    """One row per kind, then what auto picks."""
+    m = parse_machine({**spec, "controller": controller})
+    geo = errors(m, np.random.default_rng(2024), 5.0)
+    if periodic:  # a 10 mm-pitch ballscrew error of 3 µm on X on top of the smooth errors
+        geo = GeometricErrors({**geo.components,
+                               "EXX": Sum((geo.components["EXX"], Sinusoid(3.0, 10.0)))},
+                              dict(geo.locations))
+    model = MachineModel(m.name, geo)
+    for kind in ("tables", "grid"):
+        if kind == "tables" and controller == "fanuc":
+            continue  # a Fanuc-style endpoint takes grids only
+        t0 = time.perf_counter()
+        try:
+            got = build_for(m, model, kind=kind, tolerance_um=tolerance_um)
+        except MapTooLargeError:
+            print(f"{label:34s} {controller:7s} {tolerance_um:4g} µm  {kind:6s}  over the "
+                  f"16 MiB map memory ({time.perf_counter() - t0:.1f} s to find out)")
+            continue
+        r = got.report
+        assert r is not None
+        size = len(encode(got))
+        print(f"{label:34s} {controller:7s} {tolerance_um:4g} µm  {kind:6s} {size:>9,d} B  "
+              f"worst {r.worst_error_um:6.3f} µm  build {1e3 * (r.build_s - r.check_s):7.1f} ms"
+              f" (+ check {1e3 * r.check_s:6.1f} ms)")
+    auto = build_for(m, model, tolerance_um=tolerance_um)
+    assert auto.report is not None
+    print(f"{'':34s} {'':7s} {'':4s}     auto -> {kind_of(auto)} ({len(encode(auto)):,d} B, "
+          f"worst {auto.report.worst_error_um:.3f} µm)")
+
+
 def main() -> None:
+    quick = "--quick" in sys.argv
+    print("== map kinds (random cubic component errors of ~5 µm/µrad, tens of µm at the tip)")
+    for tol in (1.0, 0.1):
+        kinds("5-axis 5ax-04 (w C A X b Y Z t)", FIVE_AX_04, tol, "siemens")
+        kinds("5-axis trunnion (w C A X Y b Z t)", TRUNNION, tol, "siemens")
+    kinds("5-axis 5ax-04 (w C A X b Y Z t)", FIVE_AX_04, 2.0, "fanuc")
+    for tol in (0.5, 0.1):
+        kinds("3-axis vmc (w X Y b Z t)", VMC, tol, "siemens")
+        kinds("3-axis vmc (w X Y b Z t)", VMC, tol, "fanuc")
+    kinds("3-axis vmc + 3 µm/10 mm screw on X", VMC, 0.2, "siemens", periodic=True)
+    if quick:
+        return
+    print("== grid build and lookup")
     bench("3-axis vmc (w X Y b Z t)", {
         "name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
         "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]},

@@ -11,6 +11,7 @@ temperature change never needs a new map).
 from __future__ import annotations
 
 import dataclasses
+import time
 from collections.abc import Mapping
 from typing import Any, Final
 
@@ -18,12 +19,27 @@ import numpy as np
 
 from protocol.codes import MapEncoding
 from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis, encode_map
+from protocol.maptables import (
+    ChainAxis,
+    ComponentTable,
+    Spindle,
+    TablesPayload,
+    ThermalRecord,
+    encode_payload,
+)
 from volumetric.compensate.gridmap import ErrorMap, GridDim, build_map
-from volumetric.compensate.maps import MapBuildError, MapKind, MapTooLargeError
+from volumetric.compensate.maps import (
+    MAX_MAP_BYTES,
+    MapBuildError,
+    MapKind,
+    MapTooLargeError,
+)
+from volumetric.compensate.solver import Weights
+from volumetric.compensate.tablesmap import ComponentSamples, TablesMap, build_tables_map
 from volumetric.model.machine import Machine
-from volumetric.model.model import MachineModel
+from volumetric.model.model import MachineModel, ThermalTerm
 
-MapContent = ErrorMap
+MapContent = ErrorMap | TablesMap
 
 
 def grid_to_payload(m: ErrorMap) -> ErrorMapPayload:
@@ -83,9 +99,110 @@ def grid_from_payload(payload: ErrorMapPayload) -> ErrorMap:
     )
 
 
+_THERMAL_KINDS = {"thermal_drift": 1, "thermal_expansion": 2}
+
+
+def tables_to_payload(t: TablesMap) -> TablesPayload:
+    """The wire payload of a tables map (format version 2, protocol/README.md §6).
+
+    Raises
+    ------
+    MapBuildError
+        When a field does not fit the wire format.
+    """
+    m = t.machine
+    weights = np.hstack([t.weights.position, t.weights.orientation])
+    try:
+        return TablesPayload(
+            machine=m.name, version=t.version, encoding=MapEncoding.FLOAT32_MM,
+            valid_s=t.valid_s, increment_mm=0.0,
+            axes=tuple(ChainAxis(a.name, a.kind == "rotary", a.side == "tool",
+                                 _vec3(a.direction),
+                                 _vec3(a.pivot_mm),
+                                 (float(a.travel[0]), float(a.travel[1])))
+                       for a in m.axes),
+            spindles=tuple(Spindle(b.name, tuple(x.name for x in b.links),
+                                   float(t.tool_mm.get(b.name, b.tool_length_mm)),
+                                   _vec3(b.tool_direction),
+                                   _six(weights[i]))
+                           for i, b in enumerate(m.branches)),
+            outputs=tuple(OutputAxis(n, r) for n, r in zip(t.outputs, t.reversal, strict=True)),
+            tables=tuple(ComponentTable(s.name, float(s.start), float(s.step),
+                                        tuple(float(v) for v in s.values))
+                         for s in t.tables),
+            locations=tuple((k, float(v)) for k, v in sorted(t.locations.items())),
+            thermal=tuple(ThermalRecord(th.sensor, th.axis.upper(), _THERMAL_KINDS[th.kind],
+                                        float(th.coefficient), float(th.t_ref_C),
+                                        float(th.q_min))
+                          for th in t.thermal),
+            limit_mm=float(_limit(t, "linear")),
+            limit_deg=float(_limit(t, "rotary")),
+        )
+    except ValueError as exc:
+        raise MapBuildError(f"map of {m.name!r} cannot be encoded: {exc}") from None
+
+
+_THERMAL_NAMES = {v: k for k, v in _THERMAL_KINDS.items()}
+
+
+def tables_from_payload(p: TablesPayload, machine: Machine) -> TablesMap:
+    """The tables map a payload carries, on the machine it was built for (the registered
+    description gives the chain; the payload's chain must match it).
+
+    Raises
+    ------
+    MapBuildError
+        The payload's axes are not the machine's.
+    """
+    names = tuple(a.name for a in p.axes)
+    if names != machine.axis_names:
+        raise MapBuildError(f"the map's axes {' '.join(names)} are not those of "
+                            f"{machine.name!r} ({' '.join(machine.axis_names)})")
+    w = np.array([s.weights for s in p.spindles], dtype=float)
+    limits = tuple(p.limit_deg if a.rotary else p.limit_mm for a in p.axes)
+    return TablesMap(
+        machine=machine, version=p.version,
+        controller="fanuc" if p.encoding is MapEncoding.INT32_INCREMENTS else "siemens",
+        tables=tuple(ComponentSamples(t.name, t.start, t.step,
+                                      np.asarray(t.values, dtype=float)) for t in p.tables),
+        locations=dict(p.locations),
+        thermal=tuple(ThermalTerm(_THERMAL_NAMES[r.kind],  # type: ignore[arg-type]
+                                  r.axis.lower(), r.sensor, r.coefficient, r.t_ref_C,
+                                  r.q_min)
+                      for r in p.thermal),
+        reversal=tuple(None if o.reversal is None else float(o.reversal) for o in p.outputs),
+        weights=Weights(w[:, :3].copy(), w[:, 3:].copy()),
+        tool_mm={s.name: s.tool_length_mm for s in p.spindles},
+        limits=limits, valid_s=p.valid_s,
+    )
+
+
+def _vec3(v: Any) -> tuple[float, float, float]:
+    return (float(v[0]), float(v[1]), float(v[2]))
+
+
+def _six(v: Any) -> tuple[float, float, float, float, float, float]:
+    return (float(v[0]), float(v[1]), float(v[2]), float(v[3]), float(v[4]), float(v[5]))
+
+
+def _limit(t: TablesMap, kind: str) -> float:
+    vals = [lim for a, lim in zip(t.machine.axes, t.limits, strict=True) if a.kind == kind]
+    return max(vals, default=1.0)
+
+
 def encode(content: MapContent) -> bytes:
     """The payload bytes a machine receives for ``content``."""
+    if isinstance(content, TablesMap):
+        return encode_payload(tables_to_payload(content))
     return encode_map(grid_to_payload(content))
+
+
+def with_size(content: MapContent) -> MapContent:
+    """``content`` with its report's ``bytes`` set to the encoded length."""
+    if content.report is None:
+        return content
+    report = dataclasses.replace(content.report, bytes=len(encode(content)))
+    return dataclasses.replace(content, report=report)
 
 
 def with_version(content: MapContent, version: int) -> MapContent:
@@ -94,18 +211,37 @@ def with_version(content: MapContent, version: int) -> MapContent:
 
 
 def kind_of(content: MapContent) -> MapKind:
-    return "grid"
+    return "tables" if isinstance(content, TablesMap) else "grid"
 
 
-CARRIES_THERMAL: Final[frozenset[MapKind]] = frozenset()
+CARRIES_THERMAL: Final[frozenset[MapKind]] = frozenset({"tables"})
 """Kinds whose payload carries the model's thermal terms: the machine applies its latest
 temperatures itself, so a temperature change needs no new map."""
 
 
+def declared_kinds(formats: MapEncoding) -> tuple[MapKind, ...]:
+    """The map kinds a machine that declared ``formats`` evaluates."""
+    kinds: list[MapKind] = []
+    if formats & MapEncoding.TABLES:
+        kinds.append("tables")
+    if formats & (MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM):
+        kinds.append("grid")
+    return tuple(kinds)
+
+
+def default_formats(controller: str) -> MapEncoding:
+    """What a machine of a controller family evaluates when it has not said (the
+    simulated Siemens-style endpoint evaluates tables, the Fanuc-style one grids)."""
+    if controller.lower() == "fanuc":
+        return MapEncoding.INT32_INCREMENTS
+    return MapEncoding.FLOAT32_MM | MapEncoding.TABLES
+
+
 def build_for(machine: Machine, model: MachineModel,
               temperatures: Mapping[str, float] | None = None, *,
-              kinds: MapEncoding | None = None, kind: str = "auto",
-              tolerance_um: float = 0.5, **options: Any) -> MapContent:
+              formats: MapEncoding | None = None, kind: str = "auto",
+              tolerance_um: float = 0.5, max_tolerance_um: float | None = None,
+              **options: Any) -> MapContent:
     """The map a machine receives.
 
     Parameters
@@ -125,21 +261,67 @@ def build_for(machine: Machine, model: MachineModel,
     MapBuildError
         An unknown or undeclared kind, or no kind meets the tolerance.
     """
-    if kind not in ("auto", "grid"):
-        raise MapBuildError(f"map kind {kind!r}: expected auto or grid")
-    try:
-        return build_map(machine, model, temperatures, tolerance_um=tolerance_um, **options)
-    except MapTooLargeError:
-        raise
+    t0 = time.perf_counter()
+    ctrl = str(options.get("controller") or machine.controller)
+    have = declared_kinds(default_formats(ctrl) if formats is None else formats)
+    if kind not in ("auto", "grid", "tables"):
+        raise MapBuildError(f"map kind {kind!r}: expected auto, grid or tables")
+    if kind != "auto" and kind not in have:
+        raise MapBuildError(f"machine {machine.name!r} does not evaluate {kind} maps (it "
+                            f"takes {', '.join(have) or 'none'})")
+    wanted = have if kind == "auto" else (kind,)
+    table_opts = {k: v for k, v in options.items() if k not in ("increment", "max_bytes",
+                                                                  "check_points")}
+    best: MapContent | None = None
+    if "tables" in wanted:
+        try:
+            best = with_size(build_tables_map(machine, model, temperatures,
+                                              tolerance_um=tolerance_um, **table_opts))
+        except MapBuildError:
+            if kind == "tables":
+                raise
+    if "grid" in wanted:
+        # a grid only wins when smaller: it may not grow beyond the tables' size (a
+        # five-axis grid at a tight tolerance would take seconds and megabytes), and the
+        # tables carry the thermal terms, so they win a tie when the model has any
+        limit = MAX_MAP_BYTES
+        if best is not None and best.report is not None:
+            limit = best.report.bytes - (1 if model.sensors else 0)
+        tol = tolerance_um
+        while True:
+            try:
+                grid = build_map(machine, model, temperatures, tolerance_um=tol,
+                                 max_bytes=max(limit, 1), **options)
+                best = grid
+                break
+            except MapTooLargeError:
+                if best is not None:
+                    break
+                if max_tolerance_um is None or tol * 2 > max_tolerance_um:
+                    raise
+                tol *= 2
+    if best is None:
+        raise MapBuildError(f"machine {machine.name!r}: no map kind it takes "
+                            f"({', '.join(have)}) meets {tolerance_um} µm")
+    report = best.report
+    if report is not None:
+        report = dataclasses.replace(report, build_s=time.perf_counter() - t0)
+        best = dataclasses.replace(best, report=report)
+    return best
 
 
 __all__ = [
     "CARRIES_THERMAL",
     "MapContent",
     "build_for",
+    "declared_kinds",
+    "default_formats",
     "encode",
     "grid_from_payload",
     "grid_to_payload",
     "kind_of",
+    "tables_from_payload",
+    "tables_to_payload",
+    "with_size",
     "with_version",
 ]

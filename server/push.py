@@ -9,14 +9,18 @@ One worker per session (started by the machine server after Welcome, see
   scheduler watches committed ``models`` rows and updated ``machines`` rows through
   SQLAlchemy session events, so every path that stores a model is covered);
 * when a temperature that its thermal model uses moves by more than ``threshold_K`` from
-  the temperature its current map was built at (MQTT or Telemetry);
+  the temperature its current map was built at (MQTT or Telemetry) -- only for a map kind
+  that does not carry the thermal terms (``grid``): a ``tables`` map carries them and the
+  machine applies its latest temperatures itself, so a temperature change needs no new map;
 * every ``period_s`` otherwise (catching whatever no event announced).
 
-Then it rebuilds the map if its inputs changed (model version, machine description,
-temperatures), stores the new version in ``map_versions`` with the temperatures used, and
-sends it; at a periodic wake it re-sends the current map when the machine does not have
-it applied (its last answer or its Telemetry say otherwise), except a version the machine
-rejected. A burst of wakes while a build runs gives one more build, not one per wake.
+Then it rebuilds the map if its inputs changed (model version, machine description, and
+temperatures for grids), picking the kind the machine evaluates (its Hello's map formats;
+:func:`server.mapcodec.build_for`: the smallest that meets the tolerance), stores the new
+version in ``map_versions`` with the temperatures used, and sends it; at a periodic wake
+it re-sends the current map when the machine does not have it applied (its last answer or
+its Telemetry say otherwise), except a version the machine rejected. A burst of wakes
+while a build runs gives one more build, not one per wake.
 
 Builds (:func:`server.mapcodec.build_for`) run on a thread pool of their own, so they
 neither stall the event loop nor take the threads the database calls use.
@@ -26,7 +30,6 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-import dataclasses
 import logging
 import os
 from collections.abc import Callable, Iterator, Mapping
@@ -39,7 +42,8 @@ from sqlalchemy import event
 from sqlalchemy.exc import SQLAlchemyError
 from sqlalchemy.orm import Session
 
-from protocol import ErrorCode, encode_map
+from protocol import ErrorCode, MapEncoding
+from server import mapcodec
 from server.center import Center
 from server.db import Database
 from server.db import error_models as model_repo
@@ -49,9 +53,8 @@ from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.link.session import LinkClosed, MachineSession
-from server.mapcodec import grid_to_payload
+from server.mapcodec import CARRIES_THERMAL, MapContent
 from server.temperatures import TemperatureBoard
-from volumetric.compensate.gridmap import ErrorMap, build_map_within
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
 
@@ -77,7 +80,8 @@ def thermal_sensors(body: Mapping[str, Any]) -> frozenset[str]:
 
 
 def build_for(description: Mapping[str, Any], controller: str, model_body: Mapping[str, Any],
-              temperatures: Mapping[str, float], tolerance_um: float) -> ErrorMap:
+              temperatures: Mapping[str, float], tolerance_um: float,
+              formats: MapEncoding | None = None) -> MapContent:
     """Build a machine's map (synchronous, seconds at most: run it off the loop).
 
     Raises
@@ -91,9 +95,16 @@ def build_for(description: Mapping[str, Any], controller: str, model_body: Mappi
         model = MachineModel.from_json(model_body)
     except (TypeError, KeyError) as exc:
         raise ValueError(f"stored model cannot be read: {exc}") from None
-    # the tightest tolerance that fits the map memory (five-axis maps can need a coarser one)
-    return build_map_within(machine, model, dict(temperatures), tolerance_um=tolerance_um,
-                            controller="fanuc" if controller == "fanuc" else "siemens")
+    # the smallest kind the machine takes; a grid alone is built at the tightest tolerance
+    # that fits the map memory (five-axis grids can need a coarser one)
+    return mapcodec.build_for(machine, model, dict(temperatures), formats=formats,
+                              tolerance_um=tolerance_um, max_tolerance_um=4.0,
+                              controller="fanuc" if controller == "fanuc" else "siemens")
+
+
+def payload_kind(payload: bytes) -> str:
+    """The kind of a stored payload from its format version (protocol/README.md §6)."""
+    return "tables" if payload[4:6] == b"\x02\x00" else "grid"
 
 
 # -- database steps (each runs in one transaction through Database.run)
@@ -113,12 +124,12 @@ def _load_inputs(session: Session, machine_id: int) -> _Inputs:
                    map_repo.get_map_version(session, machine_id, with_payload=False))
 
 
-def _store_map(session: Session, machine_id: int, built: ErrorMap, model_version: int,
+def _store_map(session: Session, machine_id: int, built: MapContent, model_version: int,
                temperatures: dict[str, float]) -> MapVersionRow:
     # above every version a machine of this name ever received: registered again, it still
     # holds its last map and would reject a lower version (STALE_VERSION)
     version = map_repo.next_map_version(session, machine_id)
-    payload = encode_map(grid_to_payload(dataclasses.replace(built, version=version)))
+    payload = mapcodec.encode(mapcodec.with_version(built, version))
     row = map_repo.add_map_version(session, machine_id, payload=payload,
                                    model_version=model_version, temperatures=temperatures)
     if row.version != version:  # cannot happen in one transaction; the payload says `version`
@@ -135,7 +146,7 @@ def _detail(version: int, size: int, why: str) -> str:
     return f"map version {version} ({size} bytes): {why}"
 
 
-def _store_and_send(session: Session, machine_id: int, name: str, built: ErrorMap,
+def _store_and_send(session: Session, machine_id: int, name: str, built: MapContent,
                     model_version: int, temperatures: dict[str, float],
                     why: str) -> tuple[MapVersionRow, int]:
     """Store a new map and note its delivery in one transaction (one commit saved on the
@@ -219,6 +230,17 @@ class _Target:
     failed: tuple[Any, ...] | None = None
     waiting_for: frozenset[str] = frozenset()
     resend: bool = False
+    kind: str | None = None
+    """Kind of the current map (None: not known yet)."""
+
+    @property
+    def formats(self) -> MapEncoding | None:
+        hello = self.session.hello
+        return None if hello is None else hello.map_formats
+
+    @property
+    def thermal_in_map(self) -> bool:
+        return self.kind in CARRIES_THERMAL
 
     def poke(self, why: str, *, resend: bool = False) -> None:
         self.why.append(why)
@@ -305,8 +327,8 @@ class PushScheduler:
 
     def _on_temperature(self, machine: str, column: str, celsius: float) -> None:
         target = self._targets.get(machine)
-        if target is None or column not in target.sensors:
-            return
+        if target is None or column not in target.sensors or target.thermal_in_map:
+            return  # a map that carries its thermal terms needs no rebuild
         built = target.built_temps.get(column)
         if built is None or abs(celsius - built) > self.threshold_K:
             target.poke(f"{column} now {celsius:.2f} °C")
@@ -357,11 +379,18 @@ class PushScheduler:
             return
         target.sensors = thermal_sensors(model.body)
         temps = self.temperatures.columns(target.name, sorted(target.sensors))
-        rebuild = self._rebuild_reason(machine, model, current, temps)
+        if current is not None and target.kind is None:
+            stored = await self.db.run(_payload, target.machine_id, current.version)
+            target.kind = payload_kind(stored) if stored else None
+        rebuild = self._rebuild_reason(machine, model, current,
+                                       {} if target.thermal_in_map else temps)
         payload: bytes | None = None
         applied_id: int | None = None
         if rebuild:
-            missing = target.sensors - temps.keys()
+            # a kind that carries the thermal terms is built without today's temperatures
+            takes_tables = bool(target.formats is None
+                                or target.formats & MapEncoding.TABLES)
+            missing = set() if takes_tables else target.sensors - temps.keys()
             if missing:
                 if missing != target.waiting_for:
                     target.waiting_for = frozenset(missing)
@@ -415,7 +444,7 @@ class PushScheduler:
         try:
             built = await loop.run_in_executor(
                 self._pool, build_for, machine.description, machine.controller, model.body,
-                temps, self.tolerance_um)
+                temps, self.tolerance_um, target.formats)
             row, applied_id = await self.db.run(_store_and_send, target.machine_id, target.name,
                                                 built, model.version, temps, why)
         except (ValueError, ArithmeticError) as exc:
@@ -424,7 +453,8 @@ class PushScheduler:
                                    f"map build failed ({why}): {exc}")
             return None
         target.failed = None
-        log.info("%s: built map version %d (%s)", target.name, row.version, why)
+        target.kind = mapcodec.kind_of(built)
+        log.info("%s: built %s map version %d (%s)", target.name, target.kind, row.version, why)
         return row, applied_id
 
     async def _deliver(self, target: _Target, version: int, payload: bytes, why: str,

@@ -14,22 +14,23 @@ from ednc.commands.compensate import (
     parse_weights,
 )
 from ednc.inputs import read_machine, read_model
-from protocol.mapformat import encode_map
-from server.mapcodec import grid_to_payload
+from server.mapcodec import MapContent, build_for, encode, kind_of
 from volumetric.compensate.gridmap import (
     DEFAULT_INCREMENT,
     DEFAULT_LIMIT_DEG,
     DEFAULT_LIMIT_MM,
-    ErrorMap,
     MapBuildError,
-    build_map,
 )
 from volumetric.compensate.solver import CompensationError
+from volumetric.compensate.tablesmap import TablesMap
 from volumetric.errors import ComponentErrorSpecError
 
 
-def summary(m: ErrorMap, out: Path | None) -> dict[str, Any]:
-    """The map's size and quality as one JSON-able object."""
+def summary(m: MapContent, out: Path | None) -> dict[str, Any]:
+    """The map's kind, size and quality as one JSON-able object (formats.md §3: at least
+    ``kind``, ``bytes``, ``worst_error_um`` and ``build_s``)."""
+    if isinstance(m, TablesMap):
+        return _tables_summary(m, out)
     r = m.report
     return {
         "machine": m.machine,
@@ -48,7 +49,28 @@ def summary(m: ErrorMap, out: Path | None) -> dict[str, Any]:
     }
 
 
-def _text(m: ErrorMap, out: Path | None) -> str:
+def _tables_summary(m: TablesMap, out: Path | None) -> dict[str, Any]:
+    r = m.report
+    return {
+        "machine": m.machine.name, "controller": m.controller, "version": m.version,
+        "out": str(out) if out is not None else None,
+        "tables": [{"name": t.name, "start": t.start, "step": t.step,
+                    "entries": int(t.values.size)} for t in m.tables],
+        "locations": dict(m.locations),
+        "thermal": [{"effect": t.kind, "axis": t.axis, "sensor": t.sensor}
+                    for t in m.thermal],
+        "outputs": list(m.outputs),
+        "limits": dict(zip(m.outputs, m.limits, strict=True)),
+        "reversal": {o: r_ for o, r_ in zip(m.outputs, m.reversal, strict=True)
+                     if r_ is not None},
+        "temperatures": dict(m.temperatures),
+        **(r.to_json() if r is not None else {}),
+    }
+
+
+def _text(m: MapContent, out: Path | None) -> str:
+    if isinstance(m, TablesMap):
+        return _tables_text(m, out)
     r = m.report
     assert r is not None
     unit = (f"int32 counts of {m.increment:g} mm (deg)" if m.increment is not None
@@ -64,6 +86,21 @@ def _text(m: ErrorMap, out: Path | None) -> str:
         f"clamped nodes: {r.clamped_nodes}; built in {r.build_s:.2f} s",
     ]
     return "\n".join(lines)
+
+
+def _tables_text(m: TablesMap, out: Path | None) -> str:
+    r = m.report
+    assert r is not None
+    thermal = (f"; thermal terms of {', '.join(m.sensors)} applied by the machine"
+               if m.thermal else "")
+    return "\n".join([
+        f"tables map of {m.machine.name} v{m.version} for {m.controller}: {len(m.tables)} "
+        f"component tables, {r.nodes} values, {len(m.locations)} location constants"
+        f"{thermal}; {r.bytes} bytes" + (f" -> {out}" if out is not None else ""),
+        f"worst tool-tip error as the machine computes it {r.worst_error_um:.3f} µm "
+        f"(tolerance {r.tolerance_um:g} µm, {r.check_points} random check points)",
+        f"built in {r.build_s:.2f} s (of which the check {r.check_s:.2f} s)",
+    ])
 
 
 def register(app: typer.Typer) -> None:
@@ -95,6 +132,11 @@ def register(app: typer.Typer) -> None:
             "--limit-deg", help="Clamp rotary corrections to ±this, degrees.")
         ] = DEFAULT_LIMIT_DEG,
         version: Annotated[int, typer.Option("--version", help="Map version, >= 1.")] = 1,
+        kind: Annotated[str, typer.Option(
+            "--kind", help="auto (the smallest the controller evaluates that meets the "
+                           "tolerance), tables (component tables the machine evaluates: "
+                           "Siemens-style endpoints) or grid (corrections on a grid).")
+        ] = "auto",
     ) -> None:
         """Build the error map (corrections on a grid chosen to meet the tolerance) and
         write it in the binary map format the machines receive."""
@@ -108,21 +150,28 @@ def register(app: typer.Typer) -> None:
         if missing:
             raise UserError(f"{model_path}: the model needs the temperatures of "
                             f"{', '.join(missing)}; give them with --temperature NAME=°C")
+        if kind not in ("auto", "tables", "grid"):
+            raise UserError(f"--kind {kind!r}: expected auto, tables or grid")
+        options: dict[str, Any] = {"increment": increment} if ctrl == "fanuc" else {}
         try:
-            m = build_map(
-                machine, model, temps,
+            m = build_for(
+                machine, model, temps, kind=kind,
                 tolerance_um=tolerance_um,
                 controller="fanuc" if ctrl == "fanuc" else "siemens",
-                increment=increment, limit_mm=limit_mm, limit_deg=limit_deg,
-                weights=parse_weights(weights, machine), version=version,
+                limit_mm=limit_mm, limit_deg=limit_deg,
+                weights=parse_weights(weights, machine), version=version, **options,
             )
-            payload = encode_map(grid_to_payload(m))
+            payload = encode(m)
         except (MapBuildError, CompensationError, ComponentErrorSpecError) as exc:
             raise UserError(str(exc)) from None
         try:
             out.write_bytes(payload)
         except OSError as exc:
             raise UserError(f"{out}: cannot write ({exc.strerror or exc})") from None
+        r = m.report
+        if r is not None and r.worst_error_um > tolerance_um:
+            typer.echo(f"warning: the {kind_of(m)} map leaves {r.worst_error_um:.3f} µm, over "
+                       f"the {tolerance_um:g} µm asked for (quantisation)", err=True)
         if as_json:
             typer.echo(json.dumps(summary(m, out)))
         else:

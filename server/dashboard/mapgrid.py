@@ -1,9 +1,11 @@
 """A 2-D slice of an encoded error map, for a heat map per output axis (pure, numpy).
 
-The map payload (protocol README §6) holds values of shape ``(count_1, ..., count_D, K)``;
+A grid payload (protocol README §6) holds values of shape ``(count_1, ..., count_D, K)``;
 the slice spans two grid axes ``u`` and ``v`` and holds every other grid axis at its node
-nearest the middle of its range. Values come out in µm for linear output axes and µrad for
-rotary ones (the payload holds counts of the increment, or mm / degrees).
+nearest the middle of its range. A tables payload holds no grid: its corrections are
+evaluated (as the center evaluates them, :func:`server.mapcodec.tables_from_payload`) on a
+display grid of ``DISPLAY_NODES`` per axis over two machine axes, the others at
+mid-travel. Values come out in µm for linear output axes and µrad for rotary ones.
 """
 
 from __future__ import annotations
@@ -12,9 +14,16 @@ import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
-from protocol.mapformat import ErrorMapPayload, MapFormatError, decode_map
+from protocol.mapformat import ErrorMapPayload, MapFormatError
+from protocol.maptables import TablesPayload, decode_payload
 from server.dashboard.schemas import GridAxisView, MapGrid, MapSlice
 from server.dashboard.telemetry import ROTARY, UM_PER_MM, URAD_PER_DEG
+from server.mapcodec import tables_from_payload
+from volumetric.compensate.maps import MapBuildError
+from volumetric.compensate.solver import CompensationError
+from volumetric.model.machine import Machine
+
+DISPLAY_NODES = 21
 
 
 class MapSliceError(ValueError):
@@ -30,10 +39,10 @@ def _scale(name: str) -> float:
     return URAD_PER_DEG if _is_rotary(name) else UM_PER_MM
 
 
-def decode_stored(payload: bytes) -> ErrorMapPayload:
+def decode_stored(payload: bytes) -> ErrorMapPayload | TablesPayload:
     """Decode a stored payload; :class:`MapSliceError` names what is wrong."""
     try:
-        return decode_map(payload)
+        return decode_payload(payload)
     except MapFormatError as exc:
         raise MapSliceError(f"the stored map does not decode: {exc}") from None
 
@@ -117,3 +126,73 @@ def slice_map(payload: ErrorMapPayload, u: str | None = None, v: str | None = No
         u=u, v=v, fixed=fixed, outputs=slices,
     )
 
+
+
+def slice_tables(payload: TablesPayload, machine: Machine, u: str | None = None,
+                 v: str | None = None) -> MapGrid:
+    """The corrections of a tables map over machine axes ``u`` and ``v`` (by default the
+    first two linear axes), on a display grid, the other axes at mid-travel.
+
+    Raises
+    ------
+    MapSliceError
+        An axis the machine does not have, ``u == v``, or a map that does not fit the
+        machine's registered description.
+    """
+    names = list(machine.axis_names)
+    linear = [a.name for a in machine.axes if a.kind == "linear"] or names
+    u = u if u is not None else linear[0]
+    if v is None and len(names) > 1:
+        v = next(n for n in (linear + names) if n != u)
+    for which, name in (("u", u), ("v", v)):
+        if name is not None and name not in names:
+            raise MapSliceError(f"{which}={name!r} is not an axis of {machine.name!r} "
+                                f"(it has {', '.join(names)})")
+    if u == v:
+        raise MapSliceError(f"u and v are both {u!r}; choose two different axes")
+    try:
+        content = tables_from_payload(payload, machine)
+    except MapBuildError as exc:
+        raise MapSliceError(str(exc)) from None
+    axes = {a.name: a for a in machine.axes}
+    views, fixed, nodes = [], {}, {}
+    for a in machine.axes:  # every axis is offered for the plot: list them all
+        lo, hi = float(a.travel[0]), float(a.travel[1])
+        step = (hi - lo) / (DISPLAY_NODES - 1) if hi > lo else 1.0
+        views.append(GridAxisView(name=a.name, unit="deg" if a.kind == "rotary" else "mm",
+                                  start=lo, step=step, count=DISPLAY_NODES))
+        if a.name in (u, v):
+            nodes[a.name] = lo + step * np.arange(DISPLAY_NODES)
+        else:
+            fixed[a.name] = 0.5 * (lo + hi)
+    uu = nodes[u]
+    vv = nodes[v] if v is not None else np.array([0.0])
+    gv, gu = np.meshgrid(vv, uu, indexing="ij")  # rows follow v, columns u
+    q = np.empty((gu.size, len(names)))
+    for j, name in enumerate(names):
+        if name == u:
+            q[:, j] = gu.ravel()
+        elif name == v:
+            q[:, j] = gv.ravel()
+        else:
+            q[:, j] = fixed[name]
+    try:
+        dq = content.corrections(q)
+    except CompensationError as exc:
+        raise MapSliceError(f"the map's corrections cannot be evaluated: {exc}") from None
+    slices = []
+    for k, out in enumerate(payload.outputs):
+        scale = URAD_PER_DEG if axes[out.name].kind == "rotary" else UM_PER_MM
+        grid_values = dq[:, k].reshape(gu.shape) * scale
+        reversal = None if out.reversal is None else float(out.reversal) * scale
+        slices.append(MapSlice(
+            output=out.name, unit="µrad" if axes[out.name].kind == "rotary" else "µm",
+            reversal=reversal, values=np.round(grid_values, 4).tolist(),
+            min=float(grid_values.min()), max=float(grid_values.max()),
+        ))
+    return MapGrid(
+        machine=payload.machine, version=payload.version, kind="tables",
+        encoding="int32" if payload.encoding == MapEncoding.INT32_INCREMENTS else "float32",
+        increment_mm=payload.increment_mm, grid=views, u=u, v=v, fixed=fixed,
+        outputs=slices,
+    )

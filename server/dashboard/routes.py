@@ -28,12 +28,13 @@ from fastapi import APIRouter, HTTPException, Query, Request, status
 from fastapi.responses import FileResponse, HTMLResponse, StreamingResponse
 from sqlalchemy.orm import Session
 
+from protocol.maptables import TablesPayload
 from server.api.deps import CenterDep, DatabaseDep, MachineDep, ReportId, Version
 from server.api.errors import NOT_FOUND, Problem, unprocessable
 from server.center import Center
 from server.dashboard.diagonals import diagonal_profiles
 from server.dashboard.live import LiveFeed, sse_stream
-from server.dashboard.mapgrid import MapSliceError, decode_stored, slice_map
+from server.dashboard.mapgrid import MapSliceError, decode_stored, slice_map, slice_tables
 from server.dashboard.modelview import ModelViewError, model_view
 from server.dashboard.schemas import (
     DashboardSnapshot,
@@ -57,7 +58,9 @@ from server.db import reports as report_repo
 from server.db.tables import DiagnosisRow, MachineRow
 from server.plant import plant_view
 from server.temperatures import TemperatureBoard
+from volumetric.errors import MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, read_measurements
+from volumetric.model.machine import parse_machine
 from volumetric.verify.iso230_6 import DiagonalTestError
 
 STATIC = Path(__file__).resolve().parent.parent / "static"
@@ -144,6 +147,13 @@ async def _grid(db: DatabaseDep, machine: MachineRow, version: int | None,
         raise HTTPException(status.HTTP_409_CONFLICT,
                             f"map v{row.version} of {machine.name!r}: {exc}") from None
     try:
+        if isinstance(payload, TablesPayload):
+            try:
+                described = parse_machine(machine.description)
+            except MachineSpecError as exc:
+                raise MapSliceError(f"the registered description does not parse: {exc}"
+                                    ) from None
+            return await asyncio.to_thread(slice_tables, payload, described, u, v)
         return await asyncio.to_thread(slice_map, payload, u, v)
     except MapSliceError as exc:
         raise unprocessable(["query"], str(exc), "grid_axis") from None

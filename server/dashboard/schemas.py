@@ -182,6 +182,9 @@ class MapGrid(BaseModel):
 
     machine: str
     version: int
+    kind: Literal["grid", "tables"] = Field(
+        default="grid", description="grid: the map's own nodes; tables: the corrections "
+                                    "the machine computes, on a display grid.")
     encoding: Literal["int32", "float32"]
     increment_mm: float
     grid: list[GridAxisView]

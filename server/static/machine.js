@@ -192,10 +192,12 @@
     const fixed = Object.entries(grid.fixed)
       .map(([k, v]) => `${k} = ${num(v, 1)} ${grid.grid.find((g) => g.name === k).unit}`)
       .join(", ");
+    const kind = grid.kind === "tables"
+      ? "component tables the machine evaluates (shown as it computes them)"
+      : `grid ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")}`;
     const caption = `v${grid.version}, ${grid.encoding}` +
       (grid.encoding === "int32" ? ` (${num(grid.increment_mm * 1000, 1)} µm per count)` : "") +
-      `, grid ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")}` +
-      (fixed ? `; held at ${fixed}` : "");
+      `, ${kind}` + (fixed ? `; held at ${fixed}` : "");
     EDNC.fill(box, ...grid.outputs.map((s) => el("figure", { "data-output": s.output },
       grid.v ? [heatmap(grid, s), legend(s)] : profile(grid, s),
       el("figcaption", {}, el("b", {}, `Correction of ${s.output}`),
