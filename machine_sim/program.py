@@ -20,7 +20,7 @@ from dataclasses import dataclass, field, replace
 from typing import Literal
 
 import numpy as np
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from volumetric.model.machine import Machine
 
@@ -180,6 +180,19 @@ class Trajectory:
     rpm: F64
     marks: tuple[Mark, ...]
     final: MachineState
+
+    def at(self, times_s: ArrayLike) -> F64:
+        """The interpolator's set points at ``times_s`` (M,): positions (M, n_axes), mm or
+        degrees, linear between knots (held before the first and after the last).
+
+        Two knots at one time (a spindle command) carry the same position, so the
+        interpolation is well defined there.
+        """
+        t = np.asarray(times_s, dtype=float)
+        out = np.empty((t.shape[0], self.q.shape[1]))
+        for j in range(self.q.shape[1]):
+            out[:, j] = np.interp(t, self.knots_s, self.q[:, j])
+        return out
 
     def loads(self, grid_s: F64, machine: Machine) -> tuple[F64, dict[str, F64]]:
         """Mean spindle speed (rpm) and axis speeds (m/min, by axis key) over grid steps.
