@@ -10,7 +10,7 @@ from __future__ import annotations
 import asyncio
 import os
 import stat
-from collections.abc import AsyncIterator
+from collections.abc import AsyncIterator, MutableMapping
 from contextlib import asynccontextmanager
 from pathlib import Path
 from typing import Any
@@ -113,9 +113,9 @@ async def test_the_guard_never_calls_receive_for_an_unauthenticated_write() -> N
     async def receive() -> dict[str, Any]:
         raise AssertionError("the body was read")
 
-    sent: list[dict[str, Any]] = []
+    sent: list[MutableMapping[str, Any]] = []
 
-    async def send(message: dict[str, Any]) -> None:
+    async def send(message: MutableMapping[str, Any]) -> None:
         sent.append(message)
 
     guard = Guard(app, lambda: (API_KEY, None))
@@ -158,7 +158,8 @@ async def test_a_chunked_body_is_cut_at_the_route_limit(tmp_path: Path) -> None:
 
 async def test_a_stalled_body_is_408(tmp_path: Path) -> None:
     app = center_app(tmp_path)
-    for m in app.user_middleware:  # the guard's body deadline, short for the test
+    middleware: list[Any] = app.user_middleware
+    for m in middleware:  # the guard's body deadline, short for the test
         if m.cls is Guard:
             m.kwargs["idle_s"] = 0.3
     async with asyncio.timeout(DEADLINE_S), serving(app) as port:

@@ -57,6 +57,7 @@ class AddressBook:
         self.db = db
         self.refresh_s = refresh_s
         self._addresses: frozenset[str] = frozenset()
+        self._added_meanwhile: set[str] = set()
         self._changed_secrets: set[int] = set()
         self._loop: asyncio.AbstractEventLoop | None = None
         self._dirty = asyncio.Event()
@@ -71,7 +72,10 @@ class AddressBook:
             return frozenset(session.scalars(select(MachineRow.ip)))
 
     async def refresh(self) -> None:
-        self._addresses = await asyncio.to_thread(self._load)
+        # addresses added while the read runs may be missing from it: keep them too
+        self._added_meanwhile = set()
+        loaded = await asyncio.to_thread(self._load)
+        self._addresses = loaded | self._added_meanwhile
 
     # -- change notifications (SQLAlchemy session events, on worker threads)
     _KEY: Final = "ednc.admission.changed"
@@ -79,10 +83,13 @@ class AddressBook:
     def _after_flush(self, session: Session, _context: Any) -> None:
         if session.bind is not self.db.engine:
             return
-        info = session.info.setdefault(self._KEY, {"machines": False, "secrets": set()})
+        info = session.info.setdefault(self._KEY, {"machines": False, "secrets": set(),
+                                                    "ips": set()})
         for obj in (*session.new, *session.dirty, *session.deleted):
             if isinstance(obj, MachineRow):
                 info["machines"] = True
+                if obj not in session.deleted:
+                    info["ips"].add(obj.ip)
                 if obj in session.dirty and inspect(obj).attrs.secret.history.has_changes():
                     info["secrets"].add(obj.id)
 
@@ -90,8 +97,11 @@ class AddressBook:
         info = session.info.pop(self._KEY, None)
         if info and self._loop is not None:
             with contextlib.suppress(RuntimeError):  # loop closed: nobody left to tell
+                # scheduled before the committing caller's own wake-up (asyncio.to_thread
+                # resolves its future the same way, later): a machine registered and
+                # connecting at once finds its address already admitted
                 self._loop.call_soon_threadsafe(self._changed, info["machines"],
-                                                set(info["secrets"]))
+                                                set(info["secrets"]), set(info["ips"]))
 
     def _after_soft_rollback(self, session: Session, _previous: Any) -> None:
         session.info.pop(self._KEY, None)
@@ -100,9 +110,12 @@ class AddressBook:
         # ``delete(MachineRow)`` statements bypass the flush; refresh on them too
         if update_context.session.bind is self.db.engine and self._loop is not None:
             with contextlib.suppress(RuntimeError):
-                self._loop.call_soon_threadsafe(self._changed, True, set())
+                self._loop.call_soon_threadsafe(self._changed, True, set(), set())
 
-    def _changed(self, machines: bool, secrets: set[int]) -> None:
+    def _changed(self, machines: bool, secrets: set[int], ips: set[str]) -> None:
+        if ips:
+            self._addresses |= ips  # at once; removals wait for the refresh
+            self._added_meanwhile |= ips
         if machines:
             self._dirty.set()
         if secrets and self._on_secret_change is not None:
