@@ -55,7 +55,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.identify.design import axis_positions, build_design
+from volumetric.identify.design import Param, axis_positions, build_design, fourier_axis
 from volumetric.identify.fit import FitError, fit, model_from_parameters
 from volumetric.identify.thermal import fit_thermal_drift
 from volumetric.measure.measurement import Measurements
@@ -91,6 +91,12 @@ class Candidate:
     sensor: str | None
     columns: F64  # (N, k)
     extra: dict[str, Any] = field(default_factory=dict)  # e.g. the period of a periodic
+    drop: tuple[int, ...] = ()  # base columns the extension replaces (not adds to)
+
+    def design(self, a0: F64) -> F64:
+        """The base design with this extension: ``(N, P - len(drop) + k)``."""
+        base = np.delete(a0, list(self.drop), axis=1) if self.drop else a0
+        return np.column_stack((base, self.columns))
 
     @property
     def label(self) -> str:
@@ -211,9 +217,15 @@ def _temperature_columns(m: Measurements) -> dict[str, F64]:
 
 
 def candidates(
-    machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_]
+    machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_],
+    base_params: list[Param] | None = None,
 ) -> tuple[list[Candidate], dict[str, str]]:
-    """The library of extensions for these readings, and what cannot be assessed."""
+    """The library of extensions for these readings, and what cannot be assessed.
+
+    ``base_params`` (the base model's parameters, in its design's column order) adds a
+    ``rotary_periodic`` candidate per rotary axis of long travel: its components'
+    polynomial columns replaced by harmonics of the angle.
+    """
     q = axis_positions(machine, m)
     disp = ~m.is_angle
     temps = _temperature_columns(m)
@@ -263,7 +275,61 @@ def candidates(
         if np.ptp(m.time_s) > 0:
             out.append(Candidate("time_drift", key, None,
                                  (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
+    if base_params is not None:
+        out += _rotary_candidates(machine, m, base_params, missing, train)
     return out, missing
+
+
+def _rotary_candidates(
+    machine: Machine, m: Measurements, base_params: list[Param],
+    missing: dict[str, str], train: NDArray[np.bool_],
+) -> list[Candidate]:
+    """``rotary_periodic`` per rotary axis of long travel (see :func:`candidates`).
+
+    The candidate is the rigid model as ``ednc fit`` identifies it on the training
+    readings with this axis's components in harmonics of the angle (orders 1 ..
+    :func:`volumetric.identify.design.fourier_order` by BIC; harmonics the readings
+    cannot tell from the rest of the model, such as the part of a once-per-turn radial
+    or tilt motion that is the axis's location error, removed). Adding every harmonic
+    to the base would leave ill-determined directions that inflate the held-out errors.
+    """
+    out: list[Candidate] = []
+    for axis in machine.axes:
+        if axis.kind != "rotary":
+            continue
+        key = f"rotary_periodic {axis.key}"
+        if not fourier_axis(axis):
+            missing[key] = (
+                f"axis {axis.name} travels {axis.travel[1] - axis.travel[0]:g}°: too little "
+                "of a turn to tell harmonics from its smooth component errors")
+            continue
+        angles = np.unique(np.round(axis_positions(machine, m)[
+            train, machine.axis_names.index(axis.name)], 3))
+        if angles.size < 5:
+            missing[key] = f"axis {axis.name} is read at {angles.size} angles: too few"
+            continue
+        design = build_design(machine, m, fourier=frozenset({axis.name}))
+        try:
+            periodic = fit(machine, m.select(train), fourier=frozenset({axis.name}))
+        except FitError:
+            missing[key] = f"the model with harmonics of {axis.name} cannot be identified"
+            continue
+        # the harmonics as `ednc fit` selects them (orders by BIC, confounded ones out)
+        chosen = [p for p in periodic.params if p.basis == "fourier"]
+        if not chosen:
+            missing[key] = f"no harmonic of {axis.name} is identifiable from the readings"
+            continue
+        # the whole refitted model replaces the base: the base's degrees were chosen with
+        # the periodic error distorting them, and keeping them overfits
+        cols = design.columns([p.name for p in periodic.params])
+        out.append(Candidate("rotary_periodic", axis.key, None, design.matrix[:, cols],
+                             {"params": periodic.params}, tuple(range(len(base_params)))))
+    return out
+
+
+def _of_axis(p: Param, axis: str) -> bool:
+    """True for a component coefficient (not a location or offset) of ``axis``."""
+    return p.degree >= 0 and p.component[2:] == axis
 
 
 def _shortest_period(q: F64) -> float:
@@ -351,10 +417,12 @@ def diagnose(
         fold_ids = sorted(int(f) for f in np.unique(folds))
 
     try:
-        base_fit = fit(machine, m.select(train))
+        # the smooth model (polynomials on every axis): a periodic rotary error motion is
+        # one of the candidates, named when its harmonics make the held-out gain
+        base_fit = fit(machine, m.select(train), fourier=False)
     except FitError as exc:
         raise DiagnosisError(f"the rigid model cannot be identified: {exc}") from None
-    design = build_design(machine, m)
+    design = build_design(machine, m, fourier=False)
     names = [p.name for p in base_fit.params]
     a0 = design.matrix[:, design.columns(names)]
     trained = m.select(train)
@@ -376,11 +444,11 @@ def diagnose(
     rms_before = _rms(base_heldout[judge])
     full_base_resid = y - a0 @ _pinv_solve(a0[train].T @ (a0[train] * w[train, None]),
                                            (a0[train] * w[train, None]).T @ y[train])
-    cands, missing = candidates(machine, m, full_base_resid, train)
+    cands, missing = candidates(machine, m, full_base_resid, train, base_fit.params)
     order_judge = order[judge[order]]
     scored: list[Scored] = []
     for c in cands:
-        r = heldout(np.column_stack((a0, c.columns)))
+        r = heldout(c.design(a0))
         rms = _rms(r[judge])
         z = _significance(base_heldout, r, order_judge, np.any(c.columns != 0, axis=1))
         scored.append(Scored(c, r, rms, z, (rms_before - rms) / rms_before))
@@ -390,7 +458,7 @@ def diagnose(
         best_drift = min(drift, key=lambda s: s.rms_after_um)
         dyn = _dynamic_drift(m, best_drift.candidate, full_base_resid, train, order)
         if dyn is not None:
-            r = heldout(np.column_stack((a0, dyn.columns)))
+            r = heldout(dyn.design(a0))
             rms = _rms(r[judge])
             z = _significance(base_heldout, r, order_judge, np.any(dyn.columns != 0, axis=1))
             scored.append(Scored(dyn, r, rms, z, (rms_before - rms) / rms_before))
@@ -422,11 +490,21 @@ def diagnose(
         # the static family names the effect; the dynamic model is its refinement
         estimate["dynamic"] = c.extra.get("description", {})
     effect, axis, sensor = static.effect, static.axis, static.sensor
-    # the rigid part refitted together with the effect, so it no longer carries a share of
-    # it (a drift seen as straightness, a backlash as positioning error)
-    geometry = model_from_parameters(machine, base_fit.params, joint).geometry
-    model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
-                         {**base_fit.model.info, "extended_with": effect})
+    if effect == "rotary_periodic":
+        # the extension is the rigid model itself in the Fourier basis: what `ednc fit` gives
+        # every rotary axis whose harmonics make a significant gain on their own
+        axes = frozenset(machine.axis(s.candidate.axis).name for s in scored
+                         if s.candidate.effect == "rotary_periodic"
+                         and s.z >= Z_MIN and s.gain >= MIN_GAIN)
+        periodic_fit = fit(machine, m.select(train), fourier=axes | {machine.axis(axis).name})
+        model = MachineModel(machine.name, periodic_fit.model.geometry, (),
+                             {**periodic_fit.model.info, "extended_with": effect})
+    else:
+        # the rigid part refitted together with the effect, so it no longer carries a
+        # share of it (a drift seen as straightness, a backlash as positioning error)
+        geometry = model_from_parameters(machine, base_fit.params, joint).geometry
+        model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
+                             {**base_fit.model.info, "extended_with": effect})
     alternatives = sorted({s.candidate.sensor for s in scored
                            if s.candidate.effect == effect and s.candidate.axis == axis
                            and s.candidate.sensor not in (None, sensor)
@@ -443,7 +521,7 @@ def _estimate(
 ) -> tuple[dict[str, Any], Term | None, F64]:
     """Fit base + candidate on the training readings: the effect in physical units, its
     model term, and the rigid parameters of the joint fit."""
-    a = np.column_stack((a0, c.columns))
+    a = c.design(a0)
     at, wt, yt = a[train], w[train], y[train]
     g = at.T @ (at * wt[:, None])
     x = _pinv_solve(g, (at * wt[:, None]).T @ yt)
@@ -491,7 +569,43 @@ def _physical(
                 PeriodicTerm(c.axis, amp, period, phase))
     if c.effect == "time_drift":
         return ({"um_per_h": float(coef[0]), "um_per_h_std": float(std[0])}, None)
+    if c.effect == "rotary_periodic":
+        return _rotary_estimate(c.extra["params"], coef, std), None
     raise ValueError(f"unknown effect {c.effect}")
+
+
+def _rotary_estimate(params: list[Param], coef: F64, std: F64) -> dict[str, Any]:
+    """Harmonic amplitudes of a rotary axis's components: the strongest order per turn,
+    its largest radial/axial (µm) and angular (µrad) amplitude, and every component's
+    amplitudes by order (with standard uncertainties, first order propagated).
+
+    ``params`` are all the candidate's parameters; only the harmonics count."""
+    amp: dict[str, dict[int, tuple[float, float]]] = {}
+    parts: dict[tuple[str, int], list[tuple[float, float]]] = {}
+    for p, v, u in zip(params, coef, std, strict=True):
+        if p.basis != "fourier":
+            continue
+        parts.setdefault((p.component, (p.degree + 1) // 2), []).append((float(v), float(u)))
+    for (comp, k), vu in parts.items():
+        a = math.hypot(*(v for v, _ in vu))
+        ua = math.sqrt(sum((v * u) ** 2 for v, u in vu)) / max(a, 1e-12)
+        amp.setdefault(comp, {})[k] = (a, ua)
+    # the order whose harmonics, in units of their own uncertainty, stand out most
+    score: dict[int, float] = {}
+    for by_k in amp.values():
+        for k, (a, ua) in by_k.items():
+            score[k] = score.get(k, 0.0) + (a / max(ua, 1e-12)) ** 2
+    order = max(score, key=lambda k: score[k])
+    radial = [(a, ua) for comp, by_k in amp.items() if comp[1] in "XYZ"
+              for k, (a, ua) in by_k.items() if k == order]
+    angular = [(a, ua) for comp, by_k in amp.items() if comp[1] in "ABC"
+               for k, (a, ua) in by_k.items() if k == order]
+    best_r = max(radial, default=(0.0, 0.0))
+    best_a = max(angular, default=(0.0, 0.0))
+    return {"order": order, "radial_um": best_r[0], "radial_um_std": best_r[1],
+            "angular_urad": best_a[0], "angular_urad_std": best_a[1],
+            "components": {comp: {str(k): round(a, 3) for k, (a, _) in sorted(by_k.items())}
+                           for comp, by_k in sorted(amp.items())}}
 
 
 def _dynamic_drift(

@@ -79,10 +79,22 @@ class Param:
     basis: str = "legendre"
 
 
-def full_turn(axis: Axis) -> bool:
+def fourier_axis(axis: Axis) -> bool:
     """True for a rotary axis whose components take the Fourier basis (travel of at least
-    ``PERIODIC_SPAN_DEG``; the name is kept from when only full turns did)."""
+    ``PERIODIC_SPAN_DEG``)."""
     return axis.kind == "rotary" and axis.travel[1] - axis.travel[0] >= PERIODIC_SPAN_DEG
+
+
+FourierChoice = bool | frozenset[str]
+"""Which rotary axes take the Fourier basis: True every one of long travel, False none, a
+set of axis names those of them (the diagnosis tries one axis at a time)."""
+
+
+def uses_fourier(axis: Axis, fourier: FourierChoice) -> bool:
+    """Whether ``axis``'s components are in the Fourier basis under the choice ``fourier``."""
+    if not fourier_axis(axis):
+        return False
+    return fourier if isinstance(fourier, bool) else axis.name in fourier
 
 
 def fourier_order(axis: Axis) -> int:
@@ -113,8 +125,8 @@ def min_degree(machine: Machine, axis: Axis, direction: str) -> int:
     return 1
 
 
-def max_degree(axis: Axis, direction: str) -> int:
-    if full_turn(axis):
+def max_degree(axis: Axis, direction: str, fourier: FourierChoice = True) -> int:
+    if uses_fourier(axis, fourier):
         return 2 * fourier_order(axis)
     if axis.kind == "rotary":
         return MAX_DEGREE_ROTARY
@@ -171,8 +183,8 @@ class Design:
         return np.array([index[n] for n in names], dtype=np.intp)
 
 
-def _basis(q: F64, axis: Axis, degrees: range) -> F64:
-    if full_turn(axis):
+def _basis(q: F64, axis: Axis, degrees: range, fourier: FourierChoice) -> F64:
+    if uses_fourier(axis, fourier):
         return fourier_basis(q, degrees)
     lo, hi = axis.travel
     s = (2.0 * q - lo - hi) / (hi - lo)
@@ -209,6 +221,7 @@ def build_design(
     *,
     degrees: Mapping[str, int] | None = None,
     offsets: bool = True,
+    fourier: FourierChoice = True,
 ) -> Design:
     """Design matrix of the rigid model for the readings.
 
@@ -220,6 +233,10 @@ def build_design(
         Highest degree per component (ISO name); the module's maxima otherwise.
     offsets : bool
         Include the tool-tip offset parameters.
+    fourier : bool or frozenset of str
+        Rotary axes of long travel in the Fourier basis (module docstring): all (True),
+        none (False: polynomials everywhere, the smooth model the diagnosis extends) or
+        those named.
 
     Returns
     -------
@@ -259,14 +276,14 @@ def build_design(
             for j, name in enumerate(s.names):
                 direction = DIRECTIONS[j]
                 lo = min_degree(machine, axis, direction)
-                hi = max_degree(axis, direction)
+                hi = max_degree(axis, direction, fourier)
                 if degrees is not None:
                     hi = min(hi, degrees.get(name, hi))
                 if hi < lo:
                     continue
-                basis = _basis(q[rows, s.column], axis, range(lo, hi + 1))
+                basis = _basis(q[rows, s.column], axis, range(lo, hi + 1), fourier)
                 unit = "urad" if direction in "ABC" else "um"
-                kind = "fourier" if full_turn(axis) else "legendre"
+                kind = "fourier" if uses_fourier(axis, fourier) else "legendre"
                 for k in range(lo, hi + 1):
                     add(Param(f"{name}[{k}]", name, k, unit, kind), rows,
                         proj[:, j] * basis[:, k - lo])
@@ -316,9 +333,10 @@ __all__ = [
     "build_design",
     "component_fourier",
     "component_polynomial",
+    "fourier_axis",
     "fourier_basis",
-    "full_turn",
     "location_names",
     "max_degree",
     "min_degree",
+    "uses_fourier",
 ]

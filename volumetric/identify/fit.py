@@ -32,7 +32,6 @@ from volumetric.identify.design import (
     build_design,
     component_fourier,
     component_polynomial,
-    full_turn,
 )
 from volumetric.measure.measurement import Measurements
 from volumetric.model.components import Component, GeometricErrors
@@ -307,6 +306,7 @@ def fit(
     *,
     degrees: Mapping[str, int] | None = None,
     select: bool = True,
+    fourier: bool | frozenset[str] = True,
 ) -> FitResult:
     """Identify the rigid model of a machine from readings.
 
@@ -318,6 +318,10 @@ def fit(
         Highest degree per component; chosen from the data when ``select``.
     select : bool
         Choose degrees by BIC (otherwise use the maxima).
+    fourier : bool or frozenset of str
+        Components of rotary axes of long travel in the Fourier basis of the angle
+        (:mod:`volumetric.identify.design`): all, none (polynomials for every axis) or
+        those named.
 
     Returns
     -------
@@ -331,7 +335,7 @@ def fit(
     if len(m) == 0:
         raise FitError("no readings")
     try:
-        design = build_design(machine, m, degrees=degrees)
+        design = build_design(machine, m, degrees=degrees, fourier=fourier)
     except ValueError as exc:
         raise FitError(str(exc)) from None
     y = m.value
@@ -391,6 +395,7 @@ def fit(
 def model_from_parameters(machine: Machine, params: list[Param], values: F64) -> MachineModel:
     """The rigid model of identified parameters (Legendre coefficients, locations)."""
     coeffs: dict[str, dict[int, float]] = {}
+    basis: dict[str, str] = {}
     locations: dict[str, float] = {}
     for p, v in zip(params, values, strict=True):
         if p.component == "OFFSET":
@@ -399,8 +404,10 @@ def model_from_parameters(machine: Machine, params: list[Param], values: F64) ->
             locations[p.component] = float(v)
         else:
             coeffs.setdefault(p.component, {})[p.degree] = float(v)
+            basis[p.component] = p.basis
     comps: dict[str, Component] = {}
     for name, c in coeffs.items():
         axis = machine.axis(name[2:])
-        comps[name] = component_fourier(c) if full_turn(axis) else component_polynomial(axis, c)
+        comps[name] = (component_fourier(c) if basis[name] == "fourier"
+                       else component_polynomial(axis, c))
     return MachineModel(machine.name, GeometricErrors(comps, locations))
