@@ -3,15 +3,16 @@
 Run: ``.venv/bin/python benchmarks/diagnosis_rotary.py [N] [--polynomial]`` (the latter:
 rotary components as polynomials of the angle, as before the Fourier basis). For N seeds,
 a machine of the demo's ``5ax-04`` chain and pivots (``w C A X b Y Z t``, C a full turn,
-A ±110°) gets a random rigid geometry whose rotary components are replaced by once- and twice-per-turn
-error motions (:func:`machine_sim.truth.rotary_error_motions`: eccentricity, axial runout,
-wobble, cyclic indexing error), measured by the standard campaign plus R-tests of both
-rotary axes at four more ball positions (:data:`BALLS`; rotary positioning, linear-axis
-tests, 0.25 µm noise). The
-model of ``ednc fit`` (:func:`volumetric.identify.fit.fit`) gives the corrections of
+A ±110°) gets a random rigid geometry whose rotary components are replaced by once- and
+twice-per-turn error motions (:func:`machine_sim.truth.rotary_error_motions`:
+eccentricity, axial runout, wobble, cyclic indexing error), measured by the standard
+campaign plus R-tests of both rotary axes at four more ball positions (:data:`BALLS`;
+rotary positioning, linear-axis tests, 0.25 µm noise). The model of ``ednc fit``
+(:func:`volumetric.identify.fit.fit`) gives the corrections of
 :func:`volumetric.compensate.solver.compensate` at random points of the workspace; the
 corrections are applied to the true machine and the worst tool-tip position error is
-reported before and after, with ``ednc diagnose``'s answer on the same readings.
+reported before and after (up to a constant offset, the workpiece zero), with
+``ednc diagnose``'s answer on the same readings.
 """
 
 from __future__ import annotations
