@@ -29,6 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -46,9 +47,14 @@ RCOND = 1e-9
 STEP_TOL = 1e-7
 """Refinement stops once no correction changes by more than this, mm or degrees."""
 MAX_STEPS = 6
+PIVOT = 1e-8
+"""Cholesky pivots of the normal matrix (unit diagonal after column normalisation) below
+this take the SVD path: the normal equations square the condition number, so rows with
+σ_min/σ_max below about 1e-4 are solved as the README says, by SVD."""
 _DEG = math.pi / 180.0
 _SERIES = 1e-4  # θ² below which the Rodrigues series are exact to double precision
 _DIRS = "XYZABC"
+_EYE = np.eye(3)
 
 
 class StructureError(ValueError):
@@ -103,10 +109,17 @@ def _skew(w: F64) -> F64:
 
 
 def _matrix(w: F64) -> F64:
-    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3)."""
+    """Rotation matrices (N, 3, 3) of rotation vectors (N, 3): exact Rodrigues,
+    ``I + a [w]x + b [w]x²`` with ``[w]x² = w wᵀ - |w|² I``, written entry by entry."""
     a, b = _rodrigues(w)
-    k = _skew(w)
-    out: F64 = np.eye(3) + a[..., None, None] * k + b[..., None, None] * (k @ k)
+    t2 = np.einsum("ni,ni->n", w, w)
+    out: F64 = b[:, None, None] * (w[:, :, None] * w[:, None, :])
+    diag = 1.0 - b * t2
+    aw = a[:, None] * w
+    for i, (u, v) in enumerate(((1, 2), (2, 0), (0, 1))):
+        out[:, i, i] += diag
+        out[:, v, u] += aw[:, i]
+        out[:, u, v] -= aw[:, i]
     return out
 
 
@@ -118,11 +131,34 @@ def _turn_matrix(d: F64, theta: F64) -> F64:
     return out
 
 
-def _turn(d: F64, theta: F64, v: F64) -> F64:
-    """Rotate v (N, 3) by θ (N,) rad about unit axes d (N, 3)."""
-    c, s = np.cos(theta)[:, None], np.sin(theta)[:, None]
-    out: F64 = v * c + _cross(d, v) * s + d * (np.einsum("ni,ni->n", d, v)[:, None] * (1 - c))
-    return out
+def _spd_inverse(m: F64) -> tuple[F64, NDArray[np.bool_]]:
+    """Inverses (N, n, n) of symmetric positive definite matrices by a Cholesky
+    factorisation written over the N rows (LAPACK's batched calls cost more than the
+    arithmetic for n <= 16), and which rows are well-posed: every pivot above PIVOT."""
+    n = m.shape[1]
+    low: dict[tuple[int, int], F64] = {}
+    ok = np.ones(m.shape[0], dtype=bool)
+    for j in range(n):
+        s = m[:, j, j] - sum((low[j, k] ** 2 for k in range(j)), np.zeros(m.shape[0]))
+        ok &= s > PIVOT
+        low[j, j] = np.sqrt(np.where(s > PIVOT, s, 1.0))
+        for i in range(j + 1, n):
+            acc = m[:, i, j] - sum((low[i, k] * low[j, k] for k in range(j)),
+                                   np.zeros(m.shape[0]))
+            low[i, j] = acc / low[j, j]
+    inv_l: dict[tuple[int, int], F64] = {}
+    for i in range(n):
+        inv_l[i, i] = 1.0 / low[i, i]
+        for j in range(i):
+            acc = sum((low[i, k] * inv_l[k, j] for k in range(j, i)), np.zeros(m.shape[0]))
+            inv_l[i, j] = -acc / low[i, i]
+    out = np.empty_like(m)
+    for i in range(n):
+        for j in range(i + 1):
+            v = sum((inv_l[k, i] * inv_l[k, j] for k in range(i, n)), np.zeros(m.shape[0]))
+            out[:, i, j] = v
+            out[:, j, i] = v
+    return out, ok
 
 
 def _log(r: F64) -> F64:
@@ -196,6 +232,7 @@ class ChainBatch:
         self.pivot = np.array([[x.pivot_mm for x in p.axes] for p in maps])
         self.frame = np.array([[_frame_from_z(x.direction) if x.name[1:] else np.eye(3)
                                 for x in p.axes] for p in maps])  # (M, A, 3, 3)
+        self.spindle_axis = tuple(bool(x.name[1:]) for x in p0.axes)  # own, tilted frame
         self.tool = np.array([[np.multiply(s.tool_length_mm, s.tool_direction)
                                for s in p.spindles] for p in maps])  # (M, S, 3)
         self.weights = np.array([[s.weights for s in p.spindles] for p in maps])  # (M, S, 6)
@@ -211,10 +248,11 @@ class ChainBatch:
                                    MapEncoding.INT32_INCREMENTS else 1.0 for p in maps])
         self.reversal = np.array([[0.0 if o.reversal is None else o.reversal
                                    for o in p.outputs] for p in maps])  # encoding units
+        self._gathered: tuple[bytes, dict[str, NDArray[Any]]] | None = None
         self._g_const: F64 | None = None
         if not self.rotary.any():  # linear axes only: the Jacobian is the same everywhere
             idx = np.arange(m)
-            self._g_const = self._pinv(idx, np.zeros((m, a)))
+            self._g_const = self._pinv(idx, self.jacobian(idx, np.zeros((m, a))))
 
     def __len__(self) -> int:
         return len(self.maps)
@@ -237,9 +275,10 @@ class ChainBatch:
                         [loc.get(f"E{c}0{ax.name}", 0.0) for c in "XYZ"]) * 1e-3
                 else:
                     self.tilt[i, j] = self.frame[i, j] @ ang
-        # a linear axis's tilted line of motion, once
+        # a linear axis's tilted line of motion and a rotary axis's tilt, once
         self.line = _rotate(self.tilt.reshape(-1, 3),
                             self.direction.reshape(-1, 3)).reshape(m, a, 3)
+        self.tilt_m = _matrix(self.tilt.reshape(-1, 3)).reshape(m, a, 3, 3)
 
     def _tables(self, maps: Sequence[TablesPayload]) -> None:
         m, a = len(maps), len(self.axes)
@@ -281,11 +320,22 @@ class ChainBatch:
                 self.thermal0[machine, j] -= slope * rec.q_min
                 self.thermal1[machine, j] += slope
 
+    def _rows_of(self, idx: I64) -> dict[str, NDArray[Any]]:
+        """The per-machine constants gathered for these rows, cached: a PLC fleet asks
+        for the same rows (its groups) every cycle."""
+        key = idx.tobytes()
+        if self._gathered is None or self._gathered[0] != key:
+            names = ("t_first", "t_last", "t_cap", "t_start", "t_step", "pivot", "frame",
+                     "direction", "line", "tilt_m", "offset", "zero", "tool")
+            self._gathered = (key, {k: getattr(self, k)[idx] for k in names})
+        return self._gathered[1]
+
     # -- step 1: component errors
     def components(self, idx: I64, q: F64) -> F64:
         """Component errors (N, A, 6) in mm and rad of rows (machine idx, positions q)."""
-        first, last, cap = self.t_first[idx], self.t_last[idx], self.t_cap[idx]
-        u = (q[:, :, None] - self.t_start[idx]) / self.t_step[idx]
+        g = self._rows_of(idx)
+        first, last, cap = g["t_first"], g["t_last"], g["t_cap"]
+        u = (q[:, :, None] - g["t_start"]) / g["t_step"]
         u = np.clip(u, 0.0, last)
         i0 = np.minimum(np.floor(u).astype(np.int64), cap)
         f = u - i0
@@ -304,26 +354,34 @@ class ChainBatch:
     def pose(self, idx: I64, q: F64, spindle: int, comps: F64 | None,
              orientation: bool) -> _Pose:
         """Tool tip pose of one spindle relative to the workpiece: position (N, 3) mm and
-        orientation (N, 3, 3); ``comps`` None for the nominal machine."""
+        orientation (N, 3, 3); ``comps`` None for the nominal machine.
+
+        A backward pass from the tool: each link is a rigid motion ``x ↦ M x + t`` applied
+        to the tool tip (and M to the orientation), in the order of the README's table."""
         n = q.shape[0]
-        p = self.tool[idx, spindle].copy()
-        r = np.broadcast_to(np.eye(3), (n, 3, 3)).copy() if orientation else None
+        g = self._rows_of(idx)
+        p = g["tool"][:, spindle].copy()
+        r = np.broadcast_to(_EYE, (n, 3, 3)) if orientation else None
         for j in reversed(self.links[spindle]):
             qj = q[:, j]
             err = None
             if comps is not None:
-                fr = self.frame[idx, j]
-                err = (np.einsum("nij,nj->ni", fr, comps[:, j, :3]),
-                       np.einsum("nij,nj->ni", fr, comps[:, j, 3:]))
+                fr = g["frame"][:, j]
+                eps = comps[:, j, 3:]
+                if self.spindle_axis[j]:
+                    err = (np.einsum("nij,nj->ni", fr, comps[:, j, :3]),
+                           _matrix(np.einsum("nij,nj->ni", fr, eps)))
+                else:
+                    err = (comps[:, j, :3], _matrix(eps))
             if self.rotary[j]:
                 if self.tool_side[j]:
                     p, r = self._rotary(idx, j, qj, p, r, comps is not None)
-                    p, r = self._error(err, self.pivot[idx, j], p, r)
+                    p, r = self._error(err, g["pivot"][:, j], p, r)
                 else:
-                    p, r = self._error(err, self.pivot[idx, j], p, r)
+                    p, r = self._error(err, g["pivot"][:, j], p, r)
                     p, r = self._rotary(idx, j, qj, p, r, comps is not None)
             else:
-                d = self.line[idx, j] if comps is not None else self.direction[idx, j]
+                d = g["line"][:, j] if comps is not None else g["direction"][:, j]
                 if self.tool_side[j]:
                     p, r = self._error(err, None, p, r)
                     p = p + qj[:, None] * d
@@ -335,31 +393,46 @@ class ChainBatch:
     @staticmethod
     def _error(err: tuple[F64, F64] | None, pivot: F64 | None, p: F64, r: F64 | None
                ) -> tuple[F64, F64 | None]:
+        """The axis's error motion (translation δ, rotation matrix E about the pivot)."""
         if err is None:
             return p, r
-        delta, eps = err
-        p = (_rotate(eps, p) if pivot is None else _rotate(eps, p - pivot) + pivot) + delta
+        delta, rot = err
+        if pivot is None:
+            p = np.einsum("nij,nj->ni", rot, p) + delta
+        else:
+            p = np.einsum("nij,nj->ni", rot, p - pivot) + pivot + delta
         if r is not None:
-            r = _matrix(eps) @ r
+            r = rot @ r
         return p, r
+
+    def _turns(self, idx: I64, j: int, theta: F64) -> F64:
+        """Rotations (N, 3, 3) by θ (N,) rad about rotary axis j (A, B, C turn about the
+        base x, y, z), entry by entry."""
+        i = "ABC".index(self.axes[j])
+        u, v = ((1, 2), (2, 0), (0, 1))[i]
+        c, s = np.cos(theta), np.sin(theta)
+        out = np.zeros((theta.shape[0], 3, 3))
+        out[:, i, i] = 1.0
+        out[:, u, u] = c
+        out[:, v, v] = c
+        out[:, u, v] = -s
+        out[:, v, u] = s
+        return out
 
     def _rotary(self, idx: I64, j: int, qj: F64, p: F64, r: F64 | None, actual: bool
                 ) -> tuple[F64, F64 | None]:
-        c, d = self.pivot[idx, j], self.direction[idx, j]
-        theta = qj * _DEG
+        g = self._rows_of(idx)
+        c = g["pivot"][:, j]
         if not actual:
-            p = _turn(d, theta, p - c) + c
-            return p, (None if r is None else _turn_matrix(d, theta) @ r)
-        # L R(θ + zero) L⁻¹, L the axis's tilt about the pivot and its offset
-        theta = theta + self.zero[idx, j]
-        tilt, off = self.tilt[idx, j], self.offset[idx, j]
-        x = _rotate(-tilt, p - c - off)
-        x = _turn(d, theta, x)
-        p = _rotate(tilt, x) + c + off
-        if r is not None:
-            rl = _matrix(tilt)
-            r = rl @ _turn_matrix(d, theta) @ np.swapaxes(rl, 1, 2) @ r
-        return p, r
+            turn = self._turns(idx, j, qj * _DEG)
+            p = np.einsum("nij,nj->ni", turn, p - c) + c
+            return p, (None if r is None else turn @ r)
+        # L R(θ + zero) L⁻¹: L the axis's tilt about the pivot, then its offset
+        lt = g["tilt_m"][:, j]
+        m = lt @ self._turns(idx, j, qj * _DEG + g["zero"][:, j]) @ np.swapaxes(lt, 1, 2)
+        c = c + g["offset"][:, j]
+        p = np.einsum("nij,nj->ni", m, p - c) + c
+        return p, (None if r is None else m @ r)
 
     # -- step 3: the corrections
     def _rows(self, idx: I64) -> F64:
@@ -369,56 +442,70 @@ class ChainBatch:
         out: F64 = w.reshape(idx.shape[0], -1)
         return out
 
-    def jacobian(self, idx: I64, q: F64) -> F64:
-        """Nominal Jacobian (N, R, K): rows µm and µrad, columns per mm or degree of each
-        output axis."""
+    def nominal(self, idx: I64, q: F64) -> tuple[list[_Pose], F64]:
+        """Nominal pose of every spindle at q and the nominal Jacobian (N, R, K) there:
+        rows µm and µrad, columns per mm or degree of each output axis."""
         n = q.shape[0]
         per = 6 if self.orient else 3
         jac = np.zeros((n, per * len(self.links), len(self.outputs)))
+        poses = []
+        turns = {j: self._turns(idx, j, q[:, j] * _DEG) for j in range(len(self.axes))
+                 if self.rotary[j]}
         for s, links in enumerate(self.links):
             after: dict[int, F64] = {}
             p = self.tool[idx, s].copy()
             for j in reversed(links):  # tool tip seen from after each link
                 after[j] = p
-                d = self.direction[idx, j]
                 if self.rotary[j]:
                     c = self.pivot[idx, j]
-                    p = _turn(d, q[:, j] * _DEG, p - c) + c
+                    p = np.einsum("nij,nj->ni", turns[j], p - c) + c
                 else:
-                    p = p + q[:, j, None] * d
-            rot = np.broadcast_to(np.eye(3), (n, 3, 3))
+                    p = p + q[:, j, None] * self.direction[idx, j]
+            rot = np.broadcast_to(_EYE, (n, 3, 3))
             for j in links:  # rotation of the frame before each link, forwards
                 d = self.direction[idx, j]
                 hits = np.flatnonzero(self.out_col == j)
                 if self.rotary[j]:
-                    turn = _turn_matrix(d, q[:, j] * _DEG)
                     if hits.size:
-                        arm = np.einsum("nij,nj->ni", turn, after[j] - self.pivot[idx, j])
+                        arm = np.einsum("nij,nj->ni", turns[j], after[j] - self.pivot[idx, j])
                         k = int(hits[0])
                         jac[:, per * s:per * s + 3, k] = np.einsum(
                             "nij,nj->ni", rot, _cross(d, arm)) * (1e3 * _DEG)
                         if self.orient:
                             jac[:, per * s + 3:per * s + 6, k] = np.einsum(
                                 "nij,nj->ni", rot, d) * (1e6 * _DEG)
-                    rot = rot @ turn
+                    rot = rot @ turns[j]
                 elif hits.size:
                     jac[:, per * s:per * s + 3, int(hits[0])] = np.einsum(
                         "nij,nj->ni", rot, d) * 1e3
-        return jac
+            poses.append(_Pose(p, rot if self.orient else None))
+        return poses, jac
 
-    def _pinv(self, idx: I64, q: F64) -> F64:
+    def jacobian(self, idx: I64, q: F64) -> F64:
+        """Nominal Jacobian (N, R, K) at q (see :meth:`nominal`)."""
+        return self.nominal(idx, q)[1]
+
+    def _pinv(self, idx: I64, jac: F64) -> F64:
         """``G`` (N, K, R) with ``dq = -G e``: weighted, column-normalised min-norm
         pseudo-inverse of the nominal Jacobian."""
-        jac = self.jacobian(idx, q)
         sw = np.sqrt(self._rows(idx))
         a = jac * sw[:, :, None]
         norms = np.linalg.norm(a, axis=1)
         scale = np.where(norms > 0, norms, 1.0)
         a = a / scale[:, None, :]
-        u, s, vt = np.linalg.svd(a, full_matrices=False)
-        keep = s > RCOND * s[:, :1]
-        inv = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
-        g = np.einsum("nji,nj,nkj->nik", vt, inv, u)
+        # well-posed rows: (AᵀA)⁻¹Aᵀ, the min-norm pseudo-inverse when A has full column
+        # rank; a zero column (an unobservable axis) gets a unit pivot and so 0
+        m = np.einsum("nri,nrj->nij", a, a)
+        k = np.arange(a.shape[2])
+        m[:, k, k] += norms == 0
+        inv, ok = _spd_inverse(m)
+        g = inv @ np.swapaxes(a, 1, 2)
+        if not ok.all():  # rank-deficient rows: the SVD with the README's tolerance
+            bad = np.flatnonzero(~ok)
+            u, s, vt = np.linalg.svd(a[bad], full_matrices=False)
+            keep = s > RCOND * s[:, :1]
+            si = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
+            g[bad] = np.einsum("nji,nj,nkj->nik", vt, si, u)
         out: F64 = g / scale[:, :, None] * sw[:, None, :]
         return out
 
@@ -435,14 +522,14 @@ class ChainBatch:
                 rows.append(_log(r_act @ np.swapaxes(r_nom, 1, 2)) * 1e6)
         return np.concatenate(rows, axis=1)
 
-    def errors(self, idx: I64, q: F64) -> F64:
+    def errors(self, idx: I64 | None, q: F64) -> F64:
         """Tool-tip errors (N, R) at q: per spindle position µm (and orientation µrad when
         weighed), before any correction."""
         idx, q = self._check(idx, q)
-        nominal = [self.pose(idx, q, s, None, self.orient) for s in range(len(self.links))]
-        return self._residual(idx, q, np.zeros_like(q), nominal)
+        return self._residual(idx, q, np.zeros_like(q), self.nominal(idx, q)[0])
 
-    def corrections(self, idx: I64 | None, q: F64) -> F64:
+    def corrections(self, idx: I64 | None, q: F64, start: F64 | None = None,
+                    max_steps: int = MAX_STEPS) -> F64:
         """Unrounded, unclamped corrections (N, K), mm or degrees, of the outputs.
 
         Parameters
@@ -451,12 +538,23 @@ class ChainBatch:
             The machine of each row (None: machine 0 for every row).
         q : ndarray, shape (N, A)
             Commanded positions of the chain axes, mm or degrees.
+        start : ndarray, shape (N, K), optional
+            Where the refinement starts (0 by default). A PLC passes its previous cycle's
+            corrections: the refinement has one fixed point, reached in fewer steps from
+            nearby.
+        max_steps : int
+            Refinement steps at most (README: 6). A PLC tracking a moving machine from
+            its previous cycle's corrections may take 1 per cycle: the fixed point moves by
+            far less between cycles than one step corrects (the step contracts the gap by
+            the errors' slope, ~1e-4).
         """
         idx, q = self._check(idx, q)
-        nominal = [self.pose(idx, q, s, None, self.orient) for s in range(len(self.links))]
-        g = self._g_const[idx] if self._g_const is not None else self._pinv(idx, q)
+        nominal, jac = self.nominal(idx, q)
+        g = self._g_const[idx] if self._g_const is not None else self._pinv(idx, jac)
         dq = np.zeros_like(q)
-        for _ in range(MAX_STEPS):
+        if start is not None:
+            dq[:, self.out_col] = start
+        for _ in range(max_steps):
             res = self._residual(idx, q, dq, nominal)
             delta = -np.einsum("nkr,nr->nk", g, res)
             dq[:, self.out_col] += delta
@@ -465,12 +563,17 @@ class ChainBatch:
         out: F64 = dq[:, self.out_col]
         return out
 
-    def applied(self, idx: I64 | None, q: F64, directions: NDArray[np.generic] | None = None
-                ) -> F64:
+    def applied(self, idx: I64 | None, q: F64, directions: NDArray[np.generic] | None = None,
+                start: F64 | None = None) -> F64:
         """What the machine applies (N, K), mm or degrees: corrections clamped to ±limit,
-        rounded to the encoding, plus the reversal where ``directions`` (N, K) < 0."""
+        rounded to the encoding, plus the reversal where ``directions`` (N, K) < 0;
+        ``start`` as for :meth:`corrections`."""
         idx, q = self._check(idx, q)
-        c = np.clip(self.corrections(idx, q), -self.limit[idx], self.limit[idx])
+        return self.finish(idx, self.corrections(idx, q, start), directions)
+
+    def finish(self, idx: I64, c: F64, directions: NDArray[np.generic] | None = None) -> F64:
+        """Corrections ``c`` (N, K) as applied: clamped, rounded, reversal added."""
+        c = np.clip(c, -self.limit[idx], self.limit[idx])
         inc = self.increment[idx][:, None]
         int32 = self.int32[idx][:, None]
         rounded = np.where(int32, np.rint(c / inc),

@@ -309,3 +309,20 @@ async def test_siemens_machine_applies_a_tables_map_over_the_link(center: MiniCe
         got = active.lookup(q[None, :])[0]
         np.testing.assert_allclose(got, want.astype(np.float32), rtol=0, atol=1e-9)
         assert np.abs(want).max() > 1e-3  # the map does correct something
+
+
+def test_one_step_per_cycle_from_the_previous_cycle_tracks_the_solution() -> None:
+    # a PLC refines once per cycle, starting from its last corrections: along a path at
+    # 10 m/min sampled every 4 ms it stays on the fully refined solution
+    m = siemens_5ax()
+    e, tables = sample(m, 9)
+    batch = ChainBatch([tables_payload(m, tables, dict(e.locations), Weights.default(m))])
+    t = np.arange(200)[:, None] * 0.004
+    q = np.array([0.0, -20.0, 100.0, 100.0, -150.0]) + t * [20.0, 5.0, 166.0, 50.0, -20.0]
+    last = batch.corrections(None, q[:1])
+    worst = 0.0
+    for k in range(1, q.shape[0]):
+        last = batch.corrections(None, q[k:k + 1], last, 1)
+        full = batch.corrections(None, q[k:k + 1])
+        worst = max(worst, float(np.abs(last - full).max()))
+    assert worst < 1e-6
