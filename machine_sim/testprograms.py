@@ -54,6 +54,7 @@ from .program import Instruction, Linear, Measure, Program, Rapid
 
 __all__ = [
     "RTestSetup",
+    "RTestSetupError",
     "angular_test",
     "axis_frame",
     "default_line",
@@ -322,10 +323,13 @@ def hold_tool_at(machine: Machine, point: F64, fixed: Mapping[str, float], *,
 
 def _rotary_targets(axis: Axis, count: int, span_deg: float | None = None) -> F64:
     """Angles over the travel (a full turn without repeating its end), or within
-    ±span_deg of 0 when given."""
+    ±span_deg of the travel's angle nearest 0 when given."""
     lo, hi = axis.travel
     if span_deg is not None:
-        lo, hi = max(lo, -span_deg), min(hi, span_deg)
+        # Around 0 when the travel holds it (the usual set-up angle), else around the end
+        # nearest 0: a travel of [-120, -60] must not get the empty window [-30, 30].
+        centre = min(max(0.0, lo), hi)
+        lo, hi = max(lo, centre - span_deg), min(hi, centre + span_deg)
         return np.linspace(lo, hi, count)
     if hi - lo >= 360.0 - 1e-9:  # a full turn: the last target would repeat the first
         return np.linspace(lo, lo + 360.0, count + 1)[:-1]
@@ -396,6 +400,10 @@ def rtest(
     return prog
 
 
+class RTestSetupError(ValueError):
+    """No R-test set-up fits the machine's travels (the message says which axis)."""
+
+
 @dataclass(frozen=True)
 class RTestSetup:
     """Where an R-test's ball sits (workpiece frame, mm), the tool length probing it
@@ -413,17 +421,20 @@ def rtest_balls(machine: Machine, axis: str, *, targets: int = 12) -> list[RTest
     at different heights, near the tool tip's mid-travel position; one that carries the
     tool gets one ball at that position, probed with two tool lengths. Radii shrink from
     150 mm, and angle ranges from the full travel to ±60° and ±30°, until every position
-    is within reach of the linear axes.
+    is within reach of the linear axes; for a workpiece axis the pair of balls also turns
+    about the axis in 30° steps, and when no opposite pair fits (an axis at the edge of
+    the linear travel) both balls go on one side, the second at half the radius.
 
     Raises
     ------
-    ValueError
+    RTestSetupError
         Nothing down to 10 mm and ±30° fits the travels.
     """
     ax = machine.axis(axis)
     d = np.asarray(ax.direction, dtype=float)
     e1 = np.cross(d, [0.0, 0.0, 1.0] if abs(d[2]) < 0.9 else [1.0, 0.0, 0.0])
     e1 /= np.linalg.norm(e1)
+    e2 = np.cross(d, e1)
     branch = machine.branch(None)
     mid = default_line(machine, [ax.name], fraction=0.5)
     q = np.array([0.0 if a.kind == "rotary" else mid.get(a.key, 0.0) for a in machine.axes])
@@ -431,23 +442,45 @@ def rtest_balls(machine: Machine, axis: str, *, targets: int = 12) -> list[RTest
     c = np.asarray(ax.pivot_mm, dtype=float)
     foot = c + float((tip - c) @ d) * d  # the point of the axis nearest the mid tool tip
     spans: list[float | None] = [None, 60.0, 30.0]
-    for span in spans:
-        angles = _rotary_targets(ax, targets, span)
-        for radius in (150.0, 100.0, 50.0, 25.0, 10.0):
-            if ax.side == "workpiece":
-                setups = [RTestSetup(foot + radius * e1, None, angles),
-                          RTestSetup(foot - radius * e1 + 0.5 * radius * d, None, angles)]
-            else:
-                setups = [RTestSetup(tip, None, angles),
-                          RTestSetup(tip - radius * np.asarray(branch.tool_direction),
-                                     branch.tool_length_mm + radius, angles)]
-            try:
-                for st in setups:
-                    for a in st.angles_deg:
-                        hold_tool_at(machine, st.ball_mm, {**mid, ax.key: float(a)},
-                                     tool_mm=st.tool_mm)
-            except ValueError:
-                continue
-            return setups
-    raise ValueError(f"no R-test ball within 10 mm of axis {ax.name} over ±30° fits the "
-                     f"travels of {machine.name}")
+    # Passes: the opposite pair as it always was (so every machine that had a set-up keeps
+    # it, and its campaign), then that pair turned about the axis in 30° steps, then, for
+    # an axis at the edge of the linear travel, both balls on one side (the second at half
+    # the radius and raised, so radial and axial errors still separate).
+    passes: list[list[tuple[int, float]]] = [[(0, -1.0)]]
+    if ax.side == "workpiece":
+        passes += [[(t, -1.0) for t in range(30, 180, 30)],
+                   [(t, 0.5) for t in range(0, 360, 30)]]
+    for turns in passes:
+        for span in spans:
+            angles = _rotary_targets(ax, targets, span)
+            for radius in (150.0, 100.0, 50.0, 25.0, 10.0):
+                for turn, second in turns:
+                    if ax.side == "workpiece":
+                        phi = np.radians(turn)
+                        e = np.cos(phi) * e1 + np.sin(phi) * e2
+                        setups = [RTestSetup(foot + radius * e, None, angles),
+                                  RTestSetup(foot + second * radius * e + 0.5 * radius * d,
+                                             None, angles)]
+                    else:
+                        setups = [RTestSetup(tip, None, angles),
+                                  RTestSetup(tip - radius * np.asarray(branch.tool_direction),
+                                             branch.tool_length_mm + radius, angles)]
+                    if _reachable(machine, setups, mid, ax.key):
+                        return setups
+    lo, hi = ax.travel
+    raise RTestSetupError(
+        f"no R-test set-up for axis {ax.name} of {machine.name}: no pair of balls 10-150 mm "
+        f"from the axis stays within the linear travels over ±30° of its travel "
+        f"[{lo:g}, {hi:g}]°; check the axis's pivot (pivots_mm) against the linear travels")
+
+
+def _reachable(machine: Machine, setups: list[RTestSetup], mid: Mapping[str, float],
+               key: str) -> bool:
+    """Whether the linear axes can hold the tool on every ball at every angle."""
+    try:
+        for st in setups:
+            for a in st.angles_deg:
+                hold_tool_at(machine, st.ball_mm, {**mid, key: float(a)}, tool_mm=st.tool_mm)
+    except ValueError:
+        return False
+    return True

@@ -26,7 +26,7 @@ def test_export_then_import_reproduces_the_error_field() -> None:
     g = GeometricErrors({"EXX": Polynomial((0.0, 8.0, -3.0), 0.0, 500.0),
                          "EBY": Polynomial((12.0, 5.0), 0.0, 300.0)}, {"EC0Y": 20.0})
     tables = export_tables(M, g, points=101)
-    assert tables["X"].splitlines()[0] == "x_mm,EXX"
+    assert tables["X"].splitlines()[0] == "x_mm,EXX_um"
     again = import_tables(M, tables.items())
     q = np.column_stack([np.linspace(0, 500, 77), np.linspace(0, 300, 77),
                          np.linspace(-300, 0, 77)])

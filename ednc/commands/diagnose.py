@@ -42,7 +42,7 @@ def register(app: typer.Typer) -> None:
         if report is not None:
             from volumetric.diagnose.report import write_report
 
-            write_report(m, readings, d, report)
+            write_report(m, readings, d, report, data_file=data, machine_file=machine)
         if out is not None:
             out.write_text(json.dumps(d.model.to_json(), indent=1))
         if as_json:

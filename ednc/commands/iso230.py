@@ -57,9 +57,16 @@ def evaluate_file(path: Path, test: str | None) -> PositioningResult:
 
 
 def format_table(r: PositioningResult) -> str:
-    """A plain-text report: per-target statistics, then the axis values (µm)."""
+    """A plain-text report: per-target statistics, then the axis values (µm).
+
+    The sign of each target's reversal is said on the page, since the diagnosis reports a
+    backlash as a size B >= 0 and the error map as a correction: B_i = x̄↑ - x̄↓ is -B for
+    an axis that lags behind the motion.
+    """
     ax = r.axis
     lines = [f"ISO 230-2 bidirectional positioning, axis {ax} (deviations in µm)",
+             "B = x̄↑ - x̄↓ per target (negative: the axis lags behind the motion, "
+             "as a backlash does)",
              f"{'target ' + ax + ' mm':>14} {'x̄↑':>9} {'s↑':>8} {'x̄↓':>9} {'s↓':>8} "
              f"{'x̄':>9} {'B':>9} {'R':>8}"]
     for k, target in enumerate(r.targets_mm):
@@ -70,7 +77,7 @@ def format_table(r: PositioningResult) -> str:
     lines.append("")
     for key, value, what in (
         ("A", r.A_um, "bidirectional accuracy"),
-        ("B", r.B_um, "reversal value (max |Bi|)"),
+        ("B", r.B_um, "reversal value (max |Bi|, so >= 0)"),
         ("E", r.E_um, "bidirectional systematic positioning error"),
         ("M", r.M_um, "mean bidirectional positional deviation"),
         ("R", r.R_um, "bidirectional repeatability"),

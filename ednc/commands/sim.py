@@ -5,6 +5,9 @@ Two modes:
 * ``ednc sim --center HOST:PORT --machines N --secret S`` (or ``--fleet FILE``): N
   simulated Fanuc/Siemens-style machines connect to the center, authenticate, take maps,
   send telemetry (and MQTT temperatures with ``--mqtt``) until Ctrl-C or ``--duration``.
+  The center admits only machines it knows (name, address, secret): ``--register`` adds
+  the generated ones through the REST API first (``POST /api/machines`` with the API key);
+  without it, a run in which no machine is welcomed says so and how to fix it.
 * ``ednc sim --campaign OUT.csv --machine M.json [--effect ...]``: a standard measurement
   campaign on a machine with a random true geometry, written as a measurement CSV
   (formats.md section 2); the truth goes to ``--truth TRUTH.json`` if asked.
@@ -16,13 +19,22 @@ import asyncio
 import contextlib
 import dataclasses
 import json
+from collections.abc import Callable
 from pathlib import Path
-from typing import Annotated, Any
+from typing import TYPE_CHECKING, Annotated, Any
 
+import httpx
 import numpy as np
 import typer
 
 from ednc.cli import UserError
+
+if TYPE_CHECKING:
+    from machine_sim.fleet import FleetEntry
+    from volumetric.model.machine import Machine
+
+# A run in which no machine has been welcomed after this long says why that usually is.
+UNWELCOMED_HINT_S = 10.0
 
 
 def register(app: typer.Typer) -> None:
@@ -36,8 +48,19 @@ def register(app: typer.Typer) -> None:
         fleet: Annotated[Path | None, typer.Option(
             "--fleet", help="Fleet file (JSON/YAML) with machines and secrets.")] = None,
         secret: Annotated[str | None, typer.Option(
-            "--secret", help="Secret of the generated machines (>= 16 bytes).",
+            "--secret", help="Secret of the generated machines (>= 16 bytes). The center "
+                             "must know them with this secret: see --register.",
             envvar="EDNC_SIM_SECRET")] = None,
+        register_: Annotated[bool, typer.Option(
+            "--register", help="Before connecting, register the generated machines at the "
+                               "center through its REST API (needs --api-key); machines "
+                               "it already has are left as they are.")] = False,
+        api: Annotated[str | None, typer.Option(
+            "--api", help="For --register: the center's REST API base URL (default: "
+                          "http://HOST:8080 with the host of --center).")] = None,
+        api_key: Annotated[str | None, typer.Option(
+            "--api-key", help="For --register: the center's API key (X-API-Key).",
+            envvar="EDNC_API_KEY")] = None,
         controller: Annotated[str, typer.Option(
             "--controller", help="Generated machines: mixed, fanuc or siemens.")] = "mixed",
         mqtt: Annotated[str | None, typer.Option(
@@ -58,7 +81,9 @@ def register(app: typer.Typer) -> None:
             "--effect", help="For --campaign, repeatable: backlash:AXIS:B_um, "
                              "periodic:AXIS:A_um:P_mm, expansion:AXIS:SENSOR:um_per_m_K, "
                              "drift:AXIS:SENSOR:um_per_K[:LAG_S], time:AXIS:um_per_h, "
-                             "noise:UM[:URAD].")] = None,
+                             "noise:UM[:URAD]. Default: no effects and no noise (noise 0 "
+                             "µm, 0 µrad), so the readings are the exact geometric errors; "
+                             "add noise:0.3 for a laser's.")] = None,
         truth: Annotated[Path | None, typer.Option(
             "--truth", help="For --campaign: write the true geometry and effects (JSON).")
         ] = None,
@@ -74,14 +99,25 @@ def register(app: typer.Typer) -> None:
                                 "--machines or --fleet")
             write_campaign_file(campaign, machine, effect or [], truth, seed)
             return
+        if register_ and not machines:
+            raise UserError("--register registers the machines of --machines N; a fleet "
+                            "file's machines go to the center's EDNC_MACHINES_FILE (or "
+                            "POST /api/machines)")
+        registration = None
+        if register_:
+            if api_key is None:
+                raise UserError("--register needs --api-key KEY (or EDNC_API_KEY): the "
+                                "center's API key, which writes need")
+            registration = (api, api_key)
         run_fleet(center, machines, fleet, secret, controller, mqtt, cycle_ms, duration, seed,
-                  only or [])
+                  only or [], registration)
 
 
 def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret: str | None,
               controller: str, mqtt: str | None, cycle_ms: float | None,
-              duration: float | None, seed: int, only: list[str]) -> None:
-    """The network mode (module docstring)."""
+              duration: float | None, seed: int, only: list[str],
+              registration: tuple[str | None, str] | None = None) -> None:
+    """The network mode (module docstring); ``registration`` is (API URL or None, key)."""
     from machine_sim.fleet import (
         Fleet,
         FleetSpecError,
@@ -129,6 +165,12 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
     if cycle_ms is not None and not cycle_ms > 0:
         raise UserError(f"--cycle-ms must be > 0, got {cycle_ms}")
     cycle_s = None if cycle_ms is None else cycle_ms / 1000.0
+    if registration is not None:
+        url = registration[0] or f"http://{_url_host(addresses[0][0])}:8080"
+        secret_text = secret or ""
+        added, known = asyncio.run(_register_at(url, registration[1], entries, secret_text))
+        typer.echo(f"registered {len(added)} machines at {url}"
+                   + (f"; {len(known)} were already registered" if known else ""))
 
     async def main() -> dict[str, int]:
         async with Fleet(entries, addresses, mqtt=target, cycle_s=cycle_s) as f:
@@ -136,12 +178,87 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
                        + ", ".join(f"{host}:{port}" for host, port in addresses))
             with contextlib.suppress(TimeoutError):
                 async with asyncio.timeout(duration):
-                    await asyncio.Event().wait()
+                    async with asyncio.TaskGroup() as tg:
+                        tg.create_task(_hint_if_unwelcomed(f.summary, machines > 0),
+                                       name="sim-unwelcomed-hint")
+                        await asyncio.Event().wait()
             return f.summary()
 
     with contextlib.suppress(KeyboardInterrupt):
         summary = asyncio.run(main())
         typer.echo(json.dumps(summary))
+        if summary["welcomes"] == 0:
+            typer.echo(unwelcomed_hint(machines > 0), err=True)
+
+
+def unwelcomed_hint(generated: bool) -> str:
+    """Why no machine was welcomed, usually, and what to do about it."""
+    how = ("run again with --register --api-key KEY (registers them through the center's "
+           "REST API), or POST each to /api/machines" if generated else
+           "list them in the center's EDNC_MACHINES_FILE or POST each to /api/machines")
+    return ("ednc sim: no machine was welcomed by the center. It admits only machines it "
+            "has registered, with the same name, address and secret; " + how + ".")
+
+
+async def _hint_if_unwelcomed(summary: Callable[[], dict[str, int]], generated: bool) -> None:
+    """Say once, while the run goes on, that no machine has been welcomed yet."""
+    await asyncio.sleep(UNWELCOMED_HINT_S)
+    if summary()["welcomes"] == 0:
+        typer.echo(unwelcomed_hint(generated), err=True)
+
+
+def _url_host(host: str) -> str:
+    return f"[{host}]" if ":" in host else host
+
+
+def machine_description(m: Machine) -> dict[str, Any]:
+    """The description the REST API takes for a generated (single-spindle) machine."""
+    return {"name": m.name, "controller": m.controller, "ip": m.ip, "chain": m.chain,
+            "travel_mm": {a.key: [float(a.travel[0]), float(a.travel[1])] for a in m.axes},
+            "tool_length_mm": float(m.branches[0].tool_length_mm)}
+
+
+async def register_fleet(client: httpx.AsyncClient, entries: list[FleetEntry], secret: str,
+                         ) -> tuple[list[str], list[str]]:
+    """Register each machine (``POST /api/machines``); returns (added, already known).
+
+    ``client`` carries the base URL and the ``X-API-Key`` header. A machine the center has
+    already (409) is left as it is: its secret there may differ, which the run then shows
+    as a refusal.
+
+    Raises
+    ------
+    UserError
+        The API is unreachable, refuses the key, or refuses a description.
+    """
+    added: list[str] = []
+    known: list[str] = []
+    for e in entries:
+        body = {**machine_description(e.machine), "secret": secret}
+        try:
+            r = await client.post("/api/machines", json=body)
+        except httpx.HTTPError as exc:
+            raise UserError(f"--register: cannot reach the center's REST API at "
+                            f"{client.base_url}: {exc or type(exc).__name__}; "
+                            "give its URL with --api") from exc
+        if r.status_code == 201:
+            added.append(e.machine.name)
+        elif r.status_code == 409:
+            known.append(e.machine.name)
+        elif r.status_code in (401, 403):
+            raise UserError(f"--register: the center refused the API key ({r.status_code}); "
+                            "give the key of its EDNC_API_KEY with --api-key")
+        else:
+            raise UserError(f"--register: the center refused {e.machine.name} "
+                            f"({r.status_code}): {r.text[:300]}")
+    return added, known
+
+
+async def _register_at(url: str, key: str, entries: list[FleetEntry], secret: str,
+                       ) -> tuple[list[str], list[str]]:
+    async with httpx.AsyncClient(base_url=url, headers={"X-API-Key": key},
+                                 timeout=10.0) as client:
+        return await register_fleet(client, entries, secret)
 
 
 def _effects(specs: list[str], sensors: tuple[str, ...]) -> Any:
@@ -197,6 +314,7 @@ def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
     """The campaign mode (module docstring)."""
     from machine_sim.campaign import standard_campaign, write_campaign
     from machine_sim.instruments import SimulatedMachine
+    from machine_sim.testprograms import RTestSetupError
     from machine_sim.thermal import default_thermal
     from machine_sim.truth import random_geometry
     from volumetric.errors import MachineSpecError
@@ -214,7 +332,10 @@ def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
         sim = SimulatedMachine(m, random_geometry(m, rng), effects, seed=seed)
     except ValueError as exc:
         raise UserError(str(exc)) from exc
-    meas = standard_campaign(sim, rng)
+    try:
+        meas = standard_campaign(sim, rng)
+    except RTestSetupError as exc:
+        raise UserError(str(exc)) from exc
     try:
         write_campaign(out, meas)
         if truth is not None:

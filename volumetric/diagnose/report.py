@@ -1,15 +1,28 @@
-"""The diagnosis report a metrologist looks at: PNG plots and one HTML page.
+"""The diagnosis report a metrologist looks at: one HTML page, with its plots as PNG files.
 
-Residuals (held-out, displacement readings) of the base and of the extended model against
-each axis position, each temperature, time and approach direction, and the candidate
-ranking. Written with matplotlib's Agg backend (no display needed).
+``index.html`` opens with what was diagnosed from what: machine and data file names, when
+the report was made and the span of the readings, then a summary table (cause, estimate
+± standard uncertainty, held-out RMS with the rigid and with the extended model), the
+sign conventions of the estimate, and the plots, embedded in the page (so the one file
+can be mailed or archived) and also written next to it as PNG files.
+
+Plots: the candidate ranking, then held-out residuals (displacement readings) of the
+rigid and of the extended model against each axis position, time and approach direction.
+Residuals against a temperature are shown only when temperature matters here: the
+diagnosed cause names that sensor, or a thermal candidate with it passed the diagnosis's
+significance test (``z >= Z_MIN``); the page says which were left out and why. Written
+with matplotlib's Agg backend (no display needed).
 """
 
 from __future__ import annotations
 
+import base64
+import datetime as dt
 import html
 import json
+from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -17,10 +30,46 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-from volumetric.diagnose.diagnosis import Diagnosis
+from volumetric.diagnose.diagnosis import Z_MIN, Diagnosis
 from volumetric.identify.design import axis_positions
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
+
+STYLE = """
+body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto;
+       padding: 0 1rem; color: #1c2833; line-height: 1.45; }
+h1 { font-size: 1.5rem; margin-bottom: 0.2rem; }
+h2 { font-size: 1.1rem; margin-top: 2rem; border-bottom: 1px solid #d5d8dc; }
+p.meta { color: #566573; margin-top: 0; }
+table { border-collapse: collapse; margin: 0.8rem 0; }
+th, td { text-align: left; padding: 0.3rem 0.8rem; border-bottom: 1px solid #e5e8e8; }
+th { background: #f4f6f6; font-weight: 600; }
+td.num { text-align: right; font-variant-numeric: tabular-nums; }
+.note { background: #fef9e7; border-left: 3px solid #f1c40f; padding: 0.4rem 0.8rem; }
+figure { margin: 1rem 0; }
+figure img { max-width: 100%; border: 1px solid #e5e8e8; }
+figcaption { color: #566573; font-size: 0.9rem; }
+"""
+
+# Units of the estimate's keys, by suffix (diagnosis.py's naming), longest first.
+UNITS = (("_um_per_m_K", "µm/(m·K)"), ("_um_per_K", "µm/K"), ("_um_per_h", "µm/h"),
+         ("_um", "µm"), ("_mm", "mm"), ("_deg", "°"), ("_s", "s"))
+
+SIGN_NOTES = {
+    "backlash": (
+        "reversal_um is B ≥ 0, the lost motion of the axis. 'lags behind the motion': the "
+        "tool stops B/2 short of the commanded position in the direction of travel, so an "
+        "ISO 230-2 test of the axis shows Bi = x̄↑ − x̄↓ = −B. The error map carries "
+        "corrections, the negative of errors: its reversal (negative-approach minus "
+        "positive-approach correction, protocol/README.md) is −B, e.g. −0.008 mm for "
+        "B = 8 µm. For 'leads the motion' each of these signs flips."),
+    "thermal_drift": (
+        "um_per_K > 0: the tool moves along +axis relative to the workpiece as the sensor "
+        "warms; the map applies the negative."),
+    "thermal_expansion": (
+        "um_per_m_K > 0: as the sensor warms, the tool ends up further along +axis than "
+        "commanded, in proportion to its distance from the start of the axis's travel."),
+}
 
 
 def _scatter(path: Path, x: np.ndarray, before: np.ndarray, after: np.ndarray, xlabel: str,
@@ -38,8 +87,61 @@ def _scatter(path: Path, x: np.ndarray, before: np.ndarray, after: np.ndarray, x
     plt.close(fig)
 
 
-def write_report(machine: Machine, m: Measurements, d: Diagnosis, directory: Path) -> Path:
-    """Write the plots and ``index.html`` into ``directory``; return the HTML path."""
+def relevant_sensors(d: Diagnosis, columns: Mapping[str, str]) -> tuple[list[str], str]:
+    """The sensors whose plots matter, and a sentence on the ones left out.
+
+    ``columns`` maps sensor to its CSV column (``Measurements.temperature_columns``).
+    """
+    named = {d.sensor} if d.sensor else set()
+    significant = {c["sensor"] for c in d.candidates
+                   if c.get("sensor") and float(c.get("z", 0.0)) >= Z_MIN
+                   and float(c.get("gain", 0.0)) > 0}
+    keep = [s for s, col in columns.items() if col in named | significant]
+    left = [col for s, col in columns.items() if s not in keep]
+    if not left:
+        return keep, ""
+    thermal = [c for c in d.candidates if c.get("sensor")]
+    best = (f" (the best, {thermal[0]['effect']} {thermal[0]['axis']} "
+            f"{thermal[0]['sensor']}, has z = {float(thermal[0]['z']):.2f})" if thermal else "")
+    return keep, (f"Residuals against {', '.join(left)} are left out: no thermal candidate "
+                  f"with {'it' if len(left) == 1 else 'them'} passed the significance test "
+                  f"(z ≥ {Z_MIN:g}){best}.")
+
+
+def estimate_rows(estimate: Mapping[str, Any]) -> list[tuple[str, str]]:
+    """(name, value ± uncertainty with unit) for each estimate; ``<k>_std`` joins ``<k>``."""
+    rows = []
+    for key, value in estimate.items():
+        if key.endswith("_std") and key[:-4] in estimate:
+            continue
+        if isinstance(value, bool) or not isinstance(value, (int, float)):
+            text = value if isinstance(value, str) else json.dumps(value)
+            rows.append((key, text))
+            continue
+        # "um_per_K" is a whole key, "amplitude_um" a name with a unit suffix
+        unit = next((u for suffix, u in UNITS if f"_{key}".endswith(suffix)), "")
+        std = estimate.get(f"{key}_std")
+        pm = f" ± {float(std):.2g}" if isinstance(std, (int, float)) else ""
+        rows.append((key, f"{float(value):.4g}{pm} {unit}".rstrip()))
+    return rows
+
+
+def _image(path: Path, caption: str) -> str:
+    data = base64.b64encode(path.read_bytes()).decode("ascii")
+    return (f"<figure><img alt='{html.escape(caption)}' src='data:image/png;base64,{data}'>"
+            f"<figcaption>{html.escape(caption)} ({html.escape(path.name)})</figcaption>"
+            "</figure>")
+
+
+def write_report(machine: Machine, m: Measurements, d: Diagnosis, directory: Path, *,
+                 data_file: Path | str | None = None,
+                 machine_file: Path | str | None = None,
+                 now: dt.datetime | None = None) -> Path:
+    """Write the plots and ``index.html`` into ``directory``; return the HTML path.
+
+    ``data_file`` and ``machine_file`` are the input files' names as the user gave them
+    (shown on the page); ``now`` is the report's date (default: the current UTC time).
+    """
     directory.mkdir(parents=True, exist_ok=True)
     rows = np.flatnonzero(d.judged)
     before, after = d.residual_before[rows], d.residual_after[rows]
@@ -52,7 +154,9 @@ def write_report(machine: Machine, m: Measurements, d: Diagnosis, directory: Pat
             _scatter(directory / name, q[:, j], before, after, f"{axis.key} ({unit})",
                      f"residual against {axis.key}")
             figures.append((name, f"against position {axis.key}"))
-    for sensor, col in m.temperature_columns.items():
+    sensors, left_out = relevant_sensors(d, m.temperature_columns)
+    for sensor in sensors:
+        col = m.temperature_columns[sensor]
         name = f"temperature_{sensor}.png"
         _scatter(directory / name, m.temperatures[sensor][rows], before, after,
                  f"{col} (°C)", f"residual against {col}")
@@ -81,18 +185,54 @@ def write_report(machine: Machine, m: Measurements, d: Diagnosis, directory: Pat
     fig.tight_layout()
     fig.savefig(directory / "candidates.png")
     plt.close(fig)
-    head = (f"<h1>Diagnosis of {html.escape(machine.name)}</h1><p><b>Effect:</b> "
-            f"{html.escape(d.effect)} {html.escape(str(d.axis or ''))} "
-            f"{html.escape(str(d.sensor or ''))}<br><b>Held-out RMS:</b> "
-            f"{d.rms_before_um:.3f} µm with the rigid model, {d.rms_after_um:.3f} µm "
-            f"extended</p><pre>{html.escape(json.dumps(d.estimate, indent=1))}</pre>")
-    if d.not_assessed:
-        items = "".join(f"<li>{html.escape(k)}: {html.escape(v)}</li>"
-                        for k, v in d.not_assessed.items())
-        head += f"<p>Not assessed:</p><ul>{items}</ul>"
-    body = '<h2>Candidates</h2><img src="candidates.png">'
-    body += "".join(f"<h2>Residual {html.escape(t)}</h2><img src='{n}'>" for n, t in figures)
+
     page = directory / "index.html"
-    page.write_text(f"<!doctype html><meta charset=utf-8><title>EDNC diagnosis</title>"
-                    f"<body style='font-family:sans-serif;max-width:900px'>{head}{body}")
+    page.write_text(_page(machine, m, d, figures, left_out, data_file, machine_file,
+                          now or dt.datetime.now(dt.UTC), directory), encoding="utf-8")
     return page
+
+
+def _page(machine: Machine, m: Measurements, d: Diagnosis, figures: list[tuple[str, str]],
+          left_out: str, data_file: Path | str | None, machine_file: Path | str | None,
+          now: dt.datetime, directory: Path) -> str:
+    e = html.escape
+    cause = " ".join(x for x in (d.effect, d.axis or "", d.sensor or "") if x)
+    span_h = float(np.ptp(m.time_s)) / 3600.0 if len(m) else 0.0
+    data_name = str(data_file) if data_file is not None else "(not given)"
+    machine_name = (f"{machine.name} ({machine_file})" if machine_file is not None
+                    else machine.name)
+    estimate = "<br>".join(f"{e(k)}: {e(v)}" for k, v in estimate_rows(d.estimate)) or "—"
+    summary = [
+        ("machine", e(machine_name)),
+        ("data file", e(data_name)),
+        ("readings", f"{len(m)} over {span_h:.1f} h"),
+        ("report made", e(now.strftime("%Y-%m-%d %H:%M UTC"))),
+        ("cause", e(cause)),
+        ("estimate", estimate),
+        ("held-out RMS, rigid model", f"{d.rms_before_um:.3f} µm"),
+        ("held-out RMS, extended model", f"{d.rms_after_um:.3f} µm"),
+    ]
+    table = "".join(f"<tr><th>{k}</th><td>{v}</td></tr>" for k, v in summary)
+    parts = [f"<h1>Diagnosis of {e(machine.name)}</h1>",
+             f"<p class='meta'>{e(data_name)} · {e(now.strftime('%Y-%m-%d %H:%M UTC'))}</p>",
+             f"<table class='summary'>{table}</table>"]
+    if d.effect in SIGN_NOTES:
+        parts.append(f"<p class='note'>Sign convention: {e(SIGN_NOTES[d.effect])}</p>")
+    if d.not_assessed:
+        items = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in d.not_assessed.items())
+        parts.append(f"<h2>Not assessed</h2><ul>{items}</ul>")
+    cand = "".join(
+        f"<tr><td>{e(str(c['effect']))}</td><td>{e(str(c['axis']))}</td>"
+        f"<td>{e(str(c.get('sensor') or ''))}</td>"
+        f"<td class='num'>{float(c['rms_after_um']):.3f}</td>"
+        f"<td class='num'>{float(c['z']):.2f}</td></tr>" for c in d.candidates[:12])
+    parts.append("<h2>Candidates</h2><table><tr><th>effect</th><th>axis</th><th>sensor</th>"
+                 "<th>held-out RMS (µm)</th><th>z</th></tr>" + cand + "</table>")
+    parts.append(_image(directory / "candidates.png", "held-out RMS of each candidate"))
+    parts.append("<h2>Residuals</h2>")
+    if left_out:
+        parts.append(f"<p>{e(left_out)}</p>")
+    parts += [_image(directory / name, f"residual {title}") for name, title in figures]
+    return ("<!doctype html><html lang=en><meta charset=utf-8>"
+            f"<title>EDNC diagnosis: {e(machine.name)}</title><style>{STYLE}</style>"
+            f"<body>{''.join(parts)}</body></html>\n")

@@ -464,7 +464,7 @@ def _build(name: str, header: list[str], columns: dict[str, NDArray[Any]],
     if bad_u.size:
         i = int(bad_u[0])
         raise MeasurementFormatError(
-            name, f"u = ({u[i, 0]!r}, {u[i, 1]!r}, {u[i, 2]!r}) is not a unit vector "
+            name, f"u = {tuple(float(c) for c in u[i])} is not a unit vector "
             f"(|u| = {norm[i]:.6g}, tolerance {U_NORM_TOL:g})", line=line_of(i),
             column="ux, uy, uz")
 

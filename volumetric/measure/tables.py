@@ -3,14 +3,19 @@
 Layout, one file per axis (so tables from laser software or a controller's pitch-error
 compensation can be brought in axis by axis)::
 
-    x_mm,EXX,EYX,EZX,EAX,EBX,ECX
+    x_mm,EXX_um,EYX_um,EZX_um,EAX_urad,EBX_urad,ECX_urad
     0,0.0,0.0,0.0,1.2,-3.4,0.5
     50,1.1,0.3,-0.2,1.3,-3.1,0.7
 
 The first column is the axis position (``<axis>_mm`` for linear axes, ``<axis>_deg`` for
-rotary ones); the others are any subset of that axis's six component errors (µm, µrad).
-Position-independent errors go in one more file with the header ``name,value``
-(``EC0Y,12.5``). Every cell must be a finite number; an error names file, line and column.
+rotary ones); the others are any subset of that axis's six component errors, each named
+by its ISO 230-1 name and its unit: ``_um`` for the translational ones (``EXX``, ``EYX``,
+``EZX``: second letter X, Y or Z), ``_urad`` for the angular ones (``EAX``, ``EBX``,
+``ECX``). The bare ISO name (``EXX``) is read too, in the same units, as laser software
+and the files of earlier versions write it; a suffix that contradicts the name's unit
+(``EAX_um``) is refused. Position-independent errors go in one more file,
+``name,value,unit`` (``EC0Y,12.5,urad``; ``name,value`` is read too). Every cell must be a
+finite number; an error names file, line and column.
 """
 
 from __future__ import annotations
@@ -33,9 +38,36 @@ from volumetric.model.components import (
 )
 from volumetric.model.machine import Axis, Machine
 
+UNITS = {"um": "µm", "urad": "µrad"}
+
 
 def position_column(axis: Axis) -> str:
     return f"{axis.key}_{'mm' if axis.kind == 'linear' else 'deg'}"
+
+
+def unit_of(name: str) -> str:
+    """``um`` or ``urad``: ISO 230-1 names say it by their second letter (EXX, EX0C: a
+    displacement along X; EAX, EC0Y: a rotation about A's axis x)."""
+    return "um" if name[1] in "XYZ" else "urad"
+
+
+def error_column(name: str) -> str:
+    """The header of a component error's column: its ISO 230-1 name and its unit."""
+    return f"{name}_{unit_of(name)}"
+
+
+def _split_unit(column: str, source: str) -> str:
+    """The ISO 230-1 name of a column header (``EXX_um`` or ``EXX``); a unit suffix that
+    contradicts the name is refused rather than read in the wrong unit."""
+    name, _, unit = column.rpartition("_")
+    if not name or unit not in UNITS:
+        return column
+    if unit != unit_of(name):
+        want = unit_of(name)
+        raise ComponentErrorSpecError(
+            f"{source}: column {column!r}: {name} is in {UNITS[want]} ({name}_{want}), "
+            f"not {UNITS[unit]}")
+    return name
 
 
 def export_tables(
@@ -53,7 +85,7 @@ def export_tables(
         q = np.linspace(axis.travel[0], axis.travel[1], points)
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
-        w.writerow([position_column(axis), *names])
+        w.writerow([position_column(axis), *map(error_column, names)])
         values = [errors.components[n](q) for n in names]
         for i, qi in enumerate(q):
             w.writerow([f"{qi:.6g}", *(f"{v[i]:.6g}" for v in values)])
@@ -61,9 +93,9 @@ def export_tables(
     if errors.locations:
         buf = io.StringIO()
         w = csv.writer(buf, lineterminator="\n")
-        w.writerow(["name", "value"])
+        w.writerow(["name", "value", "unit"])
         for name, value in sorted(errors.locations.items()):
-            w.writerow([name, f"{value:.6g}"])
+            w.writerow([name, f"{value:.6g}", unit_of(name)])
         out["locations"] = buf.getvalue()
     return out
 
@@ -101,16 +133,21 @@ def import_tables(machine: Machine, files: Iterable[tuple[str, str]]) -> Geometr
             raise ComponentErrorSpecError(f"{source}: empty file")
         header = [h.strip() for h in rows[0]]
         body = [(i + 2, r) for i, r in enumerate(rows[1:]) if any(c.strip() for c in r)]
-        if header == ["name", "value"]:
+        if header in (["name", "value"], ["name", "value", "unit"]):
             for line, r in body:
-                if len(r) != 2:
-                    raise ComponentErrorSpecError(f"{source}:{line}: expected name,value")
+                if len(r) != len(header):
+                    raise ComponentErrorSpecError(
+                        f"{source}:{line}: expected {','.join(header)}")
                 name = r[0].strip()
                 if name not in allowed_locations:
                     raise ComponentErrorSpecError(
                         f"{source}:{line}: {name!r} is not a location error of this machine "
                         f"({sorted(allowed_locations)})"
                     )
+                if len(r) == 3 and r[2].strip() != unit_of(name):
+                    raise ComponentErrorSpecError(
+                        f"{source}:{line} column unit: {name} is in {unit_of(name)}, "
+                        f"not {r[2].strip()!r}")
                 locs[name] = _number(r[1].strip(), f"{source}:{line} column value")
             continue
         axis = by_column.get(header[0])
@@ -120,6 +157,8 @@ def import_tables(machine: Machine, files: Iterable[tuple[str, str]]) -> Geometr
                 f"this machine ({sorted(by_column)})"
             )
         valid = set(component_names(axis))
+        written = header  # for messages: the column as the file names it
+        header = [header[0], *(_split_unit(col, source) for col in header[1:])]
         for col in header[1:]:
             if col not in valid:
                 raise ComponentErrorSpecError(
@@ -137,7 +176,7 @@ def import_tables(machine: Machine, files: Iterable[tuple[str, str]]) -> Geometr
                     f"{source}:{line}: {len(r)} cells, the header has {len(header)}"
                 )
             for j, cell in enumerate(r):
-                data[k, j] = _number(cell.strip(), f"{source}:{line} column {header[j]}")
+                data[k, j] = _number(cell.strip(), f"{source}:{line} column {written[j]}")
         try:
             for j, col in enumerate(header[1:], start=1):
                 comps[col] = Table(tuple(data[:, 0]), tuple(data[:, j]))

@@ -127,7 +127,8 @@ class Table:
         if bad.size:
             i = int(bad[0])
             raise ComponentErrorSpecError(
-                f"table entry {i}: position {p[i]!r}, value {v[i]!r} is not a finite number"
+                f"table entry {i}: position {float(p[i])}, value {float(v[i])} is not a finite "
+                "number"
             )
         if np.any(np.diff(p) <= 0):
             i = int(np.flatnonzero(np.diff(p) <= 0)[0])

@@ -140,7 +140,7 @@ def evaluate_positioning(m: Measurements, *, target_tol_mm: float = 1e-3
     if m.is_angle.any():
         i = int(np.flatnonzero(m.is_angle)[0])
         raise PositioningTestError(
-            f"{int(m.is_angle.sum())} angle reading(s) (first: test {m.test[i]!r}, run "
+            f"{int(m.is_angle.sum())} angle reading(s) (first: test {str(m.test[i])!r}, run "
             f"{m.run[i]}); an ISO 230-2 positioning test reads displacements along the axis")
     labels = np.unique(m.test)
     if labels.size > 1:
