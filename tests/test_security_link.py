@@ -234,8 +234,8 @@ async def test_refusal_log_windows() -> None:
     now = [0.0]
     stored: list[tuple[str, str]] = []
 
-    async def store(who: str, detail: str, reason: str) -> None:
-        stored.append((who, detail))
+    async def store(rows: list[tuple[str, str, str]]) -> None:
+        stored.extend((who, detail) for who, detail, _ in rows)
 
     log = RefusalLog(store, window_s=60.0, clock=lambda: now[0])
     for _ in range(5):
@@ -273,3 +273,20 @@ async def test_a_changed_secret_closes_the_session_that_used_the_old_one(
         raw = await RawMachine.connect(r.port)
         assert isinstance(await raw.login(), Reject)
         raw.close()
+
+
+async def test_refusals_at_once_are_stored_in_a_few_transactions() -> None:
+    batches: list[int] = []
+
+    async def store(rows: list[tuple[str, str, str]]) -> None:
+        batches.append(len(rows))
+        await asyncio.sleep(0.01)  # a commit takes time; others queue meanwhile
+
+    log = RefusalLog(store)
+    runner = asyncio.create_task(log.run(period_s=3600.0))
+    await asyncio.sleep(0)
+    await asyncio.gather(*(log.refused(f"10.0.0.{i}", "timeout", "timeout")
+                           for i in range(50)))
+    assert sum(batches) == 50 and len(batches) <= 3, batches  # not 50 database calls
+    runner.cancel()
+    await asyncio.gather(runner, return_exceptions=True)

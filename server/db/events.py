@@ -36,6 +36,16 @@ def add_event(
     return row
 
 
+def add_events(session: Session, kind: str, rows: list[tuple[str, str]]) -> int:
+    """Append events of one ``kind``, ``(machine, detail)`` each, in this transaction."""
+    now = utcnow()
+    session.add_all(EventRow(kind=kind, machine=_storable(machine, MAX_MACHINE_CHARS),
+                             detail=_storable(detail, MAX_DETAIL_CHARS), time=now)
+                    for machine, detail in rows)
+    session.flush()
+    return len(rows)
+
+
 def list_events(
     session: Session, *, kind: str | None = None, machine: str | None = None,
     before_id: int | None = None, limit: int = 100,

@@ -192,7 +192,7 @@ class MachineServer:
         self.addresses = AddressBook(center.db)
         self.slots = HandshakeSlots(max_handshakes, max_handshakes_per_address)
         self.throttle = throttle or LoginThrottle()
-        self.refusal_log = RefusalLog(self._store_refusal)
+        self.refusal_log = RefusalLog(self._store_refusals)
         self._log_unregistered = OncePerWindow()
         self._session_of: dict[int, MachineSession] = {}  # by machine id, for secret changes
         self._handlers: set[asyncio.Task[None]] = set()
@@ -312,15 +312,16 @@ class MachineServer:
         self.center.metrics.refusals.labels(reason=reason).inc()
         await self.refusal_log.refused(who, detail, reason)
 
-    async def _store_refusal(self, who: str, detail: str, reason: str) -> None:
-        """One refusal row (RefusalLog decides when), told to the feed's subscribers."""
+    async def _store_refusals(self, rows: list[tuple[str, str, str]]) -> None:
+        """Refusal rows (RefusalLog decides which, and batches them), told to the feed."""
         try:
-            await self.center.db.run(event_repo.add_event, kind=EventKind.REFUSED.value,
-                                     machine=who, detail=detail)
-            self.center.metrics.events.labels(kind=EventKind.REFUSED.value).inc()
+            await self.center.db.run(event_repo.add_events, EventKind.REFUSED.value,
+                                     [(who, detail) for who, detail, _ in rows])
+            self.center.metrics.events.labels(kind=EventKind.REFUSED.value).inc(len(rows))
         except SQLAlchemyError:
-            log.exception("could not store a refusal of %s", who)
-        self.feed.publish(Notice(EventKind.REFUSED, who, detail))
+            log.exception("could not store %d refusals", len(rows))
+        for who, detail, _ in rows:
+            self.feed.publish(Notice(EventKind.REFUSED, who, detail))
 
     def _secrets_changed(self, machine_ids: set[int]) -> None:
         """A session authenticated with a secret that is no longer the machine's ends."""
