@@ -53,6 +53,7 @@ from protocol import (  # noqa: E402
     Reject,
     Role,
     Telemetry,
+    Temperatures,
     Welcome,
     compute_mac,
 )
@@ -90,6 +91,10 @@ def percentiles(values: list[float], *qs: float) -> list[float]:
 
 
 # -- the fake fleet (child process)
+
+TEMPERATURES: dict[str, list[tuple[float, float]]] = {}
+"""Per machine: (°C of the sensor ``spindle``, time.monotonic()) of every Temperatures."""
+
 
 class FakeMachine:
     """One machine: the protocol, nothing else."""
@@ -149,6 +154,12 @@ class FakeMachine:
                                         (verdict.version, time.monotonic()))
                                 else:
                                     send(verdict.message())
+                        case Temperatures(readings=readings):
+                            now = time.monotonic()
+                            for r in readings:
+                                if r.name == "spindle":
+                                    TEMPERATURES.setdefault(self.name, []).append(
+                                        (r.celsius, now))
                         case Reject() | Error():
                             self.error = repr(event)
                             return
@@ -184,7 +195,8 @@ async def fleet_main(port: int, count: int, ramp_per_s: float) -> None:
     loop = asyncio.get_running_loop()
     await loop.run_in_executor(None, sys.stdin.read)  # until the parent closes stdin
     errors = [m.error for m in machines if not m.welcomed.is_set()]
-    print(json.dumps({"acks": acks, "errors": errors[:20], "error_count": len(errors),
+    print(json.dumps({"acks": acks, "temperatures": TEMPERATURES,
+                      "errors": errors[:20], "error_count": len(errors),
                       "welcomed": sum(m.welcomed.is_set() for m in machines)}), flush=True)
     for t in tasks:
         t.cancel()
