@@ -20,13 +20,12 @@ from rich.table import Table
 from ednc.fleet import FleetMachine, demo_fleet
 from machine_sim.campaign import map_compensation, run_campaign, standard_campaign
 from machine_sim.instruments import SimulatedMachine
-from machine_sim.lookup import GridMap
+from machine_sim.lookup import TablesMap, active_map
 from machine_sim.program import Dwell, Program, SpindleOn
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
-from protocol import decode_map, encode_map
-from server.mapcodec import grid_to_payload
-from volumetric.compensate.gridmap import ErrorMap, build_map, build_map_within
+from protocol.maptables import decode_payload
+from server.mapcodec import MapContent, build_for, encode, kind_of
 from volumetric.compensate.solver import Weights, compensate
 from volumetric.diagnose.diagnosis import Diagnosis, diagnose
 from volumetric.identify.fit import fit
@@ -46,7 +45,8 @@ class MachineResult:
     readings: int = 0
     fit_rms_um: float = 0.0
     effect: str = "none"
-    map_nodes: int = 0
+    map_kind: str = ""
+    map_bytes: int = 0
     map_worst_um: float = 0.0
     before_um: float = float("nan")
     after_um: float = float("nan")
@@ -65,7 +65,7 @@ class Prepared:
     machine: Machine
     sim: SimulatedMachine
     model: MachineModel
-    emap: ErrorMap
+    emap: MapContent
     result: MachineResult
     readings: Measurements
     diagnosis: Diagnosis
@@ -98,15 +98,19 @@ def prepare(fm: FleetMachine, console: Console) -> Prepared:
     temps = None
     if model.sensors:
         temps = {s: float(readings.temperatures[s[2:-2]].mean()) for s in model.sensors}
-    emap = build_map_within(m, model, temps, tolerance_um=0.5)  # the machine's controller
+    # the kind its controller evaluates: tables for a Siemens-style endpoint, a grid for a
+    # Fanuc-style PMC ladder; the tightest tolerance that fits its map memory
+    emap = build_for(m, model, temps, tolerance_um=0.5, max_tolerance_um=4.0)
     assert emap.report is not None
-    res.map_nodes, res.map_worst_um = emap.report.nodes, emap.report.worst_error_um
-    console.print(f"  error map: {emap.report.nodes} nodes, {emap.report.bytes} bytes, worst "
-                  f"{emap.report.worst_error_um:.2f} µm as sent ({m.controller}, tolerance "
-                  f"{emap.report.tolerance_um:g} µm)")
+    payload = encode(emap)
+    res.map_kind, res.map_bytes = kind_of(emap), len(payload)
+    res.map_worst_um = emap.report.worst_error_um
+    console.print(f"  map: {res.map_kind}, {res.map_bytes:,d} bytes, worst tool-tip error "
+                  f"{emap.report.worst_error_um:.2f} µm as the machine applies it "
+                  f"({m.controller}, tolerance {emap.report.tolerance_um:g} µm)")
     if all(a in m.axis_names for a in "XYZ"):
-        grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
-        inc = emap.increment
+        grid = active_map(decode_payload(payload), temps)  # the machine's own evaluation
+        inc = 0.001 if m.controller == "fanuc" else None
         programs = [diagonal_test(m, g, points=20, runs=2) for g in DIAGONALS]
         before = diagonal_ranges(run_campaign(sim, programs).measurements)
         after = diagonal_ranges(run_campaign(
@@ -140,12 +144,21 @@ def _shared_axes(m: Machine, model: MachineModel, res: MachineResult, console: C
 
 
 def warm_up(p: Prepared, console: Console, steps: int = 6, minutes: float = 10.0) -> None:
-    """The machine with a thermal model warms up; its map follows its spindle sensor."""
+    """The machine with a thermal model warms up; one tables map, built once, follows its
+    spindle sensor in the machine's own evaluation (no rebuild per temperature)."""
     m, sim = p.machine, p.sim
     programs = [diagonal_test(m, g, points=10, runs=1) for g in DIAGONALS]
     rigid = MachineModel(p.model.machine, p.model.geometry, (), {})
-    console.print(f"\n[bold]{m.name}[/] warms up at 9000 rpm; the center rebuilds its map from "
-                  "the spindle temperature (z shift of the compensated tool tip, µm):")
+    maps: dict[str, TablesMap] = {}
+    for label, model in (("rigid", rigid), ("thermal", p.model)):
+        content = build_for(m, model, None, kind="tables", tolerance_um=0.5,
+                            controller="siemens")
+        amap = active_map(decode_payload(encode(content)))
+        assert isinstance(amap, TablesMap)
+        maps[label] = amap
+    console.print(f"\n[bold]{m.name}[/] warms up at 9000 rpm; one tables map carries the "
+                  "thermal terms and the machine applies its latest spindle temperature "
+                  "(z shift of the compensated tool tip, µm; map version unchanged):")
     ref: dict[str, float] = {}
     for k in range(steps + 1):
         heat: list[Program] = [[SpindleOn(9000.0), Dwell(60.0 * minutes * k)]] if k else []
@@ -154,11 +167,9 @@ def warm_up(p: Prepared, console: Console, steps: int = 6, minutes: float = 10.0
         temps = {col: float(probe.temperatures[s].mean())
                  for s, col in probe.temperature_columns.items()}
         shifts = {}
-        for label, model in (("rigid", rigid), ("thermal", p.model)):
-            emap = build_map(m, model, temps if model.sensors else None, tolerance_um=0.5,
-                             controller="siemens")
-            grid = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))))
-            after = run_campaign(sim, warm, compensation=map_compensation(m, grid)).measurements
+        for label, amap in maps.items():
+            amap.set_temperatures(temps)
+            after = run_campaign(sim, warm, compensation=map_compensation(m, amap)).measurements
             offset, *_ = np.linalg.lstsq(after.u, after.value, rcond=None)
             shifts[label] = float(offset[2])
         if not ref:
@@ -172,12 +183,12 @@ def warm_up(p: Prepared, console: Console, steps: int = 6, minutes: float = 10.0
 def summary_table(results: list[MachineResult]) -> Table:
     t = Table(title="Fleet summary")
     for col in ("machine", "controller", "chain", "readings", "fit RMS µm", "diagnosis",
-                "map nodes", "before µm", "after µm", "better"):
+                "map kind", "bytes", "worst µm", "before µm", "after µm", "better"):
         t.add_column(col)
     for r in results:
         t.add_row(r.name, r.controller, r.chain, str(r.readings), f"{r.fit_rms_um:.2f}",
-                  r.effect, str(r.map_nodes), f"{r.before_um:.1f}", f"{r.after_um:.2f}",
-                  f"{100 * r.improvement:.0f} %")
+                  r.effect, r.map_kind, f"{r.map_bytes:,d}", f"{r.map_worst_um:.2f}",
+                  f"{r.before_um:.1f}", f"{r.after_um:.2f}", f"{100 * r.improvement:.0f} %")
     return t
 
 

@@ -40,10 +40,10 @@ TRAVEL = {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}
 
 def demo_fleet() -> list[FleetMachine]:
     return [
-        FleetMachine({"name": "vmc-01", "controller": "fanuc", "ip": "127.0.0.1",
+        FleetMachine({"name": "vmc-01", "controller": "siemens", "ip": "127.0.0.1",
                       "chain": "w X Y b Z t", "travel_mm": TRAVEL, "tool_length_mm": 100.0},
                      Effects(drift=(ThermalDrift("z", "spindle", -2.5),), noise=NOISE), 11),
-        FleetMachine({"name": "gantry-02", "controller": "siemens", "ip": "127.0.0.1",
+        FleetMachine({"name": "gantry-02", "controller": "fanuc", "ip": "127.0.0.1",
                       "chain": "w b Y X Z t", "travel_mm": TRAVEL, "tool_length_mm": 150.0},
                      Effects(noise=NOISE), 12),
         FleetMachine({"name": "hmc-03", "controller": "fanuc", "ip": "127.0.0.1",

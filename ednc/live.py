@@ -6,8 +6,9 @@ SQLite database. Each prepared machine is registered through the REST API with i
 loopback address and secret, its measurements, diagnosis and model are uploaded, and a
 simulated CNC connects, authenticates and takes its map. The ISO 230-6 diagonals are then
 measured with the map the machine actually received and applies, and the machine with a
-thermal model warms up (an hour of machine time per minute) while the center rebuilds its
-map from the temperatures it publishes.
+thermal model warms up from cold (an hour of machine time per minute): its tables map
+carries the thermal terms, so its compensation follows its own temperature readings each
+cycle while the map version stays the same (no rebuild).
 """
 
 from __future__ import annotations
@@ -30,7 +31,7 @@ from rich.table import Table
 from ednc.demo import DIAGONALS, Prepared
 from machine_sim.campaign import map_compensation, run_campaign
 from machine_sim.link import MqttTarget, SimulatedCNC
-from machine_sim.lookup import ActiveMap
+from machine_sim.lookup import ActiveMap, TablesMap
 from machine_sim.runtime import MachineRuntime
 from machine_sim.testprograms import diagonal_test
 from server.app import create_app
@@ -153,7 +154,8 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
             ip, secret = f"127.0.2.{i + 1}", f"{p.machine.name}-{secrets.token_hex(12)}"
             await _register(client, p, ip, secret)
             m = parse_machine({**p.fleet.description, "ip": ip})
-            runtime = MachineRuntime(m, seed=p.fleet.seed, thermal_speedup=THERMAL_SPEEDUP)
+            runtime = MachineRuntime(m, seed=p.fleet.seed, thermal_speedup=THERMAL_SPEEDUP,
+                                     warmup=bool(p.model.sensors))
             mqtt = MqttTarget("127.0.0.1", 1883, prefix) if mqtt_up else None
             cncs.append(SimulatedCNC(m, ("127.0.0.1", machine_port), secret.encode(),
                                      runtime=runtime, ip=ip, mqtt=mqtt, seed=p.fleet.seed,
@@ -164,17 +166,20 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
                 await stack.enter_async_context(c)
             grids = await _wait_for_maps(console, cncs)
             table = Table(title="ISO 230-6 with the map each machine received over TCP")
-            for col in ("machine", "controller", "map version", "worst range before µm",
+            for col in ("machine", "controller", "map", "bytes", "worst range before µm",
                         "after µm", "better"):
                 table.add_column(col)
             for p, c in zip(prepared, cncs, strict=True):
                 grid = grids[c.machine.name]
+                r = await client.get(f"/api/machines/{p.machine.name}/maps/{grid.version}")
+                size = f"{r.json()['size_bytes']:,d}" if r.status_code == 200 else "?"
+                kind = f"v{grid.version} {_kind(grid)}"
                 if all(a in p.machine.axis_names for a in "XYZ"):
                     pre, post = await _verify(client, p, grid)
-                    table.add_row(p.machine.name, p.machine.controller, str(grid.version),
+                    table.add_row(p.machine.name, p.machine.controller, kind, size,
                                   f"{pre:.1f}", f"{post:.2f}", f"{100 * (1 - post / pre):.0f} %")
                 else:
-                    table.add_row(p.machine.name, p.machine.controller, str(grid.version),
+                    table.add_row(p.machine.name, p.machine.controller, kind, size,
                                   "two spindles", "shared axes", "see above")
             console.print(table)
             hot = next(((p, c) for p, c in zip(prepared, cncs, strict=True)
@@ -191,6 +196,10 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
         tmp.cleanup()
 
 
+def _kind(active: ActiveMap) -> str:
+    return "tables" if isinstance(active, TablesMap) else "grid"
+
+
 async def _wait_for_maps(console: Console, cncs: list[SimulatedCNC]) -> dict[str, ActiveMap]:
     grids: dict[str, ActiveMap] = {}
     # a five-axis map over five dimensions takes the center tens of seconds to build
@@ -200,8 +209,8 @@ async def _wait_for_maps(console: Console, cncs: list[SimulatedCNC]) -> dict[str
                 active = c.runtime.controller.store.active
                 if active is not None and c.machine.name not in grids:
                     grids[c.machine.name] = active
-                    console.print(f"  {c.machine.name} ({c.ip}): map version {active.version} "
-                                  f"received, checked and applied by its "
+                    console.print(f"  {c.machine.name} ({c.ip}): {_kind(active)} map version "
+                                  f"{active.version} received, checked and applied by its "
                                   f"{'PMC ladder' if c.machine.controller == 'fanuc' else 'NC'}")
             await asyncio.sleep(0.1)
     return grids
@@ -216,10 +225,13 @@ async def _follow_heat(console: Console, p: Prepared, cnc: SimulatedCNC, warm_s:
     zi = m.axis_names.index("Z")
     ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
     console.rule(f"{m.name}: thermal compensation, live")
+    carried = isinstance(cnc.runtime.controller.store.active, TablesMap)
+    how = ("its tables map carries the thermal terms: the machine applies its own latest "
+           "temperature every cycle, the map is not rebuilt" if carried else
+           "the center rebuilds and pushes its grid map as the temperature moves")
     console.print(f"the diagnosis found {term.kind} along {term.axis} with {sensor} "
-                  f"({coefficient:+.2f} µm/K); the machine warms up "
-                  f"({THERMAL_SPEEDUP:.0f}x machine time) and publishes its temperatures; "
-                  "the center rebuilds and pushes its map:")
+                  f"({coefficient:+.2f} µm/K); the machine warms up from cold "
+                  f"({THERMAL_SPEEDUP:.0f}x machine time); {how}:")
     start_t: float | None = None
     start_z: float | None = None
     seen = -1
@@ -235,7 +247,7 @@ async def _follow_heat(console: Console, p: Prepared, cnc: SimulatedCNC, warm_s:
         if start_t is None or start_z is None:
             start_t, start_z = temp, z
         drift = coefficient * (temp - start_t)
-        fresh = "new" if grid.version != seen else "   "
+        fresh = "new" if grid.version != seen and seen >= 0 else "   "
         seen = grid.version
         console.print(f"  {temp:6.2f} °C  drift {drift:+7.2f} µm   map v{grid.version:<3d}{fresh} "
                       f"z correction {z - start_z:+7.2f} µm   left {drift + z - start_z:+6.2f} µm")

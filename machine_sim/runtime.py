@@ -56,10 +56,12 @@ class Motion:
 
 
 def duty_cycle_thermal(config: ThermalConfig, *, hours: float = 12.0, step_s: float = 5.0,
-                       duty_rpm: float = 6000.0, seed: int = 0) -> ThermalHistory:
-    """Temperatures over a shop duty cycle (module docstring)."""
+                       duty_rpm: float = 6000.0, seed: int = 0,
+                       warmup: bool = False) -> ThermalHistory:
+    """Temperatures over a shop duty cycle (module docstring), or, with ``warmup``, a cold
+    machine whose spindle runs without a pause (temperatures rise over the whole span)."""
     t = np.arange(0.0, hours * 3600.0, step_s)
-    on = (t % 3600.0) < 2400.0
+    on = np.ones(t.shape, dtype=bool) if warmup else (t % 3600.0) < 2400.0
     rpm = np.where(on, duty_rpm, 0.0)
     speeds: dict[str, F64] = {}
     for s in config.sensors:
@@ -89,19 +91,24 @@ class MachineRuntime:
     sensor_period_s : float
         How often the controller reads its own sensors, s (not every cycle: a reading
         costs more than a cycle's budget and temperatures move over minutes).
+    warmup : bool
+        A cold machine whose spindle runs at 9000 rpm without a pause, instead of the shop
+        duty cycle (the demo's warm-up).
     """
 
     def __init__(self, machine: Machine, *, seed: int = 0, thermal: ThermalConfig | None = None,
                  fanuc: FanucConfig | None = None, siemens: SiemensConfig | None = None,
                  thermal_speedup: float = 1.0, own_sensors: bool | None = None,
-                 sensor_period_s: float = 1.0) -> None:
+                 sensor_period_s: float = 1.0, warmup: bool = False) -> None:
         if not thermal_speedup > 0:
             raise ValueError(f"thermal_speedup must be > 0, got {thermal_speedup!r}")
         self.machine = machine
         self.thermal_speedup = float(thermal_speedup)
         rng = np.random.default_rng(seed)
         self.motion = Motion.random(machine, rng)
-        self.thermal = duty_cycle_thermal(thermal or default_thermal(machine), seed=seed)
+        self.thermal = duty_cycle_thermal(thermal or default_thermal(machine), seed=seed,
+                                          warmup=warmup,
+                                          duty_rpm=9000.0 if warmup else 6000.0)
         self._noise = np.random.default_rng([seed, 7])
         self.controller: FanucPMC | SiemensNC
         if machine.controller == "siemens":

@@ -19,13 +19,29 @@ def test_the_demo_runs_the_whole_loop_and_says_where_the_dashboard_is() -> None:
                          text=True, timeout=600, env={"COLUMNS": "200", "PATH": "/usr/bin:/bin"})
     assert out.returncode == 0, out.stderr[-3000:]
     text = out.stdout
-    for name in ("vmc-01", "gantry-02", "hmc-03", "5ax-04", "arch-05"):
-        assert re.search(rf"{name} \(127\.0\.2\.\d\): map version \d+ received", text), name
+    kinds = {"vmc-01": "tables", "gantry-02": "grid", "hmc-03": "grid", "5ax-04": "tables",
+             "arch-05": "grid"}  # Siemens-style endpoints evaluate tables, Fanuc PMCs grids
+    for name, kind in kinds.items():
+        assert re.search(rf"{name} \(127\.0\.2\.\d\): {kind} map version \d+ received",
+                         text), name
+    # the numeric loop says, per machine, the kind, bytes and worst error of its map
+    assert len(re.findall(r"map: (tables|grid), [\d,]+ bytes, worst tool-tip error \d+\.\d+ µm",
+                          text)) == 5
     assert "diagnosis: thermal_drift z T_spindle_C" in text
     assert "diagnosis: backlash y" in text
     # ISO 230-6 with the maps the machines received: at least 90 % better each
     received = text.split("ISO 230-6 with the map each machine received")[1]
     gains = [int(g) for g in re.findall(r"│ (\d+) %\s+│", received.split("thermal")[0])]
     assert len(gains) >= 4 and min(gains) >= 90, gains
-    assert re.search(r"map v\d+\s+new z correction", text)  # the map follows the heat
+    # the warm-up: the spindle heats, the map version stays, the compensation follows
+    rows = re.findall(r"^\s+(\d+\.\d+) °C\s+drift\s+([-+]\d+\.\d+) µm\s+map v(\d+)\s+"
+                      r"z correction\s+([-+]\d+\.\d+) µm\s+left\s+([-+]\d+\.\d+) µm",
+                      text, re.M)
+    assert len(rows) >= 5, text[-2000:]
+    temps = [float(r[0]) for r in rows]
+    assert temps[-1] - temps[0] >= 2.0, temps  # warming up, several K
+    assert len({r[2] for r in rows}) == 1  # one map: no rebuild for a temperature change
+    drift = max(abs(float(r[1])) for r in rows)
+    left = max(abs(float(r[4])) for r in rows)
+    assert drift >= 5.0 and left <= 0.2 * drift, rows
     assert f"dashboard: http://127.0.0.1:{port}/" in text

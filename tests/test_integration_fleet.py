@@ -2,8 +2,9 @@
 chains over real TCP, each machine identified from its simulated laser campaign through the
 REST API; every machine gets its map, acknowledges it, applies it in its PLC loop, and the
 map it actually received, applied the way its controller applies it, cuts its ISO 230-6
-diagonal ranges by 90 % (the arch machine: both spindles' errors shrink under the weighted
-compensation of shared axes)."""
+diagonal ranges by 95 % (the arch machine: both spindles' errors shrink under the weighted
+compensation of shared axes). Siemens-style machines declare that they evaluate tables maps
+and get one (the chain evaluated in the machine); Fanuc-style PMC ladders get grids."""
 
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ import numpy as np
 import pytest
 
 from machine_sim.campaign import map_compensation, run_campaign
-from machine_sim.lookup import GridMap
+from machine_sim.lookup import ActiveMap, GridMap, TablesMap
 from machine_sim.testprograms import diagonal_test
 from tests.support.integration import (
     DEADLINE_S,
@@ -87,7 +88,8 @@ async def test_six_machines_get_identified_maps_that_compensate_them(tmp_path: P
 
     for s in FLEET:
         grid = grids[s.name]
-        assert isinstance(grid, GridMap)
+        # the kind the machine's controller evaluates, chosen by the center from its Hello
+        assert isinstance(grid, TablesMap if s.machine.controller == "siemens" else GridMap)
         if s.name == "arch-05":
             _check_arch(s.name, grid)
         else:
@@ -98,7 +100,7 @@ def _increment(controller: str) -> float | None:
     return 0.001 if controller == "fanuc" else None  # Fanuc shifts in IS-B increments
 
 
-def _check_diagonals(name: str, grid: GridMap) -> None:
+def _check_diagonals(name: str, grid: ActiveMap) -> None:
     """ISO 230-6 body diagonals on the true machine, without and with the received map."""
     sim, _, _ = campaign(name)
     m = sim.machine
@@ -112,8 +114,8 @@ def _check_diagonals(name: str, grid: GridMap) -> None:
           f"{ {k: round(v, 2) for k, v in after.items()} } µm, improvement "
           f"{ {k: round(v, 3) for k, v in gain.items()} }")
     assert max(before.values()) > 20.0  # the machine really needs compensation
-    assert gain["overall"] >= 0.90, gain
-    # every diagonal well above the noise and map-tolerance floor is cut by 90 % too
+    assert gain["overall"] >= 0.95, gain
+    # every diagonal well above the noise and map-tolerance floor is cut by 90 % at least
     assert all(gain[d] >= 0.90 for d in DIAGONALS if before[d] > 20.0), gain
 
 
@@ -123,7 +125,7 @@ def _offset_free_rms(e: np.ndarray) -> float:
     return float(np.sqrt(np.mean(np.sum((e - e.mean(axis=0)) ** 2, axis=1))))
 
 
-def _check_arch(name: str, grid: GridMap) -> None:
+def _check_arch(name: str, grid: ActiveMap) -> None:
     """Two spindles share X and Y: one shift cannot zero both tool tips, the weighted
     compensation splits the residual. Each spindle's error must shrink, and the received
     map must leave no more than the best the shared axes allow (least squares on the true

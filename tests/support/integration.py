@@ -51,10 +51,10 @@ from volumetric.model.machine import Machine, parse_machine
 
 API_KEY = "integration-api-key-0123"
 WRITE = {"X-API-Key": API_KEY}
-DEADLINE_S = 90.0  # a hang guard, not a speed requirement
-TOLERANCE_UM = 2.0
-"""Map tolerance of the test centers: a 5-axis map at 0.5 µm needs ~10^6 nodes (over the
-16 MB limit) and a 1 µm one ~25 s to build on this machine; at 2 µm it takes ~6 s."""
+DEADLINE_S = 300.0  # a hang guard, not a speed requirement (CI machines are shared)
+TOLERANCE_UM = 1.0
+"""Map tolerance of the test centers. The 5-axis machine is Siemens-style and gets a tables
+map (a few kB, well under a second); a 5-axis *grid* at 1 µm would take ~25 s to build."""
 HEARTBEAT_S = 0.5
 NOISE = Noise(0.2, 0.3)
 TRAVEL = {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}
@@ -98,7 +98,7 @@ def _fleet() -> tuple[Spec, ...]:
 
 
 FLEET = _fleet()
-"""vmc-01 (Fanuc, w X Y b Z t), gantry-02 (Siemens, w b Y X Z t), hmc-03 (Fanuc, type 3),
+"""vmc-01 (Siemens, w X Y b Z t), gantry-02 (Fanuc, w b Y X Z t), hmc-03 (Fanuc, type 3),
 5ax-04 (Siemens, w C A X b Y Z t), arch-05 (Fanuc, two spindles), vmc-06 (Siemens,
 w X b Y Z t)."""
 
