@@ -29,7 +29,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Final
 
 import numpy as np
 from numpy.typing import NDArray
@@ -128,6 +128,27 @@ def _turn_matrix(d: F64, theta: F64) -> F64:
     k = _skew(d)
     out: F64 = (np.eye(3) + np.sin(theta)[:, None, None] * k
                 + (1.0 - np.cos(theta))[:, None, None] * (k @ k))
+    return out
+
+
+class _Identity:
+    """The orientation before the first link: multiplying by it costs nothing."""
+
+
+_IDENTITY: Final = _Identity()
+
+
+Orient = F64 | _Identity | None
+"""An orientation being walked: (N, 3, 3), the identity, or None when not wanted."""
+
+
+def _times(m: F64, r: Orient) -> F64 | None:
+    """``m @ r`` for orientations (N, 3, 3), None or the identity."""
+    if r is None:
+        return None
+    if isinstance(r, _Identity):
+        return m
+    out: F64 = m @ r
     return out
 
 
@@ -278,7 +299,12 @@ class ChainBatch:
         # a linear axis's tilted line of motion and a rotary axis's tilt, once
         self.line = _rotate(self.tilt.reshape(-1, 3),
                             self.direction.reshape(-1, 3)).reshape(m, a, 3)
-        self.tilt_m = _matrix(self.tilt.reshape(-1, 3)).reshape(m, a, 3, 3)
+        # a rotary axis turning about its tilted line: Rot(τ) Turn(d, θ) Rot(τ)ᵀ is the turn
+        # about Rot(τ) d, so one Rodrigues form per cycle (README step 3)
+        tilted = _rotate(self.tilt.reshape(-1, 3), self.direction.reshape(-1, 3))
+        k1 = _skew(tilted)
+        self.k1t = k1.reshape(m, a, 3, 3)
+        self.k2t = (k1 @ k1).reshape(m, a, 3, 3)
 
     def _tables(self, maps: Sequence[TablesPayload]) -> None:
         m, a = len(maps), len(self.axes)
@@ -326,7 +352,7 @@ class ChainBatch:
         key = idx.tobytes()
         if self._gathered is None or self._gathered[0] != key:
             names = ("t_first", "t_last", "t_cap", "t_start", "t_step", "pivot", "frame",
-                     "direction", "line", "tilt_m", "offset", "zero", "tool")
+                     "direction", "line", "k1t", "k2t", "offset", "zero", "tool")
             self._gathered = (key, {k: getattr(self, k)[idx] for k in names})
         return self._gathered[1]
 
@@ -358,21 +384,19 @@ class ChainBatch:
 
         A backward pass from the tool: each link is a rigid motion ``x ↦ M x + t`` applied
         to the tool tip (and M to the orientation), in the order of the README's table."""
-        n = q.shape[0]
+        n, na = q.shape
         g = self._rows_of(idx)
         p = g["tool"][:, spindle].copy()
-        r = np.broadcast_to(_EYE, (n, 3, 3)) if orientation else None
+        r: Orient = _IDENTITY if orientation else None
+        if comps is not None:  # every axis's error motion at once: fewer, larger calls
+            delta, eps = comps[:, :, :3], comps[:, :, 3:]
+            if any(self.spindle_axis):
+                delta = np.einsum("naij,naj->nai", g["frame"], delta)
+                eps = np.einsum("naij,naj->nai", g["frame"], eps)
+            rots = _matrix(np.ascontiguousarray(eps).reshape(-1, 3)).reshape(n, na, 3, 3)
         for j in reversed(self.links[spindle]):
             qj = q[:, j]
-            err = None
-            if comps is not None:
-                fr = g["frame"][:, j]
-                eps = comps[:, j, 3:]
-                if self.spindle_axis[j]:
-                    err = (np.einsum("nij,nj->ni", fr, comps[:, j, :3]),
-                           _matrix(np.einsum("nij,nj->ni", fr, eps)))
-                else:
-                    err = (comps[:, j, :3], _matrix(eps))
+            err = None if comps is None else (delta[:, j], rots[:, j])
             if self.rotary[j]:
                 if self.tool_side[j]:
                     p, r = self._rotary(idx, j, qj, p, r, comps is not None)
@@ -388,11 +412,13 @@ class ChainBatch:
                 else:
                     p = p + qj[:, None] * d
                     p, r = self._error(err, None, p, r)
+        if isinstance(r, _Identity):  # no rotation on the way (linear axes, nominal)
+            r = np.broadcast_to(_EYE, (n, 3, 3)).copy()
         return _Pose(p, r)
 
     @staticmethod
-    def _error(err: tuple[F64, F64] | None, pivot: F64 | None, p: F64, r: F64 | None
-               ) -> tuple[F64, F64 | None]:
+    def _error(err: tuple[F64, F64] | None, pivot: F64 | None, p: F64, r: Orient
+               ) -> tuple[F64, Orient]:
         """The axis's error motion (translation δ, rotation matrix E about the pivot)."""
         if err is None:
             return p, r
@@ -401,9 +427,7 @@ class ChainBatch:
             p = np.einsum("nij,nj->ni", rot, p) + delta
         else:
             p = np.einsum("nij,nj->ni", rot, p - pivot) + pivot + delta
-        if r is not None:
-            r = rot @ r
-        return p, r
+        return p, _times(rot, r)
 
     def _turns(self, idx: I64, j: int, theta: F64) -> F64:
         """Rotations (N, 3, 3) by θ (N,) rad about rotary axis j (A, B, C turn about the
@@ -419,20 +443,22 @@ class ChainBatch:
         out[:, v, u] = s
         return out
 
-    def _rotary(self, idx: I64, j: int, qj: F64, p: F64, r: F64 | None, actual: bool
-                ) -> tuple[F64, F64 | None]:
+    def _rotary(self, idx: I64, j: int, qj: F64, p: F64, r: Orient, actual: bool
+                ) -> tuple[F64, Orient]:
         g = self._rows_of(idx)
         c = g["pivot"][:, j]
         if not actual:
             turn = self._turns(idx, j, qj * _DEG)
             p = np.einsum("nij,nj->ni", turn, p - c) + c
-            return p, (None if r is None else turn @ r)
-        # L R(θ + zero) L⁻¹: L the axis's tilt about the pivot, then its offset
-        lt = g["tilt_m"][:, j]
-        m = lt @ self._turns(idx, j, qj * _DEG + g["zero"][:, j]) @ np.swapaxes(lt, 1, 2)
+            return p, _times(turn, r)
+        # L R(θ + zero) L⁻¹: L the axis's tilt about the pivot, then its offset; the
+        # conjugated turn is the turn about the tilted axis
+        theta = qj * _DEG + g["zero"][:, j]
+        m = (_EYE + np.sin(theta)[:, None, None] * g["k1t"][:, j]
+             + (1.0 - np.cos(theta))[:, None, None] * g["k2t"][:, j])
         c = c + g["offset"][:, j]
         p = np.einsum("nij,nj->ni", m, p - c) + c
-        return p, (None if r is None else m @ r)
+        return p, _times(m, r)
 
     # -- step 3: the corrections
     def _rows(self, idx: I64) -> F64:
