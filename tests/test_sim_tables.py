@@ -22,30 +22,27 @@ from machine_sim.lookup import TablesMap
 from machine_sim.runtime import MachineRuntime
 from machine_sim.siemens import SiemensConfig, SiemensNC
 from protocol import (
-    ChainAxis,
     ComponentTable,
     MapAck,
     MapEncoding,
     MapReject,
     MapRejectReason,
     Message,
-    OutputAxis,
-    Spindle,
     TablesPayload,
     ThermalRecord,
     encode_payload,
     split_into_chunks,
 )
-from tests.test_kinematics import arch, machine
-from tests.test_sim_link import SECRET, MiniCenter, Session
+from tests.support.kinematics import arch, machine
+from tests.support.sim_link import SECRET, MiniCenter, Session
+from tests.support.sim_tables import random_tables, sample, siemens_5ax, tables_payload
 from volumetric.compensate.solver import Weights, corrections
-from volumetric.model.components import GeometricErrors, Table, component_names, location_names
+from volumetric.model.components import GeometricErrors, location_names
 from volumetric.model.linear import jacobian
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import MachineModel, ThermalTerm
 
 F64 = NDArray[np.float64]
-FLOAT32 = MapEncoding.FLOAT32_MM
 CHAINS = ["w X Y b Z t", "w b Y X Z t", "w Y b X Z t", "w b X Y Z t",  # 3-axis types
           "w C A X Y b Z t", "w A B X Y b Z t", "w C Y b X Z B t", "w Z b X Y A t",
           "w b X Y Z C A t", "w b X Y Z B C t", "arch"]
@@ -56,48 +53,6 @@ def random_machine(chain: str, rng: np.random.Generator) -> Machine:
         return arch(float(rng.uniform(-10, 10)), float(rng.uniform(15, 45)))
     pivots = {k: rng.uniform(-80, 80, 3).round(3).tolist() for k in "ABC" if k in chain}
     return machine(chain, pivots_mm=pivots, tool_length_mm=float(rng.uniform(0, 200)))
-
-
-def random_tables(m: Machine, rng: np.random.Generator, size: float
-                  ) -> tuple[dict[str, Table], list[ComponentTable]]:
-    """Per component a table (or none, or a constant): a random polynomial sampled on its
-    nodes plus noise, float32 as the wire carries it; nodes need not cover the travel."""
-    comps: dict[str, Table] = {}
-    tables: list[ComponentTable] = []
-    for a in m.axes:
-        lo, hi = a.travel
-        for name in component_names(a):
-            kind = rng.integers(0, 5)
-            if kind == 0:
-                continue
-            n = 1 if kind == 1 else int(rng.integers(2, 40))
-            start = lo + rng.uniform(-0.1, 0.2) * (hi - lo)
-            step = (hi - lo) * rng.uniform(0.8, 1.2) / max(n - 1, 1)
-            s = np.linspace(-1, 1, n)
-            poly = np.polynomial.polynomial.polyval(s, rng.normal(0, size, 4))
-            vals = (poly + rng.normal(0, size / 10, n)).astype(np.float32).astype(float)
-            comps[name] = Table(tuple(start + i * step for i in range(n)), tuple(vals))
-            tables.append(ComponentTable(name, start, step, tuple(vals)))
-    return comps, tables
-
-
-def tables_payload(m: Machine, tables: list[ComponentTable], locations: dict[str, float],
-                   weights: Weights, *, encoding: MapEncoding = FLOAT32, version: int = 1,
-                   thermal: tuple[ThermalRecord, ...] = (), limit: float = 1.0,
-                   reversal: dict[str, float] | None = None) -> TablesPayload:
-    """What a center sends for machine ``m`` (test-side, from the volumetric description)."""
-    axes = tuple(ChainAxis(a.name, a.kind == "rotary", a.side == "tool", a.direction,
-                           a.pivot_mm, a.travel) for a in m.axes)
-    spindles = tuple(Spindle(b.name, tuple(x.name for x in b.links), b.tool_length_mm,
-                             b.tool_direction,
-                             tuple(float(v) for v in (*weights.position[i],  # type: ignore[arg-type]
-                                                      *weights.orientation[i])))
-                     for i, b in enumerate(m.branches))
-    rev = reversal or {}
-    return TablesPayload(m.name, version, encoding, 0,
-                         0.001 if encoding is MapEncoding.INT32_INCREMENTS else 0.0, axes,
-                         spindles, tuple(OutputAxis(a.name, rev.get(a.name)) for a in m.axes),
-                         tuple(tables), tuple(locations.items()), thermal, limit, limit)
 
 
 def random_weights(m: Machine, rng: np.random.Generator) -> Weights:
@@ -211,19 +166,6 @@ def test_applied_is_clamped_rounded_and_carries_the_reversal() -> None:
 
 # --- the machine side: store, NC, link ---------------------------------------------------
 
-def siemens_5ax(name: str = "sim-5ax") -> Machine:
-    return parse_machine({"name": name, "controller": "siemens", "ip": "127.0.0.1",
-                          "chain": "w C A X Y b Z t", "tool_length_mm": 120.0,
-                          "pivots_mm": {"C": [1.0, -2.0, 3.0], "A": [0.0, 5.0, -40.0]},
-                          "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0],
-                                        "a": [-90, 30]}})
-
-
-def sample(m: Machine, seed: int = 0) -> tuple[GeometricErrors, list[ComponentTable]]:
-    rng = np.random.default_rng(seed)
-    comps, tables = random_tables(m, rng, 6.0)
-    return GeometricErrors(comps, {"EC0Y": 15.0, "EX0C": 4.0}), tables
-
 
 def push_to(ctl: SiemensNC | FanucPMC, data: bytes, version: int) -> MapAck | MapReject:
     reply = None
@@ -326,3 +268,21 @@ def test_one_step_per_cycle_from_the_previous_cycle_tracks_the_solution() -> Non
         full = batch.corrections(None, q[k:k + 1])
         worst = max(worst, float(np.abs(last - full).max()))
     assert worst < 1e-6
+
+
+def test_the_nc_folds_its_latest_temperatures_into_a_thermal_tables_map() -> None:
+    m = siemens_5ax()
+    e, tables = sample(m, 6)
+    w = Weights.default(m)
+    records = (ThermalRecord("T_spindle_C", "Z", 1, -2.0, 20.0),)
+    nc = SiemensNC(m.name, m.axis_names)
+    assert isinstance(push_to(nc, encode_payload(
+        tables_payload(m, tables, dict(e.locations), w, thermal=records)), 1), MapAck)
+    q = np.array([10.0, -20.0, 250.0, 120.0, -150.0])
+    cold = nc.wanted_mm(0.0, q)  # no reading yet: the term is 0
+    np.testing.assert_allclose(cold, corrections(m, e, q[None, :], weights=w)[0]
+                               .astype(np.float32), rtol=0, atol=1e-9)
+    nc.temperatures.update("spindle", 30.0, 1.0, "sensor")  # +10 K: EZZ drifts by -20 µm
+    warm = nc.wanted_mm(1.0, q)
+    z = m.axis_names.index("Z")
+    assert warm[z] - cold[z] == pytest.approx(0.020, abs=2e-5)
