@@ -59,6 +59,11 @@ class Metrics:
         self.events = Counter(
             "ednc_events", "Events recorded, by kind.", ["kind"], registry=self.registry
         )
+        self.handshake_evictions = Counter(
+            "ednc_handshake_evictions", "Handshakes closed to give their slot to a peer from "
+            "another address (all slots taken, this one waiting longest on its peer).",
+            registry=self.registry,
+        )
         self.logins_throttled = Counter(
             "ednc_logins_throttled", "Machine logins refused by the failed-login throttle.",
             registry=self.registry,

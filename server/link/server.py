@@ -80,7 +80,7 @@ from server.link.admission import (
     OncePerWindow,
     RefusalLog,
 )
-from server.link.session import LinkClosed, MachineSession
+from server.link.session import LinkClosed, MachineSession, peer_ip
 from server.temperatures import TemperatureBoard, valid_sensor
 
 log = logging.getLogger(__name__)
@@ -147,6 +147,28 @@ def telemetry_fields(msg: Telemetry) -> dict[str, Any]:
                  for a in msg.axes},
         "temperatures": {s.name: s.celsius for s in msg.temperatures},
     }
+
+
+class _Admitting(asyncio.StreamReaderProtocol):
+    """A stream protocol that closes a peer from an unregistered address on accept."""
+
+    def __init__(self, server: MachineServer, reader: asyncio.StreamReader,
+                 handle: Callable[[asyncio.StreamReader, asyncio.StreamWriter],
+                                  Coroutine[Any, Any, None]],
+                 loop: asyncio.AbstractEventLoop) -> None:
+        super().__init__(reader, handle, loop=loop)
+        self._machine_server = server
+
+    def connection_made(self, transport: asyncio.BaseTransport) -> None:
+        ip = peer_ip(transport)
+        if not self._machine_server.addresses.admits(ip):
+            self._machine_server._unregistered(ip)
+            if isinstance(transport, asyncio.Transport):
+                transport.abort()  # a reset: nothing lingers on our side
+            else:
+                transport.close()
+            return
+        super().connection_made(transport)
 
 
 class MachineServer:
@@ -219,8 +241,15 @@ class MachineServer:
             asyncio.create_task(self.addresses.run(self._secrets_changed), name="addresses"),
             asyncio.create_task(self.refusal_log.run(), name="refusal-log"),
         ]
-        self._server = await asyncio.start_server(
-            self._handle, self.host, self.requested_port, backlog=4096)
+        loop = asyncio.get_running_loop()
+
+        def protocol() -> asyncio.StreamReaderProtocol:
+            return _Admitting(self, asyncio.StreamReader(loop=loop), self._handle, loop=loop)
+
+        # asyncio.start_server, but a peer from an unregistered address is closed in
+        # connection_made: no task, no stream writer, no handler ever runs for it
+        self._server = await loop.create_server(protocol, self.host, self.requested_port,
+                                                backlog=4096)
         log.info("machine server listening on %s:%d", self.host, self.port)
         return self
 
@@ -258,18 +287,24 @@ class MachineServer:
             # it (asyncio's stream callback would log the cancellation as an error)
             session.abort(ErrorCode.SHUTDOWN, "the control center is shutting down")
 
+    def _unregistered(self, ip: str) -> None:
+        """Count (and log, once a minute per address) a peer closed at accept."""
+        self.center.metrics.refusals.labels(reason="unregistered").inc()
+        if self._log_unregistered(ip):
+            log.warning("connection from %s, where no machine is registered: closed "
+                        "(logged once a minute per address)", ip)
+
     async def _serve(self, session: MachineSession) -> None:
         metrics = self.center.metrics
-        if not self.addresses.admits(session.ip):
-            # No machine could ever log in from here: no slot, no read, no row.
-            metrics.refusals.labels(reason="unregistered").inc()
-            if self._log_unregistered(session.ip):
-                log.warning("connection from %s, where no machine is registered: closed "
-                            "(logged once a minute per address)", session.ip)
+        if not self.addresses.admits(session.ip):  # unregistered since the accept
+            self._unregistered(session.ip)
             session.abort(None, "no machine is registered at this address")
             return
-        slot = self.slots.acquire(session.ip, lambda: session.abort(
-            None, "handshake slot given to another peer"))
+        def evict() -> None:
+            metrics.handshake_evictions.inc()
+            session.abort(None, "handshake slot given to another peer")
+
+        slot = self.slots.acquire(session.ip, evict)
         if slot is None:
             # no Reject: the peer has not said Hello, and reading it would cost what this
             # limit protects; count it only (a flood must not flood the events table)

@@ -74,7 +74,7 @@ class Verdict:
     latency_s: float
 
 
-def peer_ip(writer: asyncio.StreamWriter) -> str:
+def peer_ip(writer: asyncio.StreamWriter | asyncio.BaseTransport) -> str:
     """The peer's IP address in canonical form (IPv4-mapped IPv6 as plain IPv4)."""
     peer = writer.get_extra_info("peername")
     host = str(peer[0]) if isinstance(peer, tuple) and peer else "unknown"
