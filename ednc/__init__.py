@@ -1,3 +1,5 @@
 """EDNC control center: command line and the end-to-end demo."""
 
-__version__ = "0.1.0"
+from server.version import __version__
+
+__all__ = ["__version__"]

@@ -27,7 +27,6 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from sqlalchemy.engine import make_url
 
-from ednc import __version__
 from server.api.guard import Guard
 from server.api.main import api_router, root_router
 from server.api.routes.measurements import MAX_UPLOAD_BYTES
@@ -37,6 +36,7 @@ from server.db import Database
 from server.db.secretbox import SecretBox, seal_all
 from server.retention import EventRetention
 from server.settings import Settings, load_settings
+from server.version import __version__
 
 log = logging.getLogger(__name__)
 

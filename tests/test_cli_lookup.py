@@ -20,7 +20,7 @@ from protocol import (
     encode_payload,
     pack_values,
 )
-from tests.test_sim_tables import sample, siemens_5ax, tables_payload
+from tests.support.sim_tables import sample, siemens_5ax, tables_payload
 from volumetric.compensate.solver import Weights, corrections
 from volumetric.model.components import GeometricErrors, Polynomial, add_components
 

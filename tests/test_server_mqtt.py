@@ -8,19 +8,16 @@ from __future__ import annotations
 import asyncio
 import json
 import uuid
-from collections.abc import AsyncIterator
-from contextlib import asynccontextmanager, suppress
 from pathlib import Path
 from typing import Any
 
-import aiomqtt
 import pytest
 
 from server.db import maps as map_repo
 from server.mqtt import Backoff, PayloadError, parse_temperature
 from server.temperatures import TemperatureBoard, column_of
 from tests.support.link import DEADLINE_S, model_body, rig, simulator, until
-from tests.support.mqtt import TcpProxy
+from tests.support.mqtt import TcpProxy, publisher
 
 pytestmark = pytest.mark.services
 
@@ -81,19 +78,6 @@ async def test_old_readings_turn_stale_and_are_kept() -> None:
 
 def prefix() -> str:
     return f"ednc-test-{uuid.uuid4().hex[:12]}"
-
-
-@asynccontextmanager
-async def publisher(broker: tuple[str, int]) -> AsyncIterator[aiomqtt.Client]:
-    client = aiomqtt.Client(broker[0], broker[1], identifier=f"test-{uuid.uuid4().hex[:8]}")
-    await client.__aenter__()
-    try:
-        yield client
-    finally:
-        # aiomqtt's exit has no deadline of its own (it waits for the broker's answer)
-        with suppress(TimeoutError, aiomqtt.MqttError):
-            async with asyncio.timeout(5.0):
-                await client.__aexit__(None, None, None)
 
 
 async def test_published_temperature_gives_the_machine_a_new_map(

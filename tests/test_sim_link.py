@@ -6,7 +6,6 @@ from __future__ import annotations
 import asyncio
 import random
 from collections.abc import AsyncIterator
-from dataclasses import dataclass, field
 
 import numpy as np
 import pytest
@@ -16,36 +15,25 @@ from machine_sim.fleet import Fleet, generated_fleet
 from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from protocol import (
-    NEED_DATA,
-    AuthResponse,
-    Challenge,
-    Connection,
-    ErrorCode,
     ErrorMapPayload,
     GridAxis,
     Heartbeat,
     HeartbeatReply,
-    Hello,
     MapAck,
     MapEncoding,
     MapReject,
     MapRejectReason,
     Message,
     OutputAxis,
-    Reject,
     ReleaseCompensation,
     Released,
-    Role,
     Telemetry,
-    Welcome,
     encode_map,
-    new_nonce,
     split_into_chunks,
-    verify_mac,
 )
+from tests.support.sim_link import SECRET, MiniCenter, Session
 from volumetric.model.machine import Machine, parse_machine
 
-SECRET = b"0123456789abcdef-secret"
 DEADLINE_S = 20.0  # a hang guard, not a speed requirement
 
 
@@ -54,58 +42,6 @@ def machine(controller: str, name: str = "sim-01") -> Machine:
                           "chain": "w X Y b Z t",
                           "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]},
                           "tool_length_mm": 100.0})
-
-
-@dataclass
-class Session:
-    """The center's end of one connection."""
-
-    conn: Connection
-    reader: asyncio.StreamReader
-    writer: asyncio.StreamWriter
-    hello: Hello | None = None
-
-    async def send(self, msg: Message) -> None:
-        self.writer.write(self.conn.send(msg))
-        await self.writer.drain()
-
-    async def next(self) -> Message:
-        while True:
-            event = self.conn.next_event()
-            if event is not NEED_DATA:
-                assert isinstance(event, Message), event
-                return event
-            self.conn.receive_data(await self.reader.read(65536))
-
-    async def expect(self, kind: type, skip: tuple[type, ...] = (Telemetry,)) -> Message:
-        while True:
-            msg = await self.next()
-            if isinstance(msg, kind):
-                return msg
-            assert isinstance(msg, skip), f"expected {kind.__name__}, got {msg!r}"
-
-
-@dataclass
-class MiniCenter:
-    secret: bytes
-    sessions: asyncio.Queue[Session] = field(default_factory=asyncio.Queue)
-    port: int = 0
-
-    async def handle(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter) -> None:
-        s = Session(Connection(Role.CENTER), reader, writer)
-        hello = await s.expect(Hello, ())
-        assert isinstance(hello, Hello)
-        s.hello = hello
-        nonce = new_nonce()
-        await s.send(Challenge(nonce))
-        auth = await s.expect(AuthResponse, ())
-        assert isinstance(auth, AuthResponse)
-        if not verify_mac(self.secret, nonce, hello.name, auth.mac):
-            await s.send(Reject(ErrorCode.AUTH_FAILED, "bad secret"))
-            writer.close()
-            return
-        await s.send(Welcome(heartbeat_period_ms=500, telemetry_period_ms=20))
-        await self.sessions.put(s)
 
 
 @pytest.fixture

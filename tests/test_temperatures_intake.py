@@ -42,7 +42,7 @@ from tests.support.link import (
     simulator,
     until,
 )
-from tests.test_server_mqtt import publisher
+from tests.support.mqtt import publisher
 
 
 def intake_of(center: Center) -> TemperatureIntake:

@@ -23,7 +23,6 @@ from typing import Any
 from sqlalchemy import func, select
 from sqlalchemy.orm import Session
 
-from ednc import __version__
 from server.dashboard.schemas import (
     DashboardSnapshot,
     DiagnosisSummary,
@@ -41,6 +40,7 @@ from server.plant import PlantView
 from server.schemas.event import EventPublic
 from server.state import LinkState, Registry
 from server.temperatures import TemperatureBoard
+from server.version import __version__
 
 STALE_AFTER_S = 10.0
 """Telemetry older than this is stale: ten default telemetry periods (1 s, protocol §9),

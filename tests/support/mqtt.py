@@ -1,10 +1,15 @@
-"""A TCP relay on loopback that can cut and restore a peer's connection, to play a broker
-or center outage."""
+"""MQTT test helpers: ``publisher``, a client of the loopback broker that always lets go
+within a deadline, and ``TcpProxy``, a TCP relay on loopback that can cut and restore a
+peer's connection, to play a broker or center outage."""
 
 from __future__ import annotations
 
 import asyncio
-from contextlib import suppress
+import uuid
+from collections.abc import AsyncIterator
+from contextlib import asynccontextmanager, suppress
+
+import aiomqtt
 
 
 class TcpProxy:
@@ -52,3 +57,16 @@ class TcpProxy:
             await asyncio.gather(self._pipe(reader, up_writer), self._pipe(up_reader, writer))
         finally:
             self._writers -= {writer, up_writer}
+
+
+@asynccontextmanager
+async def publisher(broker: tuple[str, int]) -> AsyncIterator[aiomqtt.Client]:
+    client = aiomqtt.Client(broker[0], broker[1], identifier=f"test-{uuid.uuid4().hex[:8]}")
+    await client.__aenter__()
+    try:
+        yield client
+    finally:
+        # aiomqtt's exit has no deadline of its own (it waits for the broker's answer)
+        with suppress(TimeoutError, aiomqtt.MqttError):
+            async with asyncio.timeout(5.0):
+                await client.__aexit__(None, None, None)

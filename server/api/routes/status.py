@@ -8,7 +8,6 @@ from __future__ import annotations
 from fastapi import APIRouter
 from sqlalchemy.orm import Session
 
-from ednc import __version__
 from server.api.deps import CenterDep, MachineDep
 from server.api.errors import NOT_FOUND
 from server.db import machines as machine_repo
@@ -17,6 +16,7 @@ from server.db.maps import MapState
 from server.db.tables import MachineRow
 from server.plant import PlantView, plant_view
 from server.schemas.status import MachineStatus, ServiceStatus
+from server.version import __version__
 
 router = APIRouter(tags=["status"])
 
