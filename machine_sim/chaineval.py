@@ -186,7 +186,7 @@ def _log(r: F64) -> F64:
     """Rotation vectors (N, 3) of rotation matrices (N, 3, 3)."""
     v = 0.5 * np.stack((r[:, 2, 1] - r[:, 1, 2], r[:, 0, 2] - r[:, 2, 0],
                         r[:, 1, 0] - r[:, 0, 1]), -1)
-    s = np.linalg.norm(v, axis=1)
+    s = np.sqrt(np.einsum("ni,ni->n", v, v))
     c = np.clip(0.5 * (np.trace(r, axis1=1, axis2=2) - 1.0), -1.0, 1.0)
     theta = np.arctan2(s, c)
     small = theta < 1e-4
@@ -324,6 +324,14 @@ class ChainBatch:
                 values.extend(t.values)
         self.t_values = np.asarray(values, dtype=np.float64)
         self.t_cap = np.maximum(self.t_last - 1, 0)
+        self.t_end = self.t_first + self.t_last  # index of each table's last value
+        # the values in mm and rad (each belongs to one component: its unit is known)
+        unit = np.zeros(len(values))
+        for c, f in enumerate((1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6)):
+            for first, last in zip(self.t_first[:, :, c].ravel(), self.t_last[:, :, c].ravel(),
+                                   strict=True):
+                unit[first:first + last + 1] = f
+        self.t_si = self.t_values * unit
         self.t_scale = np.array([1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6])  # → mm and rad
 
     def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
@@ -351,7 +359,8 @@ class ChainBatch:
         for the same rows (its groups) every cycle."""
         key = idx.tobytes()
         if self._gathered is None or self._gathered[0] != key:
-            names = ("t_first", "t_last", "t_cap", "t_start", "t_step", "pivot", "frame",
+            names = ("t_first", "t_last", "t_cap", "t_end", "t_start", "t_step", "pivot",
+                     "frame",
                      "direction", "line", "k1t", "k2t", "offset", "zero", "tool")
             self._gathered = (key, {k: getattr(self, k)[idx] for k in names})
         return self._gathered[1]
@@ -360,21 +369,17 @@ class ChainBatch:
     def components(self, idx: I64, q: F64) -> F64:
         """Component errors (N, A, 6) in mm and rad of rows (machine idx, positions q)."""
         g = self._rows_of(idx)
-        first, last, cap = g["t_first"], g["t_last"], g["t_cap"]
-        u = (q[:, :, None] - g["t_start"]) / g["t_step"]
-        u = np.clip(u, 0.0, last)
-        i0 = np.minimum(np.floor(u).astype(np.int64), cap)
-        f = u - i0
-        lo = self.t_values[first + i0]
-        hi = self.t_values[first + np.minimum(i0 + 1, last)]
-        e = lo + f * (hi - lo)
+        u = np.clip((q[:, :, None] - g["t_start"]) / g["t_step"], 0.0, g["t_last"])
+        i0 = np.minimum(u.astype(np.int64), g["t_cap"])  # u >= 0: truncation is floor
+        at = g["t_first"] + i0
+        lo = self.t_si[at]
+        e: F64 = lo + (u - i0) * (self.t_si[np.minimum(at + 1, g["t_end"])] - lo)
         if self.thermal0.any() or self.thermal1.any():
-            add = self.thermal0[idx] + self.thermal1[idx] * q
+            add = (self.thermal0[idx] + self.thermal1[idx] * q) * 1e-3  # µm → mm
             for j, name in enumerate(self.axes):
                 if not self.rotary[j]:
                     e[:, j, _DIRS.index(name[0])] += add[:, j]
-        out: F64 = e * self.t_scale
-        return out
+        return e
 
     # -- step 2: the pose
     def pose(self, idx: I64, q: F64, spindle: int, comps: F64 | None,
@@ -516,12 +521,12 @@ class ChainBatch:
         pseudo-inverse of the nominal Jacobian."""
         sw = np.sqrt(self._rows(idx))
         a = jac * sw[:, :, None]
-        norms = np.linalg.norm(a, axis=1)
+        norms = np.sqrt(np.einsum("nri,nri->ni", a, a))
         scale = np.where(norms > 0, norms, 1.0)
         a = a / scale[:, None, :]
         # well-posed rows: (AᵀA)⁻¹Aᵀ, the min-norm pseudo-inverse when A has full column
         # rank; a zero column (an unobservable axis) gets a unit pivot and so 0
-        m = np.einsum("nri,nrj->nij", a, a)
+        m = np.swapaxes(a, 1, 2) @ a
         k = np.arange(a.shape[2])
         m[:, k, k] += norms == 0
         inv, ok = _spd_inverse(m)
