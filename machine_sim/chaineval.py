@@ -332,7 +332,6 @@ class ChainBatch:
                                    strict=True):
                 unit[first:first + last + 1] = f
         self.t_si = self.t_values * unit
-        self.t_scale = np.array([1e-3, 1e-3, 1e-3, 1e-6, 1e-6, 1e-6])  # → mm and rad
 
     def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
         """Fold machine ``machine``'s thermal records at these temperatures (°C, keyed by
