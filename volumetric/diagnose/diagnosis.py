@@ -57,10 +57,19 @@ from numpy.typing import NDArray
 
 from volumetric.identify.design import Param, axis_positions, build_design, fourier_axis
 from volumetric.identify.fit import FitError, fit, model_from_parameters
+from volumetric.identify.thermal import ThermalTerm as ThermalColumn
 from volumetric.identify.thermal import fit_thermal_drift
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
-from volumetric.model.model import BacklashTerm, MachineModel, PeriodicTerm, Term, ThermalTerm
+from volumetric.model.model import (
+    BacklashTerm,
+    DynamicThermalTerm,
+    LagColumn,
+    MachineModel,
+    PeriodicTerm,
+    Term,
+    ThermalTerm,
+)
 
 F64 = NDArray[np.float64]
 K_FOLDS = 5
@@ -374,6 +383,140 @@ def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -
     return float(fine[int(np.argmax(power(fine)))])
 
 
+FORWARD_BLOCKS = 6
+"""Contiguous time blocks of forward chaining (equal counts of readings in time order)."""
+FIRST_JUDGED = FORWARD_BLOCKS // 2
+"""The first block judged: every judged block is predicted by a model fitted on all the
+blocks before it, at least half of the campaign (a thermal model fitted on a sixth of a
+heat cycle says little of the next one, and would make the figure a measure of how soon
+the campaign started to repeat itself)."""
+TIME_ORDERED_SPAN = 0.5
+"""A campaign is time-ordered when every test's readings span at least this fraction of
+the campaign's duration: the same tests repeat over time, so the past predicts the future."""
+
+
+def time_ordered(m: Measurements) -> bool:
+    """True when the readings are one long time series of repeated tests (see
+    :data:`TIME_ORDERED_SPAN`): a thermal test, a long-term drift run. A campaign of
+    different tests one after the other is not: a later block would hold tests no earlier
+    block saw."""
+    span = float(np.ptp(m.time_s)) if len(m) else 0.0
+    if span <= 0:
+        return False
+    for label in np.unique(m.test):
+        t = m.time_s[m.test == label]
+        if float(np.ptp(t)) < TIME_ORDERED_SPAN * span:
+            return False
+    return True
+
+
+def forward_blocks(m: Measurements, k: int = FORWARD_BLOCKS) -> NDArray[np.intp]:
+    """Block (0 .. k-1) of each reading: equal counts of readings in time order."""
+    order = np.argsort(m.time_s, kind="stable")
+    blocks = np.empty(len(m), dtype=np.intp)
+    blocks[order] = (np.arange(len(m)) * k) // max(len(m), 1)
+    return blocks
+
+
+def forward_residuals(a: F64, y: F64, w: F64, blocks: NDArray[np.intp]) -> F64:
+    """Residual of every reading of blocks ``FIRST_JUDGED`` .. predicted by a weighted fit
+    on the blocks before its own (NaN in the earlier blocks, which only train)."""
+    r = np.full(len(y), np.nan)
+    for k in range(FIRST_JUDGED, int(blocks.max(initial=0)) + 1):
+        tr = blocks < k
+        rows = blocks == k
+        x = _pinv_solve(a[tr].T @ (a[tr] * w[tr, None]), (a[tr] * w[tr, None]).T @ y[tr])
+        r[rows] = y[rows] - a[rows] @ x
+    return r
+
+
+def _forward_dynamic(m: Measurements, static: Candidate, a0: F64, y: F64, w: F64,
+                     blocks: NDArray[np.intp], order: NDArray[np.intp]) -> F64:
+    """Forward-chained residuals of the lagged drift, its terms selected in every fold from
+    that fold's training blocks alone (lags over the whole series use only the inputs)."""
+    r = np.full(len(y), np.nan)
+    for k in range(FIRST_JUDGED, int(blocks.max(initial=0)) + 1):
+        tr = blocks < k
+        rows = blocks == k
+        x0 = _pinv_solve(a0[tr].T @ (a0[tr] * w[tr, None]), (a0[tr] * w[tr, None]).T @ y[tr])
+        dyn = _dynamic_drift(m, static, y - a0 @ x0, tr, order)
+        a = a0 if dyn is None else dyn.design(a0)
+        x = _pinv_solve(a[tr].T @ (a[tr] * w[tr, None]), (a[tr] * w[tr, None]).T @ y[tr])
+        r[rows] = y[rows] - a[rows] @ x
+    return r
+
+
+def _block_table(blocks: NDArray[np.intp], judge: NDArray[np.bool_], before: F64,
+                 ids: list[int], after: F64 | None = None) -> dict[str, Any]:
+    """Per judged block: held-out RMS before (and after) the extension; mean and worst."""
+    rows = []
+    for k in ids:
+        sel = judge & (blocks == k)
+        item = {"block": k, "n": int(sel.sum()), "rms_before_um": round(_rms(before[sel]), 4)}
+        if after is not None:
+            item["rms_after_um"] = round(_rms(after[sel]), 4)
+        rows.append(item)
+    key = "rms_after_um" if after is not None else "rms_before_um"
+    values = [float(r[key]) for r in rows]
+    return {"per_block": rows, "mean_rms_um": round(float(np.mean(values)), 4),
+            "worst_rms_um": round(float(np.max(values)), 4)}
+
+
+def _offsets(params: list[Param], values: F64) -> dict[str, float]:
+    """The tool-tip offsets (``OFFSET_X`` ...) of a solution, µm."""
+    return {p.name: float(v) for p, v in zip(params, values, strict=True)
+            if p.component == "OFFSET"}
+
+
+def _dynamic_term(m: Measurements, a0: F64, w: F64, y: F64, train: NDArray[np.bool_],
+                  c: Candidate, order: NDArray[np.intp]
+                  ) -> tuple[DynamicThermalTerm, F64, float]:
+    """The lagged drift fitted jointly with the base model on the training readings: its
+    model term (coefficients with standard uncertainties, lag states at the last training
+    reading, centred on the training readings), the base parameters of the joint fit and
+    the level (µm) moved from the term's mean into the offset along its axis."""
+    a = c.design(a0)
+    at, wt, yt = a[train], w[train], y[train]
+    g = at.T @ (at * wt[:, None])
+    x = _pinv_solve(g, (at * wt[:, None]).T @ yt)
+    r = yt - at @ x
+    s2 = float(np.sum(wt * r * r) / max(int(train.sum()) - a.shape[1], 1))
+    std = np.sqrt(np.clip(np.diag(np.linalg.pinv(g)), 0, None) * s2)
+    terms: list[ThermalColumn] = c.extra["terms"]
+    kx = len(terms)
+    temps = _temperature_columns(m)
+    last = int(order[train[order]][-1])  # the last training reading in time
+    t_all = m.time_s[order]
+    sig = {s: v[order] for s, v in temps.items()}
+    cols = []
+    for j, term in enumerate(terms):
+        # the block-jackknife uncertainty of the drift model: the residuals of a thermal
+        # test are strongly autocorrelated, which the least-squares formula ignores
+        coef = float(x[a.shape[1] - kx + j])
+        u = max(float(std[a.shape[1] - kx + j]),
+                float(c.extra["description"]["terms"][j]["um_per_K_std"]))
+        if term.kind == "time":
+            cols.append(LagColumn("time", "", 0.0, coef, u))
+            continue
+        state = None
+        inp = float(temps[term.source][last])
+        if term.kind == "lag":
+            series = term.column(t_all, sig, c.extra["t0_s"])
+            state = float(series[int(np.flatnonzero(order == last)[0])])
+        cols.append(LagColumn(term.kind, term.source, float(term.tau_s), coef, u, state, inp))
+    # centre the term on the training readings so that the rigid part's offset along the
+    # axis stays the readings' zero, not the thermal level (the sum is unchanged)
+    drift_sorted = np.zeros(len(m))
+    for col, term in zip(cols, terms, strict=True):
+        drift_sorted += col.coefficient * term.column(t_all, sig, c.extra["t0_s"])
+    drift = np.empty(len(m))
+    drift[order] = drift_sorted
+    level = float(drift[train].mean())
+    dyn = DynamicThermalTerm(c.axis, -level, tuple(cols), float(c.extra["t0_s"]),
+                             float(m.time_s[last]))
+    return dyn, x[: a.shape[1] - kx], level
+
+
 def diagnose(
     machine: Machine,
     m: Measurements,
@@ -410,11 +553,19 @@ def diagnose(
         train = folds == 0
         judge = ~train & disp
         fold_ids: list[int] = [1]
+    elif time_ordered(m):
+        # forward chaining: block k is judged by a model fitted on blocks 0 .. k-1 only
+        folds = forward_blocks(m)
+        train = np.ones(len(m), dtype=bool)
+        judge = disp & (folds >= FIRST_JUDGED)
+        fold_ids = sorted(int(f) for f in np.unique(folds) if f >= FIRST_JUDGED)
     else:
         folds = fold_labels(m)
         train = np.ones(len(m), dtype=bool)
         judge = disp
         fold_ids = sorted(int(f) for f in np.unique(folds))
+    split = ("chronological" if holdout_after is not None
+             else "forward" if judge.sum() < disp.sum() else "runs")
 
     try:
         # the smooth model (polynomials on every axis): a periodic rotary error motion is
@@ -432,6 +583,8 @@ def diagnose(
     y = m.value
 
     def heldout(a: F64) -> F64:
+        if split == "forward":
+            return forward_residuals(a, y, w, folds)
         if holdout_after is not None:
             r = np.full(len(m), np.nan)
             x = _pinv_solve(a[train].T @ (a[train] * w[train, None]),
@@ -458,7 +611,11 @@ def diagnose(
         best_drift = min(drift, key=lambda s: s.rms_after_um)
         dyn = _dynamic_drift(m, best_drift.candidate, full_base_resid, train, order)
         if dyn is not None:
-            r = heldout(dyn.design(a0))
+            if split == "forward":
+                # the lags and sensors are chosen again in every fold from its past only
+                r = _forward_dynamic(m, best_drift.candidate, a0, y, w, folds, order)
+            else:
+                r = heldout(dyn.design(a0))
             rms = _rms(r[judge])
             z = _significance(base_heldout, r, order_judge, np.any(dyn.columns != 0, axis=1))
             scored.append(Scored(dyn, r, rms, z, (rms_before - rms) / rms_before))
@@ -468,9 +625,9 @@ def diagnose(
               "gain": round(s.gain, 4), "z": round(s.z, 2),
               **({"model": "lagged"} if "lagged" in s.candidate.extra else {})}
              for s in scored]
-    details: dict[str, Any] = {"n_readings": len(m), "folds": len(fold_ids),
-                               "split": "chronological" if holdout_after is not None
-                               else "runs"}
+    details: dict[str, Any] = {"n_readings": len(m), "folds": len(fold_ids), "split": split}
+    if split == "forward":
+        details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids)
     best = scored[0] if scored and scored[0].z >= Z_MIN and scored[0].gain >= MIN_GAIN else None
     if best is not None:
         static = best.candidate
@@ -483,8 +640,11 @@ def diagnose(
         if details["t"] < T_MIN:
             best = None
     if best is None:
+        none_model = MachineModel(machine.name, base_fit.model.geometry, (),
+                                  {**base_fit.model.info,
+                                   "offsets_um": _offsets(base_fit.params, base_fit.values)})
         return Diagnosis("none", None, None, {}, rms_before, rms_before, table, missing,
-                         base_fit.model, details, base_heldout, base_heldout, judge)
+                         none_model, details, base_heldout, base_heldout, judge)
     c = best.candidate
     if "lagged" in c.extra:
         # the static family names the effect; the dynamic model is its refinement
@@ -499,18 +659,33 @@ def diagnose(
         periodic_fit = fit(machine, m.select(train), fourier=axes | {machine.axis(axis).name})
         model = MachineModel(machine.name, periodic_fit.model.geometry, (),
                              {**periodic_fit.model.info, "extended_with": effect})
+    elif "lagged" in c.extra:
+        # the dynamic model behind the figure is what is saved: its lags with their time
+        # constants and end states, and the offsets of the same joint fit
+        term_d, joint_d, level = _dynamic_term(m, a0, w, y, train, c, order)
+        geometry = model_from_parameters(machine, base_fit.params, joint_d).geometry
+        offsets = _offsets(base_fit.params, joint_d)
+        along = f"OFFSET_{c.axis.upper()}"
+        if along in offsets:
+            offsets[along] += level
+        model = MachineModel(machine.name, geometry, (term_d,),
+                             {**base_fit.model.info, "extended_with": "thermal_dynamic",
+                              "offsets_um": offsets})
     else:
         # the rigid part refitted together with the effect, so it no longer carries a
         # share of it (a drift seen as straightness, a backlash as positioning error)
         geometry = model_from_parameters(machine, base_fit.params, joint).geometry
         model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
-                             {**base_fit.model.info, "extended_with": effect})
+                             {**base_fit.model.info, "extended_with": effect,
+                              "offsets_um": _offsets(base_fit.params, joint)})
     alternatives = sorted({s.candidate.sensor for s in scored
                            if s.candidate.effect == effect and s.candidate.axis == axis
                            and s.candidate.sensor not in (None, sensor)
                            and s.rms_after_um <= best.rms_after_um * (1 + TIE)} - {None})
     if alternatives:
         details["alternatives"] = alternatives
+    if split == "forward":
+        details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids, best.heldout)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, best.rms_after_um, table,
                      missing, model, details, base_heldout, best.heldout, judge)
 
@@ -638,4 +813,5 @@ def _dynamic_drift(
                       for term, cf, cu in zip(model.terms, model.coef, model.coef_u,
                                               strict=True)]}
     return Candidate("thermal_drift", static.axis, static.sensor, uk[:, None] * cols,
-                     {"lagged": True, "description": desc})
+                     {"lagged": True, "description": desc, "terms": list(model.terms),
+                      "t0_s": float(model.t0_s)})

@@ -386,6 +386,9 @@ def fit(
         "unidentifiable": report,
         "not_measured": not_measured,
         "rms": rms,
+        # the readings' zero: a prediction applies it (volumetric.diagnose.predict)
+        "offsets_um": {p.name: float(v) for p, v in zip(params, sol.values, strict=True)
+                       if p.component == "OFFSET"},
     }
     model = MachineModel(model.machine, model.geometry, (), info)
     return FitResult(model, params, sol.values, sol.std, deg, report, not_measured,

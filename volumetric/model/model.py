@@ -10,16 +10,32 @@ names) fold into the geometry at given temperatures:
 * ``periodic``: ``ΔE_KK = a·sin(2π q / p + φ)``;
 * ``backlash``: a reversal B (µm) of axis K: the tool lags by B/2 behind the direction of
   the last motion. It cannot fold into a direction-free geometry; error maps carry it per
-  axis so that the controller applies it by direction.
+  axis so that the controller applies it by direction;
+* ``thermal_dynamic``: a drift along K that follows the temperatures' history,
+  ``ΔE_KK = c + Σ_j b_j·x_j(t)`` with ``x_j`` a sensor's level, its first-order lag of
+  time constant τ_j (``τ dx/dt = T − x``) or the time since ``t0_s`` in hours
+  (:class:`DynamicThermalTerm`). Over a time series (``ednc predict``) the lags run from
+  the state saved at the end of the fitted readings when the series continues them, else
+  from rest at the first reading; at one set of temperatures (a map, ``ednc compensate
+  --temperature``) every lag is taken at its steady state, the temperature itself.
+
+``info["offsets_um"]``, when present, holds the constant tool-tip offsets the fit found
+(``OFFSET_X`` ...: the readings' zero); ``ednc predict`` adds them, since a prediction is
+judged as it would be applied.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any, Literal
 
+import numpy as np
+from numpy.typing import NDArray
+
 from volumetric.errors import ComponentErrorSpecError
+from volumetric.identify.thermal import first_order_lag
 from volumetric.model.components import (
     Component,
     GeometricErrors,
@@ -84,7 +100,144 @@ class BacklashTerm:
     reversal_um: float
 
 
-Term = ThermalTerm | PeriodicTerm | BacklashTerm
+@dataclass(frozen=True)
+class LagColumn:
+    """One regressor of a :class:`DynamicThermalTerm`.
+
+    Attributes
+    ----------
+    kind : {"level", "lag", "time"}
+    sensor : str
+        Temperature column (``T_t1_C``); empty for ``time``.
+    tau_s : float
+        Time constant of a ``lag``, s (0 otherwise).
+    coefficient : float
+        µm/K (level, lag) or µm/h (time).
+    std : float
+        Its standard uncertainty, same unit.
+    state_C : float or None
+        The lag's state at ``DynamicThermalTerm.t_state_s`` (°C), to continue the series.
+    input_C : float or None
+        The sensor's temperature at that time (°C): the lag's input is interpolated
+        linearly from it to the next reading.
+    """
+
+    kind: Literal["level", "lag", "time"]
+    sensor: str
+    tau_s: float
+    coefficient: float
+    std: float = 0.0
+    state_C: float | None = None
+    input_C: float | None = None
+
+    def to_json(self) -> dict[str, Any]:
+        return {"kind": self.kind, "sensor": self.sensor, "tau_s": self.tau_s,
+                "coefficient": self.coefficient, "std": self.std, "state_C": self.state_C,
+                "input_C": self.input_C}
+
+
+@dataclass(frozen=True)
+class DynamicThermalTerm:
+    """A drift along one axis that follows the temperatures' history (module docstring).
+
+    Attributes
+    ----------
+    axis : str
+        ``"x"``, ``"y"`` or ``"z"``.
+    intercept_um : float
+        Constant c, µm.
+    columns : tuple of LagColumn
+    t0_s : float
+        Origin of the time column, s.
+    t_state_s : float or None
+        Time (s) of the last fitted reading, at which the lag states were saved.
+    """
+
+    axis: str
+    intercept_um: float
+    columns: tuple[LagColumn, ...]
+    t0_s: float = 0.0
+    t_state_s: float | None = None
+
+    @property
+    def sensors(self) -> tuple[str, ...]:
+        return tuple(sorted({c.sensor for c in self.columns if c.kind != "time"}))
+
+    def series(self, t_s: NDArray[np.float64], temps: Mapping[str, NDArray[np.float64]]
+               ) -> NDArray[np.float64]:
+        """The drift (µm) over a time series.
+
+        Parameters
+        ----------
+        t_s : ndarray, shape (N,)
+            Non-decreasing times, s.
+        temps : mapping of str to ndarray, shape (N,)
+            Temperatures, °C; must hold every sensor of the term.
+
+        Returns
+        -------
+        ndarray, shape (N,)
+        """
+        t = np.asarray(t_s, dtype=float)
+        out = np.full(t.shape, self.intercept_um)
+        cont = (self.t_state_s is not None and t.size > 0 and t[0] >= self.t_state_s)
+        for c in self.columns:
+            if c.kind == "time":
+                out += c.coefficient * (t - self.t0_s) / 3600.0
+                continue
+            x = np.asarray(temps[c.sensor], dtype=float)
+            if c.kind == "level":
+                out += c.coefficient * x
+            elif cont and c.state_C is not None and c.input_C is not None:
+                assert self.t_state_s is not None
+                # continue the fitted series: the lag relaxes from its saved state
+                tt = np.concatenate(([self.t_state_s], t))
+                xx = np.concatenate(([c.input_C], x))
+                out += c.coefficient * first_order_lag(tt, xx, c.tau_s, x0=c.state_C)[1:]
+            else:
+                # no history: the structure starts in equilibrium with the first reading
+                out += c.coefficient * first_order_lag(t, x, c.tau_s)
+        return out
+
+    def steady_um(self, temperatures: Mapping[str, float]) -> float:
+        """The drift (µm) with every lag at its steady state (the temperature itself) and
+        the time column at the saved state's time."""
+        v = self.intercept_um
+        for c in self.columns:
+            if c.kind == "time":
+                t = self.t_state_s if self.t_state_s is not None else self.t0_s
+                v += c.coefficient * (t - self.t0_s) / 3600.0
+            else:
+                v += c.coefficient * float(temperatures[c.sensor])
+        return v
+
+    def to_json(self) -> dict[str, Any]:
+        return {"effect": "thermal_dynamic", "axis": self.axis,
+                "intercept_um": self.intercept_um, "t0_s": self.t0_s,
+                "t_state_s": self.t_state_s, "columns": [c.to_json() for c in self.columns]}
+
+    @staticmethod
+    def from_json(t: Mapping[str, Any]) -> DynamicThermalTerm:
+        cols = []
+        for c in t["columns"]:
+            kind = str(c["kind"])
+            if kind not in ("level", "lag", "time"):
+                raise ComponentErrorSpecError(f"column kind {kind!r} is not level, lag or time")
+            tau = float(c.get("tau_s", 0.0))
+            if kind == "lag" and not (math.isfinite(tau) and tau > 0):
+                raise ComponentErrorSpecError(f"a lag needs a positive tau_s, got {tau!r}")
+            cols.append(LagColumn(
+                kind, str(c.get("sensor", "")), tau,  # type: ignore[arg-type]
+                float(c["coefficient"]), float(c.get("std", 0.0)),
+                None if c.get("state_C") is None else float(c["state_C"]),
+                None if c.get("input_C") is None else float(c["input_C"])))
+        ts = t.get("t_state_s")
+        return DynamicThermalTerm(str(t["axis"]), float(t.get("intercept_um", 0.0)),
+                                  tuple(cols), float(t.get("t0_s", 0.0)),
+                                  None if ts is None else float(ts))
+
+
+Term = ThermalTerm | PeriodicTerm | BacklashTerm | DynamicThermalTerm
 
 
 @dataclass(frozen=True)
@@ -111,7 +264,11 @@ class MachineModel:
     @property
     def sensors(self) -> tuple[str, ...]:
         """Temperature columns the model needs."""
-        return tuple(sorted({t.sensor for t in self.terms if isinstance(t, ThermalTerm)}))
+        out = {t.sensor for t in self.terms if isinstance(t, ThermalTerm)}
+        for t in self.terms:
+            if isinstance(t, DynamicThermalTerm):
+                out.update(t.sensors)
+        return tuple(sorted(out))
 
     def geometry_at(self, temperatures: Mapping[str, float] | None = None) -> GeometricErrors:
         """The geometry with thermal and periodic terms folded in.
@@ -134,6 +291,9 @@ class MachineModel:
                 comps[name] = add_components(
                     comps.get(name), Sinusoid(t.amplitude_um, t.period_mm, t.phase_rad)
                 )
+            elif isinstance(t, DynamicThermalTerm):
+                comps[name] = add_components(comps.get(name),
+                                             Polynomial((t.steady_um(temps),)))
         return GeometricErrors(comps, dict(self.geometry.locations))
 
     def reversal_um(self) -> dict[str, float]:
@@ -154,6 +314,8 @@ class MachineModel:
                 terms.append({"effect": "periodic", "axis": t.axis,
                               "amplitude_um": t.amplitude_um, "period_mm": t.period_mm,
                               "phase_rad": t.phase_rad})
+            elif isinstance(t, DynamicThermalTerm):
+                terms.append(t.to_json())
             else:
                 terms.append({"effect": "backlash", "axis": t.axis,
                               "reversal_um": t.reversal_um})
@@ -188,6 +350,8 @@ class MachineModel:
                                               float(t.get("phase_rad", 0.0))))
                 elif effect == "backlash":
                     terms.append(BacklashTerm(str(t["axis"]), float(t["reversal_um"])))
+                elif effect == "thermal_dynamic":
+                    terms.append(DynamicThermalTerm.from_json(t))
                 else:
                     raise ComponentErrorSpecError(f"terms[{i}]: unknown effect {effect!r}")
             except (KeyError, TypeError, ValueError) as exc:

@@ -1,0 +1,115 @@
+"""``ednc predict``: a saved model applied to readings it never saw, every term included.
+
+The real 46 h spindle thermal test is cut at 70 % of its time: ``ednc diagnose --out`` on
+the first part writes the model behind the figure it claims (lagged thermal states with
+their time constants and end states, offsets), and ``ednc predict`` on the rest must land
+within 1.5x of that claim and far below the rigid model. A model from ``ednc fit`` on a
+simulated machine predicts a second campaign of the same machine to the noise, offsets
+included; a dynamic thermal term survives JSON and folds in at its steady state.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from machine_sim.campaign import standard_campaign
+from machine_sim.effects import Effects, Noise
+from machine_sim.instruments import SimulatedMachine
+from machine_sim.truth import random_geometry
+from volumetric.diagnose.predict import PredictionError, predict
+from volumetric.identify.fit import fit
+from volumetric.measure.measurement import read_measurements, write_measurements
+from volumetric.model.machine import parse_machine
+from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel
+
+EDNC = str(Path(sys.executable).parent / "ednc")
+FL = {"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
+      "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}}
+VMC = {"name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
+       "travel_mm": {"x": [0, 500], "y": [0, 400], "z": [-400, 0]}}
+
+
+def _run(*args: str) -> str:
+    out = subprocess.run([EDNC, *args], capture_output=True, text=True, timeout=300)
+    assert out.returncode == 0, out.stderr[-2000:]
+    return out.stdout
+
+
+def test_real_thermal_test_cut_at_70_percent_predicts_what_the_diagnosis_claimed(
+        tmp_path: Path, real_data: Path) -> None:
+    readings = read_measurements(real_data / "fl_thermal_ch3_measurements.csv")
+    cut = float(readings.time_s.min() + 0.7 * np.ptp(readings.time_s))
+    write_measurements(tmp_path / "first.csv", readings.select(readings.time_s < cut))
+    write_measurements(tmp_path / "rest.csv", readings.select(readings.time_s >= cut))
+    (tmp_path / "m.json").write_text(json.dumps(FL))
+    d = json.loads(_run("diagnose", "--machine", str(tmp_path / "m.json"), "--data",
+                        str(tmp_path / "first.csv"), "--json", "--out",
+                        str(tmp_path / "model.json")))
+    assert d["split"] == "forward"  # time-ordered: judged on blocks later than the fit
+    blocks = d["blocks"]
+    assert len(blocks["per_block"]) == 3 and blocks["worst_rms_um"] >= blocks["mean_rms_um"]
+    assert d["effect"] == "thermal_drift"
+    saved = json.loads((tmp_path / "model.json").read_text())
+    assert [t["effect"] for t in saved["terms"]] == ["thermal_dynamic"]
+    assert "OFFSET_Z" in saved["info"]["offsets_um"]
+    p = json.loads(_run("predict", "--machine", str(tmp_path / "m.json"), "--model",
+                        str(tmp_path / "model.json"), "--data", str(tmp_path / "rest.csv"),
+                        "--json"))
+    assert p["n_readings"] == int((readings.time_s >= cut).sum())
+    assert p["rms_um"] <= 1.5 * d["rms_after_um"], (p, d["rms_after_um"])
+    assert p["rms_um"] < 0.5 * p["rms_rigid_um"]
+    assert [t["test"] for t in p["tests"]] == ["spindle-thermal"]
+
+
+def test_a_fitted_model_predicts_another_campaign_of_the_same_machine_to_the_noise() -> None:
+    m = parse_machine(VMC)
+    rng = np.random.default_rng(8)
+    sim = SimulatedMachine(m, random_geometry(m, rng), Effects(noise=Noise(0.3, 0.3)), seed=1)
+    model = fit(m, standard_campaign(sim, rng)).model
+    other = standard_campaign(SimulatedMachine(m, sim.geometry, sim.effects, seed=2), rng)
+    p = predict(m, model, other).to_json()
+    assert p["rms_um"] < 0.45  # 0.3 µm noise, plus what the fit could not pin down
+    empty = MachineModel(m.name, model.geometry.__class__())
+    assert predict(m, empty, other).to_json()["rms_um"] > 5 * p["rms_um"]
+
+
+def test_dynamic_thermal_term_round_trips_and_folds_in_at_steady_state() -> None:
+    term = DynamicThermalTerm("z", -1.5, (
+        LagColumn("lag", "T_a_C", 1800.0, -2.0, 0.1, 24.0, 25.0),
+        LagColumn("level", "T_b_C", 0.0, 0.5, 0.05, None, 22.0),
+        LagColumn("time", "", 0.0, 0.2, 0.01)), 0.0, 3600.0)
+    model = MachineModel("m", random_geometry(parse_machine(VMC), np.random.default_rng(0)),
+                         (term,))
+    back = MachineModel.from_json(json.loads(json.dumps(model.to_json())))
+    assert back.terms == (term,)
+    assert back.sensors == ("T_a_C", "T_b_C")
+    # steady state: lag = temperature; time column at the saved state's time (1 h)
+    assert term.steady_um({"T_a_C": 26.0, "T_b_C": 20.0}) == pytest.approx(
+        -1.5 - 2.0 * 26.0 + 0.5 * 20.0 + 0.2 * 1.0)
+    geo = back.geometry_at({"T_a_C": 26.0, "T_b_C": 20.0})
+    base = model.geometry.components["EZZ"](np.array([-100.0]))
+    assert geo.components["EZZ"](np.array([-100.0])) - base == pytest.approx(
+        term.steady_um({"T_a_C": 26.0, "T_b_C": 20.0}))
+    # a series that continues the saved one starts from the saved lag state, not at rest
+    t = np.array([3600.0, 3660.0])
+    temps = {"T_a_C": np.array([25.0, 25.0]), "T_b_C": np.array([22.0, 22.0])}
+    cont = term.series(t, temps)
+    fresh = DynamicThermalTerm("z", -1.5, term.columns, 0.0, None).series(t, temps)
+    assert cont[0] == pytest.approx(-1.5 - 2.0 * 24.0 + 0.5 * 22.0 + 0.2 * 1.0)
+    assert fresh[0] == pytest.approx(-1.5 - 2.0 * 25.0 + 0.5 * 22.0 + 0.2 * 1.0)
+
+
+def test_missing_temperatures_are_named() -> None:
+    m = parse_machine(VMC)
+    term = DynamicThermalTerm("z", 0.0, (LagColumn("lag", "T_gone_C", 600.0, 1.0),))
+    rng = np.random.default_rng(3)
+    sim = SimulatedMachine(m, random_geometry(m, rng), Effects(noise=Noise(0.3, 0.3)), seed=1)
+    readings = standard_campaign(sim, rng, runs=1, targets=5)
+    with pytest.raises(PredictionError, match="T_gone_C"):
+        predict(m, MachineModel(m.name, sim.geometry, (term,)), readings)
