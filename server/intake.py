@@ -5,8 +5,9 @@ Readings arrive by MQTT (:mod:`server.mqtt`), by REST (``POST
 (:mod:`server.link`). All of them pass the :class:`~server.temperatures.TemperatureBoard`,
 on which :class:`TemperatureIntake` installs its screen, so one set of rules holds for
 every path. A reading is refused (counted in ``ednc_temperatures_refused{reason}``,
-logged, kept in the intake's recent refusals and, at most once per machine, sensor and
-reason every 10 minutes, recorded as an ``error`` event) when
+kept in the intake's recent refusals, logged at most once per machine, sensor and reason
+every 10 minutes, and then also recorded as an ``error`` event when the value itself is
+bad: not finite, out of range, too fast) when
 
 * ``not_finite``: it is NaN or infinite;
 * ``out_of_range``: it is outside the plausible range (-20..100 °C by default);
@@ -78,9 +79,10 @@ MAX_RATE_K_PER_S: Final = 1.0
 """A machine's structure warms by hundredths of a kelvin per second, a spindle bearing
 by a tenth at most; 1 K/s is a fault."""
 
-JUMP_ALLOWANCE_K: Final = 2.0
-"""Allowed on top of the rate: noise, quantisation, a real step of a heater or coolant
-switched on; a unit mix-up (°F for °C) or a broken sensor jumps far more."""
+JUMP_ALLOWANCE_K: Final = 10.0
+"""Allowed on top of the rate: noise, quantisation, a step of coolant or a heater switched
+on, a sensor read again after a pause, a test rig's set point; a unit mix-up (°F for °C:
+tens of K) or a broken sensor (open circuit, -273 or +850 °C) jumps further."""
 
 RETENTION_DAYS: Final = 30.0
 """Readings kept this long (re-identification wants weeks of warm-ups)."""
@@ -89,6 +91,9 @@ MAX_BUFFER: Final = 200_000
 """Readings waiting for the database at most (~7 min at 500/s) before the oldest go."""
 
 EVENT_EVERY_S: Final = 600.0
+_EVENTED: Final = frozenset({"not_finite", "out_of_range", "too_fast"})
+"""Refusals that say a sensor is faulty get an event; a sensor or machine the center does
+not know (a plant publishing more than the models use) only the log and the counter."""
 RELOAD_EVERY_S: Final = 2.0
 
 
@@ -358,8 +363,7 @@ class TemperatureIntake:
                 self._evented.clear()
             self._evented[key] = now
             log.warning("temperature %s of %s (%s) refused: %s", sensor, machine, source, text)
-            if self.feed is not None and reason != "unknown_machine":
-                # an event names a machine; an unknown one stays in the log and counter
+            if self.feed is not None and reason in _EVENTED:
                 self._spawn(self.feed.record(EventKind.ERROR, machine,
                                              f"temperature {sensor} refused: {text}"),
                             "temperatures:event")
