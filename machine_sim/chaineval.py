@@ -1,6 +1,6 @@
 """The machine endpoint's evaluation of a ``tables`` map: chain, errors, corrections.
 
-Written from protocol/README.md section 6.2 alone, on purpose without importing
+Written from protocol/README.md sections 6.2 and 6.3 alone, on purpose without importing
 :mod:`volumetric` (a PLC programmer has only the README); ``tests/test_sim_tables.py``
 pins it against the center's solver. Per point and cycle:
 
@@ -13,8 +13,9 @@ pins it against the center's solver. Per point and cycle:
    error rotations by the exact Rodrigues formula; once with and once without errors;
 3. the corrections: ``dq = -G e`` with ``G`` the column-normalised, weighted minimum-norm
    pseudo-inverse of the nominal Jacobian at q (singular values below 1e-9 σ_max count as
-   zero), refined ``dq ← dq - G r(dq)`` with the exact residual at ``q + dq`` until no
-   correction changes by more than 1e-7 mm (deg), at most 6 steps;
+   zero; computed from a Cholesky factorisation of the normal matrix for well-posed rows,
+   by SVD for the others), refined ``dq ← dq - G r(dq)`` with the exact residual at
+   ``q + dq`` until no correction changes by more than 1e-7 mm (deg), at most 6 steps;
 4. clamp to ±limit (mm or deg), round to the map's encoding, add the reversal while the
    axis last moved in the negative direction.
 
@@ -43,7 +44,7 @@ F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
 RCOND = 1e-9
 """Singular values of the column-normalised weighted Jacobian below RCOND · σ_max are zero
-(an unobservable axis gets no correction). README section 6.2."""
+(an unobservable axis gets no correction). README section 6.3."""
 STEP_TOL = 1e-7
 """Refinement stops once no correction changes by more than this, mm or degrees."""
 MAX_STEPS = 6

@@ -4,7 +4,8 @@ Instead of a dense grid of corrections (format version 1, :mod:`protocol.mapform
 center sends the machine's kinematic chain, per axis the 1-D tables of its ISO 230-1
 component errors, the location errors and thermal terms; the machine evaluates the tool
 tip's error through the chain and solves the corrections itself every cycle
-(protocol/README.md section 6.2 says how, precisely enough to implement from).
+(protocol/README.md sections 6.2 and 6.3: the layout, and how to evaluate it, precisely
+enough to implement from).
 
 Little-endian, fixed-size records a PLC parses with fixed offsets. Layout::
 
