@@ -44,6 +44,8 @@ EDNC = Path(sys.executable).parent / "ednc"
 API_KEY = "attack-bench-api-key"
 SECRET = "legit-machine-secret-0001"
 HOLDERS = 300
+BYSTANDER = "127.0.5.1"
+"""A registered machine's address no other attack uses: its refusals start a fresh window."""
 
 # -- the wire protocol, from protocol/README.md (sections 2, 3, 5, 7)
 
@@ -114,7 +116,8 @@ def machines_file(path: Path) -> None:
         return (f"  - machine: {{name: {name}, controller: fanuc, ip: {ip}, "
                 f"chain: 'w X Y b Z t', travel_mm: {{x: [0, 500], y: [0, 300], "
                 f"z: [-300, 0]}}}}\n    secret: {secret}\n")
-    lines = ["machines:\n", entry("legit-01", "127.0.0.1", SECRET)]
+    lines = ["machines:\n", entry("legit-01", "127.0.0.1", SECRET),
+             entry("bystander", BYSTANDER, "bystander-secret-0001")]
     for i in range(HOLDERS):
         lines.append(entry(f"held-{i:03d}", f"127.0.2.{i + 1}" if i < 254 else
                            f"127.0.4.{i - 253}", f"held-secret-{i:04d}-xxxxxx"))
@@ -379,7 +382,7 @@ async def main() -> None:
                 ("5,000 refused logins from an unregistered address",
                  refused_burst(center, 5000, "127.0.3.77", "nobody-01"), seconds),
                 ("5,000 refused logins (unknown name) from a registered address",
-                 refused_burst(center, 5000, holder_ip(1), "nobody-02"), seconds),
+                 refused_burst(center, 5000, BYSTANDER, "nobody-02"), seconds),
                 ("wrong-secret guessing from the machine's own address",
                  wrong_secrets(center), seconds),
                 ("16 parallel 60 MB REST bodies without a key",
@@ -389,7 +392,7 @@ async def main() -> None:
                 if args.quick and "5,000" in name:
                     attack = refused_burst(center, 1000, *(
                         ("127.0.3.77", "nobody-01") if "unregistered" in name
-                        else (holder_ip(1), "nobody-02")))
+                        else (BYSTANDER, "nobody-02")))
                     name = name.replace("5,000", "1,000")
                 print(f"... {name}", file=sys.stderr, flush=True)
                 evicted0 = center.metric("ednc_handshake_evictions_total")
