@@ -61,7 +61,8 @@ def test_serve_answers_over_http(served: str) -> None:
     assert status["writes_enabled"] is True and status["machines"] == 0
     r = httpx.post(f"{served}/api/machines", headers={"X-API-Key": "serve-key-123"}, json={
         "name": "vmc-01", "controller": "fanuc", "ip": "10.0.0.21", "chain": "w X Y b Z t",
-        "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}, "secret": "s3cret-s3cret-s3cret"})
+        "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]},
+        "secret": "s3cret-s3cret-s3cret"})
     assert r.status_code == 201, r.text
     assert "ednc_machines_connected" in httpx.get(f"{served}/metrics").text
 
