@@ -331,12 +331,12 @@ class MachineServer:
             text = (f"no Hello within {hello_s:g} s of connecting"
                     if session.hello is None else
                     f"no Welcome within {self.timing.handshake_s:g} s of connecting")
-            session.abort(ErrorCode.TIMEOUT, "handshake timeout")
             await self._refused(session.ip, text, "timeout")
+            session.abort(ErrorCode.TIMEOUT, "handshake timeout")
             return
         except RemoteProtocolError as exc:
-            session.abort(ErrorCode.PROTOCOL_ERROR, "protocol error")
             await self._refused(session.ip, f"protocol error before Welcome: {exc}", "protocol")
+            session.abort(ErrorCode.PROTOCOL_ERROR, "protocol error")
             return
         except (LinkClosed, ConnectionError, OSError) as exc:
             log.debug("%s: closed during the handshake: %s", session.address, exc)
