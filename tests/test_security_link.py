@@ -18,9 +18,11 @@ from protocol import (
     ErrorCode,
     Hello,
     MapEncoding,
+    Message,
     Reject,
     Welcome,
 )
+from server.db import Database, make_engine
 from server.db import machines as machine_repo
 from server.db.secretbox import SecretBox
 from server.events import EventKind
@@ -290,3 +292,31 @@ async def test_refusals_at_once_are_stored_in_a_few_transactions() -> None:
     assert sum(batches) == 50 and len(batches) <= 3, batches  # not 50 database calls
     runner.cancel()
     await asyncio.gather(runner, return_exceptions=True)
+
+
+async def test_a_secret_changed_through_another_node_closes_the_session_at_the_next_read(
+        tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, heartbeat_s=5.0) as r:
+        await r.register()
+        raw = await RawMachine.connect(r.port)
+        assert isinstance(await raw.login(), Welcome)
+        other = Database(make_engine(r.center.settings.database_url))  # another node's
+        try:
+            await other.run(machine_repo.update_machine, "vmc-01", description=description(),
+                            secret="a-brand-new-secret-0123")
+        finally:
+            other.engine.dispose()
+        assert r.center.registry.get("vmc-01").connected  # this node has not read it yet
+        await r.services.server.addresses.refresh()  # what it does every 30 s
+        raw.conn.receive_data(await raw.closed())
+        messages = []
+        while isinstance(e := raw.conn.next_event(), Message):
+            messages.append(e)
+        assert isinstance(messages[-1], Error) and messages[-1].code is ErrorCode.AUTH_FAILED
+        await until(lambda: not r.center.registry.get("vmc-01").connected)
+        # a session that logged in with the new secret outlives the next read
+        fresh = await RawMachine.connect(r.port)
+        assert isinstance(await fresh.login(secret="a-brand-new-secret-0123"), Welcome)
+        await r.services.server.addresses.refresh()
+        assert r.center.registry.get("vmc-01").connected
+        fresh.close()

@@ -25,6 +25,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import hashlib
 import logging
 import time
 from collections import OrderedDict
@@ -36,6 +37,7 @@ from sqlalchemy import event, inspect, select
 from sqlalchemy.orm import Session
 
 from server.db import Database
+from server.db.secretbox import SecretKeyError
 from server.db.tables import MachineRow
 
 log = logging.getLogger(__name__)
@@ -43,6 +45,11 @@ log = logging.getLogger(__name__)
 MAX_TRACKED: Final = 65536
 """Entries kept per table (addresses, names): beyond it the least recently used goes. A
 peer could otherwise grow the tables with every address of an IPv6 /64."""
+
+
+def digest(secret: str) -> bytes:
+    """What a session remembers of the secret it logged in with, to tell a change."""
+    return hashlib.sha256(secret.encode("utf-8")).digest()
 
 
 class AddressBook:
@@ -57,6 +64,7 @@ class AddressBook:
         self.db = db
         self.refresh_s = refresh_s
         self._addresses: frozenset[str] = frozenset()
+        self._digests: dict[int, bytes] = {}
         self._added_meanwhile: set[str] = set()
         self._changed_secrets: set[int] = set()
         self._loop: asyncio.AbstractEventLoop | None = None
@@ -67,15 +75,39 @@ class AddressBook:
         """Whether a machine is registered at ``ip`` (canonical form, see ``peer_ip``)."""
         return ip in self._addresses
 
-    def _load(self) -> frozenset[str]:
+    def _load(self) -> tuple[frozenset[str], dict[int, bytes]]:
+        """The registered addresses, and a digest of each machine's secret (opened: a
+        secret sealed again with a new nonce, or sealed for the first time, is the same
+        secret)."""
+        digests: dict[int, bytes] = {}
         with self.db.session() as session:
-            return frozenset(session.scalars(select(MachineRow.ip)))
+            rows = session.execute(select(MachineRow.id, MachineRow.ip, MachineRow.secret))
+            ips = set()
+            for machine_id, ip, stored in rows:
+                ips.add(ip)
+                try:
+                    secret = self.db.secrets.open(stored, machine_id)
+                except SecretKeyError:
+                    continue  # the login will say so; nothing to compare
+                digests[machine_id] = digest(secret)
+        return frozenset(ips), digests
+
+    def digest(self, machine_id: int) -> bytes | None:
+        """The digest of the machine's current secret (:func:`digest`), if known."""
+        return self._digests.get(machine_id)
 
     async def refresh(self) -> None:
+        """Re-read the book; report machines whose secret changed since the last read
+        (changed through another node: this node's own commits are reported at once)."""
         # addresses added while the read runs may be missing from it: keep them too
         self._added_meanwhile = set()
-        loaded = await asyncio.to_thread(self._load)
+        loaded, digests = await asyncio.to_thread(self._load)
         self._addresses = loaded | self._added_meanwhile
+        changed = {i for i, d in digests.items()
+                   if i in self._digests and self._digests[i] != d}
+        self._digests = digests
+        if changed and self._on_secret_change is not None:
+            self._on_secret_change(changed)
 
     # -- change notifications (SQLAlchemy session events, on worker threads)
     _KEY: Final = "ednc.admission.changed"
@@ -83,7 +115,7 @@ class AddressBook:
     def _after_flush(self, session: Session, _context: Any) -> None:
         if session.bind is not self.db.engine:
             return
-        info = session.info.setdefault(self._KEY, {"machines": False, "secrets": set(),
+        info = session.info.setdefault(self._KEY, {"machines": False, "secrets": {},
                                                     "ips": set()})
         for obj in (*session.new, *session.dirty, *session.deleted):
             if isinstance(obj, MachineRow):
@@ -91,7 +123,9 @@ class AddressBook:
                 if obj not in session.deleted:
                     info["ips"].add(obj.ip)
                 if obj in session.dirty and inspect(obj).attrs.secret.history.has_changes():
-                    info["secrets"].add(obj.id)
+                    with contextlib.suppress(SecretKeyError):
+                        info["secrets"][obj.id] = digest(self.db.secrets.open(obj.secret,
+                                                                              obj.id))
 
     def _after_commit(self, session: Session) -> None:
         info = session.info.pop(self._KEY, None)
@@ -101,7 +135,7 @@ class AddressBook:
                 # resolves its future the same way, later): a machine registered and
                 # connecting at once finds its address already admitted
                 self._loop.call_soon_threadsafe(self._changed, info["machines"],
-                                                set(info["secrets"]), set(info["ips"]))
+                                                dict(info["secrets"]), set(info["ips"]))
 
     def _after_soft_rollback(self, session: Session, _previous: Any) -> None:
         session.info.pop(self._KEY, None)
@@ -110,16 +144,17 @@ class AddressBook:
         # ``delete(MachineRow)`` statements bypass the flush; refresh on them too
         if update_context.session.bind is self.db.engine and self._loop is not None:
             with contextlib.suppress(RuntimeError):
-                self._loop.call_soon_threadsafe(self._changed, True, set(), set())
+                self._loop.call_soon_threadsafe(self._changed, True, {}, set())
 
-    def _changed(self, machines: bool, secrets: set[int], ips: set[str]) -> None:
+    def _changed(self, machines: bool, secrets: dict[int, bytes], ips: set[str]) -> None:
         if ips:
             self._addresses |= ips  # at once; removals wait for the refresh
             self._added_meanwhile |= ips
         if machines:
             self._dirty.set()
+        self._digests.update(secrets)
         if secrets and self._on_secret_change is not None:
-            self._on_secret_change(secrets)
+            self._on_secret_change(set(secrets))
 
     async def run(self, on_secret_change: Callable[[set[int]], None]) -> None:
         """Keep the book current until cancelled; report machines whose secret changed."""

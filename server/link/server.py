@@ -79,6 +79,7 @@ from server.link.admission import (
     LoginThrottle,
     OncePerWindow,
     RefusalLog,
+    digest,
 )
 from server.link.session import LinkClosed, MachineSession, peer_ip
 from server.temperatures import TemperatureBoard, valid_sensor
@@ -362,7 +363,10 @@ class MachineServer:
         """A session authenticated with a secret that is no longer the machine's ends."""
         for machine_id in machine_ids:
             session = self._session_of.get(machine_id)
-            if session is not None:
+            # a session that logged in with the new secret (after a change another node
+            # made, reported here at the next refresh) is left alone
+            if session is not None and session.secret_digest != self.addresses.digest(
+                    machine_id):
                 log.info("%s: secret changed, closing its session", session.name)
                 session.abort(ErrorCode.AUTH_FAILED, "the machine's secret was changed")
 
@@ -421,6 +425,7 @@ class MachineServer:
         try:
             secret = self.center.db.secrets.open(row.secret, row.id)
             good = verify_mac(secret.encode("utf-8"), nonce, row.name, answer.mac)
+            session.secret_digest = digest(secret)
         except (ValueError, SecretKeyError) as exc:  # unusable secret, or not our key
             log.error("machine %s: %s", row.name, exc)
             good = False

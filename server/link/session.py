@@ -99,6 +99,8 @@ class MachineSession:
         port = peer[1] if isinstance(peer, tuple) and len(peer) > 1 else 0
         self.address = f"{self.ip}:{port}"
         self.hello: Hello | None = None
+        self.secret_digest = b""
+        """What the session logged in with (``admission.digest``), to tell a changed secret."""
         self._loop = asyncio.get_running_loop()
         self.last_heard = self._loop.time()
         self.closed_because: str | None = None
