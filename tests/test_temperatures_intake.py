@@ -32,7 +32,7 @@ from server.intake import TemperatureIntake, description_columns, model_columns
 from server.link import LinkTiming
 from server.services import machine_services
 from server.settings import load_settings
-from tests.support.api import API_KEY, WRITE
+from tests.support.api import API_KEY, WRITE, running
 from tests.support.link import (
     DEADLINE_S,
     SECRET,
@@ -276,3 +276,18 @@ async def test_rest_post_and_get(tmp_path: Path, database_url: str) -> None:
         assert [x["celsius"] for x in r.json()["history"]] == [23.0]
         assert (await client.get(url, params={"since": "2026-11-24T10:00:00"})
                 ).status_code == 422
+
+
+async def test_post_without_the_machine_services_says_why(tmp_path: Path) -> None:
+    settings = load_settings(database_url=f"sqlite:///{tmp_path / 'api.db'}",
+                             api_key=API_KEY)
+    async with running(settings) as (_, client):  # an API-only process
+        r = await client.post("/api/machines", headers=WRITE, json={
+            **description("vmc-01", "fanuc", "10.0.0.21"), "secret": SECRET})
+        assert r.status_code == 201, r.text
+        url = "/api/machines/vmc-01/temperatures"
+        r = await client.post(url, headers=WRITE,
+                              json={"readings": [{"sensor": "spindle", "celsius": 20.0}]})
+        assert r.status_code == 409 and "not running" in r.json()["detail"]
+        r = await client.get(url)
+        assert r.status_code == 200 and r.json()["known_sensors"] is None

@@ -30,7 +30,7 @@ router = APIRouter(prefix="/machines/{name}/temperatures", tags=["temperatures"]
                    responses=NOT_FOUND)
 
 _OFF: dict[int | str, dict[str, Any]] = {
-    503: {"model": Problem, "description": "The machine services (and with them the "
+    409: {"model": Problem, "description": "The machine services (and with them the "
           "temperature intake) are not running in this process."}}
 
 
@@ -40,7 +40,9 @@ def _utc(seconds: float) -> dt.datetime:
 
 def _intake(center: CenterDep) -> TemperatureIntake:
     if center.intake is None:
-        raise HTTPException(status.HTTP_503_SERVICE_UNAVAILABLE,
+        # 409, not 503: the request cannot succeed in this process's configuration
+        # (an API-only process), retrying does not help, and 5xx are kept for faults
+        raise HTTPException(status.HTTP_409_CONFLICT,
                             "the temperature intake is not running in this process")
     return center.intake
 
