@@ -2,14 +2,25 @@
 
 Procedure (``ednc diagnose``):
 
-1. **Base model.** The rigid model (21 errors, polynomial components,
-   :mod:`volumetric.identify.fit`) is identified on the readings; its column set (degrees,
-   identifiable parameters) and weights are then kept fixed.
-2. **Held-out readings.** Every reading is predicted by a model fitted without it, in
-   ``K = 5`` folds. A test with several runs gives whole runs to a fold (runs are taken at
-   different times, so a time-dependent effect shows as a run that disagrees with the
-   others and cannot hide in the fit); a test with one run gives contiguous stretches of
-   it. With ``holdout_after`` the split is chronological instead: fit before, judge after.
+1. **Base model.** The rigid model (21 errors, smooth polynomial components on every
+   axis, rotary ones included, :mod:`volumetric.identify.fit` with ``fourier=False``) is
+   identified on the readings; its column set (degrees, identifiable parameters) and
+   weights are then kept fixed.
+2. **Held-out readings**, the split chosen from the data alone, the same way every time
+   (the JSON's ``split``):
+
+   * ``forward`` when the readings are time-ordered (every test spans at least
+     ``TIME_ORDERED_SPAN`` of the campaign, :func:`time_ordered`: a thermal test, a
+     long-term run): ``FORWARD_BLOCKS`` contiguous blocks of equal counts in time; each
+     block from ``FIRST_JUDGED`` on is predicted by a model fitted on all blocks before
+     it, never on anything later, and a lagged thermal model's sensors and time
+     constants are selected again in every fold from its past. ``blocks`` reports each
+     judged block, their mean and the worst;
+   * ``runs`` otherwise, in ``K = 5`` folds: a test with several runs gives whole runs
+     to a fold (so repeated readings of one point never sit on both sides, and a
+     time-dependent effect shows as a run that disagrees with the others); a test with
+     one run gives contiguous stretches of it;
+   * ``chronological`` with ``holdout_after`` (expert option): fit before, judge after.
 3. **Candidates**, each a few extra columns of the same least-squares problem, all along
    one machine axis ``k`` (``u_k`` is the reading's sensing component along k):
 
@@ -23,6 +34,10 @@ Procedure (``ednc diagnose``):
    periodic             ``u_k sin(2π q_k/P)``, ``u_k cos(2π q_k/P)``  A, P
                         with P from the base residual's spectrum
    time_drift           ``u_k (t − t̄) / 3600``                     ``um_per_h``
+   rotary_periodic      the rigid model refitted with a rotary     ``order``,
+                        axis's components in harmonics of the      ``radial_um``,
+                        angle (orders by BIC), replacing its       ``angular_urad``
+                        polynomials (axes of >= 180° travel)
    ===================  =========================================  ======================
 
 4. **Ranking and significance.** Candidates are ranked by held-out RMS of the displacement
@@ -39,7 +54,18 @@ Procedure (``ednc diagnose``):
    ``alternatives``.
 5. **Estimate.** The named effect is fitted together with the base model on all readings;
    its coefficient and standard uncertainty are reported in physical units, and it becomes
-   a term of the machine's :class:`~volumetric.model.model.MachineModel`.
+   a term of the machine's :class:`~volumetric.model.model.MachineModel` (a lagged
+   thermal drift as a ``thermal_dynamic`` term with its time constants and end states;
+   the fit's tool-tip offsets in ``info["offsets_um"]``), so that the saved model applied
+   forward (``ednc predict``) reproduces the figure.
+6. **Further effects** (``effects``): forward selection. With the effects found so far in
+   the model, every candidate of another effect or axis is judged again against that
+   model's held-out residuals and the best is added when it passes the same three tests
+   (``MIN_GAIN`` of the remaining RMS, ``Z_MIN``, ``T_MIN``), up to ``MAX_EFFECTS``. A
+   null campaign cannot pass: the gates are those that keep single effects free of false
+   alarms. Each entry's ``rms_after_um`` counts the effects up to it; the top-level
+   ``rms_after_um`` is the last one's. Not assessed yet: a rotary axis's harmonics after
+   another effect (they replace the base columns).
 
 Candidates that the data cannot support are not guessed at: they are listed in
 ``not_assessed`` with the reason (no temperature columns, one approach direction only,
@@ -49,6 +75,7 @@ an axis never sensed).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -85,6 +112,8 @@ SCREW_LEAD_MM = 25.0
 TIE = 0.05
 """Relative held-out RMS within which another sensor is reported as an alternative."""
 MIN_READINGS = 50
+MAX_EFFECTS = 3
+"""Most effects one diagnosis names (forward selection)."""
 
 
 class DiagnosisError(ValueError):
@@ -643,6 +672,7 @@ def diagnose(
         none_model = MachineModel(machine.name, base_fit.model.geometry, (),
                                   {**base_fit.model.info,
                                    "offsets_um": _offsets(base_fit.params, base_fit.values)})
+        details["effects"] = []
         return Diagnosis("none", None, None, {}, rms_before, rms_before, table, missing,
                          none_model, details, base_heldout, base_heldout, judge)
     c = best.candidate
@@ -684,10 +714,75 @@ def diagnose(
                            and s.rms_after_um <= best.rms_after_um * (1 + TIE)} - {None})
     if alternatives:
         details["alternatives"] = alternatives
+    # further effects: forward selection, each judged against the model with the effects
+    # already found and held to the same three tests as the first
+    effects = [{"effect": effect, "axis": axis, "sensor": sensor, "estimate": estimate,
+                "rms_after_um": round(best.rms_after_um, 4)}]
+    chosen = [best.candidate]
+    current = best
+    while len(chosen) < MAX_EFFECTS:
+        nxt = _next_effect(machine, m, a0, w, y, train, judge, order_judge, heldout, scored,
+                           chosen, current)
+        if nxt is None:
+            break
+        found, est2, term2 = nxt
+        chosen.append(found.candidate)
+        current = found
+        effects.append({"effect": found.candidate.effect, "axis": found.candidate.axis,
+                        "sensor": found.candidate.sensor, "estimate": est2,
+                        "rms_after_um": round(found.rms_after_um, 4)})
+        if term2 is not None:
+            model = model.with_terms(term2)
+    details["effects"] = effects
     if split == "forward":
-        details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids, best.heldout)
-    return Diagnosis(effect, axis, sensor, estimate, rms_before, best.rms_after_um, table,
-                     missing, model, details, base_heldout, best.heldout, judge)
+        details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids, current.heldout)
+    return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
+                     missing, model, details, base_heldout, current.heldout, judge)
+
+
+def _combined(a0: F64, cands: list[Candidate]) -> F64:
+    """The base design extended by several candidates (a replacing one, a rotary axis's
+    harmonics, first; at most one of those)."""
+    replacing = [c for c in cands if c.drop]
+    a = replacing[0].design(a0) if replacing else a0
+    extra = [c.columns for c in cands if not c.drop]
+    return np.column_stack((a, *extra)) if extra else a
+
+
+def _next_effect(
+    machine: Machine, m: Measurements, a0: F64, w: F64, y: F64, train: NDArray[np.bool_],
+    judge: NDArray[np.bool_], order_judge: NDArray[np.intp],
+    heldout: Callable[[F64], F64], scored: list[Scored], chosen: list[Candidate],
+    current: Scored,
+) -> tuple[Scored, dict[str, Any], Term | None] | None:
+    """The strongest further effect given those ``chosen``, or None when none passes.
+
+    Candidates of an effect and axis already chosen (other sensors of the same drift),
+    lagged refinements and a second replacing candidate are not tried; the gain is
+    measured against the held-out residuals of the model with the chosen effects.
+    """
+    taken = {(c.effect, c.axis) for c in chosen}
+    replacing = any(c.drop for c in chosen)
+    rms0 = _rms(current.heldout[judge])
+    base = _combined(a0, chosen)
+    best: Scored | None = None
+    for s in scored:
+        c = s.candidate
+        if (c.effect, c.axis) in taken or "lagged" in c.extra or (c.drop and replacing):
+            continue
+        if c.drop:
+            continue  # a rotary axis's harmonics after another effect: not assessed yet
+        r = heldout(np.column_stack((base, c.columns)))
+        rms = _rms(r[judge])
+        if best is None or rms < best.rms_after_um:
+            z = _significance(current.heldout, r, order_judge, np.any(c.columns != 0, axis=1))
+            best = Scored(c, r, rms, z, (rms0 - rms) / rms0)
+    if best is None or best.z < Z_MIN or best.gain < MIN_GAIN:
+        return None
+    est, term, _ = _estimate(machine, m, base, w, y, train, best.candidate)
+    if est.pop("_t") < T_MIN:
+        return None
+    return best, est, term
 
 
 def _estimate(
