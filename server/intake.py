@@ -35,10 +35,11 @@ An accepted reading is
   that connects gets every reading the board holds for it at once.
 
 The known machines and sensors are cached: loaded at start, reloaded every
-``refresh_s``, and for one machine when a reading names a machine or a sensor the cache
-does not know (at most every 2 s per machine): such a reading is held until the lookup
-returns and then screened again, so a machine registered or a model uploaded a moment
-ago loses no reading.
+``refresh_s`` (10 min: the full reload reads every machine's model, and only a sensor
+dropped from a model waits for it), and for one machine when a reading names a machine
+or a sensor the cache does not know (at most every 2 s per machine): such a reading is
+held until the lookup returns and then screened again, so a machine registered or a
+model uploaded a moment ago loses no reading.
 """
 
 from __future__ import annotations
@@ -190,7 +191,7 @@ class TemperatureIntake:
                  max_rate_K_per_s: float = MAX_RATE_K_PER_S,
                  jump_allowance_K: float = JUMP_ALLOWANCE_K,
                  forward_interval_s: float = INTERVAL_S, flush_s: float = 0.5,
-                 retention_days: float = RETENTION_DAYS, refresh_s: float = 60.0) -> None:
+                 retention_days: float = RETENTION_DAYS, refresh_s: float = 600.0) -> None:
         lo, hi = plausible_C
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(f"plausible_C must be a finite (low, high), got {plausible_C!r}")

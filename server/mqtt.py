@@ -6,7 +6,9 @@ Topics (``<prefix>`` is ``EDNC_MQTT_TOPIC_PREFIX``, ``ednc`` by default; see REA
   with a number in °C as text (``21.43``) or JSON ``{"celsius": 21.43, "time": ...}``
   (``time``: ISO 8601 or seconds since the epoch; ``timestamp_ms`` also accepted). The
   sensor ``spindle`` is the model column ``T_spindle_C``. Bad payloads are counted
-  (``ednc_mqtt_bad_payloads``) and logged, never fatal;
+  (``ednc_mqtt_bad_payloads``) and logged, never fatal; a reading that parses goes to the
+  board, where the intake's screen (:mod:`server.intake`: range, known sensor, rate) may
+  still refuse it, and from there to the time series and to the machine;
 * publishes ``<prefix>/<machine>/status``, retained JSON: connected, map versions sent and
   applied, last seen, the temperatures the center holds (with age and staleness);
 * publishes ``<prefix>/events``: JSON of every link event (refusals, connections, pushes,
