@@ -217,6 +217,7 @@ class MachineServer:
         self.throttle = throttle or LoginThrottle()
         self.refusal_log = RefusalLog(self._store_refusals)
         self._log_unregistered = OncePerWindow()
+        self._log_refused = OncePerWindow()
         self._session_of: dict[int, MachineSession] = {}  # by machine id, for secret changes
         self._handlers: set[asyncio.Task[None]] = set()
         self._background: list[asyncio.Task[None]] = []
@@ -301,6 +302,7 @@ class MachineServer:
             self._unregistered(session.ip)
             session.abort(None, "no machine is registered at this address")
             return
+
         def evict() -> None:
             metrics.handshake_evictions.inc()
             session.abort(None, "handshake slot given to another peer")
@@ -323,7 +325,9 @@ class MachineServer:
         except Refused as r:
             with contextlib.suppress(LinkClosed):
                 session.send(Reject(r.code, clip_text(r.text) if r.told else ""))
-            log.info("refused %s (%s): %s", session.address, r.reason, r.text)
+            if self._log_refused(r.who):  # the log must not grow with a flood either
+                log.info("refused %s (%s): %s (logged once a minute per peer; the events "
+                         "count them all)", session.address, r.reason, r.text)
             await self._refused(r.who, r.text, r.reason)
             session.abort(None, r.text)
             return
