@@ -396,13 +396,14 @@ class SimulatedCNC:
                 raise _Closed(f"unexpected {type(msg).__name__} from the center")
 
     def telemetry(self) -> Telemetry:
-        """The Telemetry message for now (temperatures only for Siemens-style machines)."""
+        """The Telemetry message for now (temperatures only where the PLC reads its own
+        sensors: a Siemens-style machine by default)."""
         rt = self.runtime
         comp = rt.controller.applied_mm()
         axes = tuple(AxisReading(a, float(rt.positions[j]), float(comp[j]))
                      for j, a in enumerate(rt.controller.axes))
         temps: tuple[SensorReading, ...] = ()
-        if isinstance(rt.controller, SiemensNC):
+        if isinstance(rt.controller, SiemensNC) and rt.own_sensors:
             temps = tuple(SensorReading(k, v) for k, v in rt.temperatures(self.now()).items())
         return Telemetry(int(time.time() * 1000), rt.controller.state,
                          rt.controller.store.version, axes, temps)

@@ -300,6 +300,12 @@ def build_for(machine: Machine, model: MachineModel,
                 if max_tolerance_um is None or tol * 2 > max_tolerance_um:
                     raise
                 tol *= 2
+            except MapBuildError:
+                # e.g. a thermal model without today's temperatures: a grid needs them,
+                # the tables (which carry the terms) do not
+                if best is None:
+                    raise
+                break
     if best is None:
         raise MapBuildError(f"machine {machine.name!r}: no map kind it takes "
                             f"({', '.join(have)}) meets {tolerance_um} µm")

@@ -95,3 +95,12 @@ def test_the_dashboard_shows_a_tables_map_as_the_machine_computes_it() -> None:
     assert z.values[j][i] == pytest.approx(want[mach.axis_names.index("Z")] * 1e3, abs=1e-3)
     with pytest.raises(MapSliceError, match="not an axis"):
         slice_tables(payload, mach, "Q", None)  # type: ignore[arg-type]
+
+
+def test_a_thermal_model_without_temperatures_still_gets_its_tables() -> None:
+    mach = five_axis()
+    model = thermal_model(mach.name)
+    got = build_for(mach, model, {}, tolerance_um=1.0, controller="siemens")
+    assert kind_of(got) == "tables"
+    with pytest.raises(MapBuildError, match="temperatures"):
+        build_for(mach, model, {}, tolerance_um=1.0, controller="fanuc")

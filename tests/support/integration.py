@@ -109,9 +109,15 @@ THERMAL = Spec({"name": "hot-07", "controller": "fanuc", "ip": "127.0.2.7",
                        noise=NOISE))
 """A Fanuc machine whose spindle grows along z (-2.5 µm/K), for the thermal tests."""
 
+THERMAL_TABLES = Spec({**THERMAL.description, "name": "hot-08", "controller": "siemens",
+                       "ip": "127.0.2.8"},
+                      "secret-of-hot-08-0123456789", 18, THERMAL.effects)
+"""The same spindle growth on a Siemens-style machine: it gets a tables map, which carries
+the thermal terms, and its temperatures come from MQTT through the center."""
+
 
 def spec(name: str) -> Spec:
-    for s in (*FLEET, THERMAL):
+    for s in (*FLEET, THERMAL, THERMAL_TABLES):
         if s.name == name:
             return s
     raise KeyError(name)
@@ -276,10 +282,12 @@ def machines_file(path: Path, specs: list[Spec]) -> Path:
 # -- machines
 
 def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
-        host: str = "127.0.0.1", mqtt: MqttTarget | None = None) -> SimulatedCNC:
+        host: str = "127.0.0.1", mqtt: MqttTarget | None = None,
+        own_sensors: bool | None = None) -> SimulatedCNC:
     """The simulated CNC of ``s`` connecting to ``host:port`` from its own address."""
     m = s.machine
-    runtime = MachineRuntime(m, seed=s.seed, fanuc=FanucConfig(max_step_counts=1000))
+    runtime = MachineRuntime(m, seed=s.seed, fanuc=FanucConfig(max_step_counts=1000),
+                             own_sensors=own_sensors)
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
                         ip=ip, cycle_s=0.02, backoff=Backoff(0.05, 2.0, 0.5), mqtt=mqtt)
 
