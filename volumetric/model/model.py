@@ -35,7 +35,6 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.identify.thermal import first_order_lag
 from volumetric.model.components import (
     Component,
     GeometricErrors,
@@ -43,6 +42,7 @@ from volumetric.model.components import (
     Sinusoid,
     add_components,
 )
+from volumetric.model.lag import first_order_lag
 
 FORMAT = "ednc-model/1"
 
