@@ -294,10 +294,18 @@ def test_map_command_writes_a_payload_and_reports_it(files: tuple[Path, Path],
                                                      tmp_path: Path) -> None:
     mach, model = files
     out = tmp_path / "vmc.map"
-    r = ednc("map", "--machine", mach, "--model", model, "--out", out, "--json",
-             "--temperature", "T_x_C=23.5", "--tolerance-um", "0.4")
+    args = ["map", "--machine", mach, "--model", model, "--out", out, "--json",
+            "--temperature", "T_x_C=23.5", "--tolerance-um", "0.4"]
+    # Fanuc's 1 µm increments leave more than 0.4 µm as sent: said loudly, no map written
+    refused = ednc(*args)
+    assert refused.returncode == 2 and "--allow-over-tolerance" in refused.stderr
+    assert json.loads(refused.stdout)["over_tolerance"] is True and not out.exists()
+    r = ednc(*args, "--allow-over-tolerance")
     assert r.returncode == 0, r.stderr
+    assert "warning" in r.stderr
     info = json.loads(r.stdout)
+    assert info["over_tolerance"] is True and info["kind"] == "grid"
+    assert info["worst_error_um"] > 0.4
     payload = decode_map(out.read_bytes())
     assert info["bytes"] == len(out.read_bytes())
     assert info["nodes"] == math.prod(g.count for g in payload.grid)
@@ -335,6 +343,8 @@ def test_compensate_command_prints_corrections_and_residuals(files: tuple[Path, 
     (["compensate", "--point", "1,2,3", "--temperature", "T_x_C=hot"], "'hot' is not a number"),
     (["compensate"], "give either --points P.csv or --point"),
     (["map"], "needs the temperatures of T_x_C"),
+    (["map", "--temperature", "T_x_C=20", "--temperature", "T_q_C=3"],
+     "--temperature T_q_C: not a sensor of the model (it uses T_x_C)"),
     (["map", "--temperature", "T_x_C=20", "--controller", "heidenhain"], "expected fanuc or"),
 ])
 def test_commands_refuse_bad_input_in_one_line(files: tuple[Path, Path], tmp_path: Path,

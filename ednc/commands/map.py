@@ -137,6 +137,10 @@ def register(app: typer.Typer) -> None:
                            "tolerance), tables (component tables the machine evaluates: "
                            "Siemens-style endpoints) or grid (corrections on a grid).")
         ] = "auto",
+        allow_over_tolerance: Annotated[bool, typer.Option(
+            "--allow-over-tolerance",
+            help="Write the map even when its error as sent (quantisation included) "
+                 "exceeds the tolerance; otherwise that is an error (exit 2).")] = False,
     ) -> None:
         """Build the error map (corrections on a grid chosen to meet the tolerance) and
         write it in the binary map format the machines receive."""
@@ -146,6 +150,10 @@ def register(app: typer.Typer) -> None:
             raise UserError(f"--controller {controller!r}: expected fanuc or siemens")
         ctrl = (controller or machine.controller).lower()
         temps = parse_temperatures(temperature or [])
+        unknown = sorted(set(temps) - set(model.sensors))
+        if unknown:
+            raise UserError(f"--temperature {', '.join(unknown)}: not a sensor of the model "
+                            f"(it uses {', '.join(model.sensors) or 'none'})")
         missing = [s for s in model.sensors if s not in temps]
         if missing:
             raise UserError(f"{model_path}: the model needs the temperatures of "
@@ -164,15 +172,24 @@ def register(app: typer.Typer) -> None:
             payload = encode(m)
         except (MapBuildError, CompensationError, ComponentErrorSpecError) as exc:
             raise UserError(str(exc)) from None
+        r = m.report
+        over = r is not None and r.worst_error_um > tolerance_um
+        if over and not allow_over_tolerance:
+            assert r is not None
+            if as_json:  # the figures still go out (formats.md §3), no map is written
+                typer.echo(json.dumps({**summary(m, None), "over_tolerance": True}))
+            raise UserError(f"the {kind_of(m)} map leaves {r.worst_error_um:.3f} µm as sent, "
+                            f"over the {tolerance_um:g} µm asked for (the controller's rounding "
+                            f"to its increments); ask for a larger tolerance, or write it "
+                            f"anyway with --allow-over-tolerance")
+        if over and r is not None:
+            typer.echo(f"warning: the {kind_of(m)} map leaves {r.worst_error_um:.3f} µm as "
+                       f"sent, over the {tolerance_um:g} µm asked for", err=True)
         try:
             out.write_bytes(payload)
         except OSError as exc:
             raise UserError(f"{out}: cannot write ({exc.strerror or exc})") from None
-        r = m.report
-        if r is not None and r.worst_error_um > tolerance_um:
-            typer.echo(f"warning: the {kind_of(m)} map leaves {r.worst_error_um:.3f} µm, over "
-                       f"the {tolerance_um:g} µm asked for (quantisation)", err=True)
         if as_json:
-            typer.echo(json.dumps(summary(m, out)))
+            typer.echo(json.dumps({**summary(m, out), "over_tolerance": over}))
         else:
             typer.echo(_text(m, out))
