@@ -363,7 +363,11 @@ class TemperatureIntake:
             if len(self._evented) > 10_000:  # names come from the network: bound the memory
                 self._evented.clear()
             self._evented[key] = now
-            log.warning("temperature %s of %s (%s) refused: %s", sensor, machine, source, text)
+            # a bad value is a fault to look at; a sensor no model uses is a plant
+            # publishing more than the center needs (the demo's machines do)
+            level = logging.WARNING if reason in _EVENTED else logging.INFO
+            log.log(level, "temperature %s of %s (%s) refused: %s", sensor, machine, source,
+                    text)
             if self.feed is not None and reason in _EVENTED:
                 self._spawn(self.feed.record(EventKind.ERROR, machine,
                                              f"temperature {sensor} refused: {text}"),
