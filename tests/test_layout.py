@@ -18,11 +18,12 @@ fixed (the lists only shrink; they are allowances, so a stale one fails nothing)
 
 from __future__ import annotations
 
+import ast
 from pathlib import Path
 
 import pytest
 
-from tests.support.imports import PACKAGES, Edge, cycles, edges, modules
+from tests.support.imports import PACKAGES, Edge, cycles, edges, module_path, modules
 
 # Which project packages each package must not import (all imports, typing ones too: a
 # layer that needs a type from above is still upside down).
@@ -76,6 +77,31 @@ def stage_breaks(es: list[Edge]) -> list[Edge]:
                 and STAGES.get(t[1], 99) >= STAGES.get(s[1], 99)):
             out.append(e)
     return out
+
+
+# The sans-I/O wire protocol and the pure, synchronous numeric core do no I/O of their own
+# (style.md, habits 1 and 4): the event loop calls them, never the other way round.
+NO_IO = {"protocol": {"asyncio", "socket", "selectors", "ssl", "threading"},
+         "volumetric": {"asyncio", "socket", "selectors", "ssl"}}
+
+
+def io_imports(known: dict[str, Path]) -> list[str]:
+    """``path:line imports x`` for each I/O module a NO_IO package imports."""
+    bad = []
+    for name, path in known.items():
+        banned = NO_IO.get(name.split(".")[0], set())
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            roots = ([a.name for a in node.names] if isinstance(node, ast.Import) else
+                     [node.module or ""] if isinstance(node, ast.ImportFrom) and not node.level
+                     else [])
+            bad += [f"{module_path(name)}:{node.lineno} imports {r}" for r in roots
+                    if r.split(".")[0] in banned]
+    return bad
+
+
+def test_protocol_and_numeric_core_do_no_io() -> None:
+    bad = io_imports(ALL)
+    assert not bad, "\n".join(bad)
 
 
 def test_the_graph_is_read_from_every_package() -> None:
@@ -159,6 +185,12 @@ def test_a_stage_importing_a_later_one_is_found(tmp_path: Path) -> None:
     })
     assert [(e.source, e.target) for e in stage_breaks(edges(known))] == [
         ("volumetric.model.m", "volumetric.compensate.solver")]
+
+
+def test_an_io_import_in_the_protocol_is_found(tmp_path: Path) -> None:
+    known = _tree(tmp_path, {"protocol/__init__.py": "",
+                             "protocol/codec.py": "import zlib\nfrom asyncio import sleep\n"})
+    assert io_imports(known) == ["protocol/codec.py:2 imports asyncio"]
 
 
 @pytest.mark.parametrize("line", ["from tests.test_x import helper",
