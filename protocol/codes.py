@@ -51,6 +51,9 @@ class MapEncoding(IntFlag):
     TABLES = 4
     """Hello only: the machine also evaluates ``tables`` maps (format version 2), whose
     corrections it rounds to one of the value encodings above."""
+    THERMAL = 8
+    """Hello only: the machine applies the thermal records of grid maps (format version
+    3) with its latest temperatures every cycle."""
 
 
 class ErrorCode(IntEnum):

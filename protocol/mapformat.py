@@ -25,6 +25,16 @@ values straight into PMC / NC memory, which is little-endian. Layout::
                         row-major: output axis fastest, then the last grid axis
 
 Nothing follows the values; the payload length is exactly 64 + 24 D + 12 K + 4 N K.
+
+Format version 3 (a grid with thermal records, protocol/README.md §6.4) is exactly this
+layout with 3 in the version field, followed by a trailer at T = 64 + 24 D + 12 K + 4 N K::
+
+         T           4  thermal records H u32, 1..32
+       T+4      48 * H  thermal records, the tables kind's (:class:`ThermalRecord`); each
+                        names an output axis
+
+Only a machine that set ``MapEncoding.THERMAL`` in Hello gets one; it adds, every cycle,
+``-ΔE`` of each record (at its latest temperature) to the correction of the record's axis.
 """
 
 from __future__ import annotations
@@ -40,10 +50,15 @@ from typing import Final
 
 from . import _check as check
 from .codes import MapEncoding
-from .limits import MAX_MAP_BYTES, MAX_NAME_BYTES
+from .limits import MAX_LABEL_BYTES, MAX_MAP_BYTES, MAX_NAME_BYTES
 
 MAP_MAGIC: Final = b"EDMP"
 MAP_FORMAT_VERSION: Final = 1
+GRID_THERMAL_FORMAT_VERSION: Final = 3
+"""A grid map followed by thermal records (the machine applies them)."""
+MAX_THERMAL: Final = 32
+THERMAL_DRIFT: Final = 1
+THERMAL_EXPANSION: Final = 2
 MAX_GRID_DIMS: Final = 6
 MAX_OUTPUTS: Final = 16
 DEFAULT_INCREMENT_MM: Final = 0.001
@@ -52,7 +67,10 @@ DEFAULT_INCREMENT_MM: Final = 0.001
 _HEAD = struct.Struct("<4sHBBB7s32sIId")  # 64 bytes
 _GRID = struct.Struct("<4sIdd")  # 24 bytes
 _OUT = struct.Struct("<4sB3s4s")  # 12 bytes
+_THERMAL = struct.Struct("<16s4sB3sddd")  # 48 bytes
+_COUNT = struct.Struct("<I")  # the version-3 trailer's record count
 _AXIS_RE = re.compile(r"[A-Za-z][A-Za-z0-9]{0,3}")
+_LABEL = re.compile(r"[\x21-\x7e]{1,16}")
 _INT32_MIN, _INT32_MAX = -(1 << 31), (1 << 31) - 1
 
 
@@ -97,6 +115,66 @@ class OutputAxis:
             check.finite(f"output axis {self.name} reversal", self.reversal)
 
 
+@dataclass(frozen=True, slots=True)
+class ThermalRecord:
+    """A thermal term of the model on axis K's positioning error ``E<K><K>`` (carried by
+    tables maps, format version 2, and grid maps of format version 3).
+
+    Attributes
+    ----------
+    sensor : str
+        Temperature label, 1..16 printable ASCII characters without spaces; ``T_<s>_C``
+        (a measurement CSV column) names the machine's sensor ``<s>``.
+    axis : str
+        A linear axis (a chain axis of a tables map, an output axis of a grid map).
+    kind : int
+        1 = drift: ``coefficient · (T - t_ref_C)`` µm, coefficient in µm/K;
+        2 = expansion: ``coefficient · (T - t_ref_C) · (q - q_min) · 1e-3`` µm,
+        coefficient in µm/(m·K), q and q_min in mm.
+    coefficient, t_ref_C, q_min : float
+    """
+
+    sensor: str
+    axis: str
+    kind: int
+    coefficient: float
+    t_ref_C: float
+    q_min: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.sensor, str) or not _LABEL.fullmatch(self.sensor) \
+                or len(self.sensor) > MAX_LABEL_BYTES:
+            raise ValueError(f"thermal sensor must be 1 to 16 printable ASCII characters "
+                             f"without spaces, got {self.sensor!r}")
+        if not isinstance(self.axis, str) or not re.fullmatch(r"[XYZ][0-9]{0,3}", self.axis):
+            raise ValueError(f"thermal record axis must be a linear axis name, "
+                             f"got {self.axis!r}")
+        if self.kind not in (THERMAL_DRIFT, THERMAL_EXPANSION) or isinstance(self.kind, bool):
+            raise ValueError(f"thermal record kind must be 1 (drift) or 2 (expansion), "
+                             f"got {self.kind!r}")
+        for f in ("coefficient", "t_ref_C", "q_min"):
+            check.finite(f"thermal record {self.sensor}/{self.axis} {f}", getattr(self, f))
+
+
+def pack_thermal(th: ThermalRecord) -> bytes:
+    """The 48-byte wire record of a thermal term (both map kinds)."""
+    return _THERMAL.pack(_name_field(th.sensor, 16), _name_field(th.axis, 4), th.kind,
+                         bytes(3), float(th.coefficient), float(th.t_ref_C), float(th.q_min))
+
+
+def thermal_at(data: bytes, at: int, i: int) -> ThermalRecord:
+    """Thermal record ``i`` at offset ``at``; MapFormatError names the field and offset."""
+    raw_sensor, raw_axis, kind, pad, coef, t_ref, q_min = _THERMAL.unpack_from(data, at)
+    if any(pad):
+        raise MapFormatError(f"thermal record {i} at offset {at} has non-zero reserved bytes")
+    sensor = _name_from(raw_sensor, f"thermal record {i} sensor", at)
+    axis = _name_from(raw_axis, f"thermal record {i} axis", at + 16)
+    try:
+        return ThermalRecord(sensor, axis, kind, coef, t_ref, q_min)
+    except ValueError as exc:
+        raise MapFormatError(f"thermal record {i} at offset {at}: {exc}") from None
+
+
 def _f32(value: float) -> float:
     """``value`` rounded to the nearest float32 (what the wire will carry)."""
     try:
@@ -138,6 +216,9 @@ class ErrorMapPayload:
     values: bytes
     increment_mm: float = DEFAULT_INCREMENT_MM
     valid_s: int = 0
+    thermal: tuple[ThermalRecord, ...] = ()
+    """Thermal records the machine applies (format version 3 when any; each names an
+    output axis)."""
 
     def __post_init__(self) -> None:
         check.name("map machine", self.machine, MAX_NAME_BYTES)
@@ -165,6 +246,15 @@ class ErrorMapPayload:
         check.unique("map outputs", [o.name for o in self.outputs])
         outputs = tuple(self._checked_output(o) for o in self.outputs)
         object.__setattr__(self, "outputs", outputs)
+        if not isinstance(self.thermal, tuple) or len(self.thermal) > MAX_THERMAL:
+            raise ValueError(f"map thermal must be a tuple of at most {MAX_THERMAL} "
+                             f"ThermalRecord")
+        for r in self.thermal:
+            if not isinstance(r, ThermalRecord):
+                raise ValueError("map thermal must hold ThermalRecord objects")
+            if r.axis not in [o.name for o in outputs]:  # its correction goes there
+                raise ValueError(f"thermal record {r.sensor}: axis {r.axis} is not an "
+                                 f"output axis")
         if not isinstance(self.values, bytes):
             raise ValueError(f"map values must be bytes, got {type(self.values).__name__}")
         if self.size > MAX_MAP_BYTES:
@@ -195,8 +285,14 @@ class ErrorMapPayload:
     @property
     def size(self) -> int:
         """Length of the encoded payload in bytes."""
+        trailer = _COUNT.size + _THERMAL.size * len(self.thermal) if self.thermal else 0
         return (_HEAD.size + _GRID.size * len(self.grid) + _OUT.size * len(self.outputs)
-                + 4 * math.prod(self.shape))
+                + 4 * math.prod(self.shape) + trailer)
+
+    @property
+    def format_version(self) -> int:
+        """1, or 3 when the map carries thermal records."""
+        return GRID_THERMAL_FORMAT_VERSION if self.thermal else MAP_FORMAT_VERSION
 
     def value_array(self) -> array.array[int] | array.array[float]:
         """The values as a flat ``array.array`` in native byte order."""
@@ -248,7 +344,7 @@ def _name_field(name: str, size: int) -> bytes:
 def encode_map(payload: ErrorMapPayload) -> bytes:
     """The wire bytes of ``payload`` (layout in the module docstring)."""
     int32 = payload.encoding is MapEncoding.INT32_INCREMENTS
-    parts = [_HEAD.pack(MAP_MAGIC, MAP_FORMAT_VERSION, payload.encoding, len(payload.grid),
+    parts = [_HEAD.pack(MAP_MAGIC, payload.format_version, payload.encoding, len(payload.grid),
                         len(payload.outputs), bytes(7), _name_field(payload.machine, 32),
                         payload.version, payload.valid_s, float(payload.increment_mm))]
     parts += [_GRID.pack(_name_field(g.name, 4), g.count, float(g.start), float(g.step))
@@ -258,6 +354,9 @@ def encode_map(payload: ErrorMapPayload) -> bytes:
         raw = struct.pack("<i", int(r)) if int32 else struct.pack("<f", r)
         parts.append(_OUT.pack(_name_field(o.name, 4), o.reversal is not None, bytes(3), raw))
     parts.append(payload.values)
+    if payload.thermal:
+        parts.append(_COUNT.pack(len(payload.thermal)))
+        parts += [pack_thermal(th) for th in payload.thermal]
     return b"".join(parts)
 
 
@@ -288,8 +387,9 @@ def decode_map(data: bytes) -> ErrorMapPayload:
      increment) = _HEAD.unpack_from(data, 0)
     if magic != MAP_MAGIC:
         raise MapFormatError(f"map magic is {magic!r}, expected {MAP_MAGIC!r}")
-    if fmt != MAP_FORMAT_VERSION:
-        raise MapFormatError(f"map format version {fmt}, this end reads {MAP_FORMAT_VERSION}")
+    if fmt not in (MAP_FORMAT_VERSION, GRID_THERMAL_FORMAT_VERSION):
+        raise MapFormatError(f"map format version {fmt} at offset 4, a grid map is version "
+                             f"{MAP_FORMAT_VERSION} or {GRID_THERMAL_FORMAT_VERSION}")
     if enc not in (MapEncoding.INT32_INCREMENTS, MapEncoding.FLOAT32_MM):
         raise MapFormatError(f"map value encoding {enc} at offset 6 is unknown (1 or 2)")
     encoding = MapEncoding(enc)
@@ -324,14 +424,43 @@ def decode_map(data: bytes) -> ErrorMapPayload:
             outputs.append(OutputAxis(_name_from(raw_name, f"output axis {k} name", at),
                                       value if flags & 1 else None))
         nodes = math.prod(g.count for g in grid)
-        want = values_at + 4 * nodes * n_out
+        values_end = values_at + 4 * nodes * n_out
+        thermal = (_trailer(data, values_end, [o.name for o in outputs])
+                   if fmt == GRID_THERMAL_FORMAT_VERSION else [])
+        want = values_end + (_COUNT.size + _THERMAL.size * len(thermal) if thermal else 0)
         if len(data) != want:
             raise MapFormatError(f"map payload is {len(data)} bytes, its header describes "
                                  f"{want} ({nodes} nodes x {n_out} axes x 4 bytes + "
-                                 f"{values_at} header)")
+                                 f"{values_at} header"
+                                 f"{f' + {len(thermal)} thermal records' if thermal else ''})")
         return ErrorMapPayload(machine, version, encoding, tuple(grid), tuple(outputs),
-                               bytes(data[values_at:]), increment, valid_s)
+                               bytes(data[values_at:values_end]), increment, valid_s,
+                               tuple(thermal))
     except MapFormatError:
         raise
     except ValueError as exc:
         raise MapFormatError(f"map payload: {exc}") from None
+
+
+def _trailer(data: bytes, at: int, outputs: list[str]) -> list[ThermalRecord]:
+    """The thermal records of a version-3 grid map, whose trailer starts at ``at``."""
+    if len(data) < at + _COUNT.size:
+        raise MapFormatError(f"map payload is {len(data)} bytes, a version-3 map needs its "
+                             f"thermal record count at offset {at}")
+    (count,) = _COUNT.unpack_from(data, at)
+    if not 1 <= count <= MAX_THERMAL:
+        raise MapFormatError(f"map has {count} thermal records (offset {at}), 1 to "
+                             f"{MAX_THERMAL} in a version-3 map")
+    first = at + _COUNT.size
+    if len(data) < first + _THERMAL.size * count:
+        raise MapFormatError(f"map payload is {len(data)} bytes, its {count} thermal records "
+                             f"need {first + _THERMAL.size * count}")
+    records = []
+    for i in range(count):
+        rec = thermal_at(data, first + _THERMAL.size * i, i)
+        if rec.axis not in outputs:
+            raise MapFormatError(f"thermal record {i} at offset {first + _THERMAL.size * i + 16}"
+                                 f": axis {rec.axis} is not an output axis "
+                                 f"({' '.join(outputs)})")
+        records.append(rec)
+    return records

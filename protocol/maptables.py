@@ -51,24 +51,35 @@ from typing import Final, Literal
 
 from . import _check as check
 from .codes import MapEncoding
-from .limits import MAX_LABEL_BYTES, MAX_MAP_BYTES, MAX_NAME_BYTES
+from .limits import MAX_MAP_BYTES, MAX_NAME_BYTES
 from .mapformat import (
     _OUT,
+    _THERMAL,
+    GRID_THERMAL_FORMAT_VERSION,
+    MAP_FORMAT_VERSION,
     MAP_MAGIC,
+    MAX_THERMAL,
+    THERMAL_DRIFT,
+    THERMAL_EXPANSION,
     ErrorMapPayload,
     MapFormatError,
     OutputAxis,
+    ThermalRecord,
     _f32,
     _name_field,
     _name_from,
     checked_output,
     decode_map,
     encode_map,
+    pack_thermal,
+    thermal_at,
 )
 
 __all__ = [
     "KIND_TABLES",
     "TABLES_FORMAT_VERSION",
+    "THERMAL_DRIFT",
+    "THERMAL_EXPANSION",
     "ChainAxis",
     "ComponentTable",
     "Spindle",
@@ -85,9 +96,6 @@ TABLES_FORMAT_VERSION: Final = 2
 KIND_TABLES: Final = 2
 MAX_CHAIN_AXES: Final = 16
 MAX_SPINDLES: Final = 8
-MAX_THERMAL: Final = 32
-THERMAL_DRIFT: Final = 1
-THERMAL_EXPANSION: Final = 2
 UNIT_TOLERANCE: Final = 1e-6
 """How far from 1 the length of a direction may be (the machine description's rule)."""
 
@@ -97,7 +105,6 @@ _AXIS = struct.Struct("<4sB3s3d3d2d")  # 72
 _SPINDLE = struct.Struct("<16sH6sd3d6d")  # 104
 _TABLE = struct.Struct("<8sIIdd")  # 32
 _LOCATION = struct.Struct("<8sd")  # 16
-_THERMAL = struct.Struct("<16s4sB3sddd")  # 48
 _AXIS_NAME = re.compile(r"[XYZ][0-9]{0,3}|[ABC]")
 _COMPONENT = re.compile(r"E([XYZABC])([XYZABC][0-9]*)")
 _LOCATION_NAME = re.compile(r"E([XYZABC])0([XYZABC][0-9]*)")
@@ -259,46 +266,6 @@ class ComponentTable:
         m = _COMPONENT.fullmatch(self.name)
         assert m is not None
         return m.group(2)
-
-
-@dataclass(frozen=True, slots=True)
-class ThermalRecord:
-    """A thermal term of the model on axis K's positioning error ``E<K><K>``.
-
-    Attributes
-    ----------
-    sensor : str
-        Temperature label, 1..16 printable ASCII characters without spaces; ``T_<s>_C``
-        (a measurement CSV column) names the machine's sensor ``<s>``.
-    axis : str
-        A linear chain axis.
-    kind : int
-        1 = drift: ``coefficient · (T - t_ref_C)`` µm, coefficient in µm/K;
-        2 = expansion: ``coefficient · (T - t_ref_C) · (q - q_min) · 1e-3`` µm,
-        coefficient in µm/(m·K), q and q_min in mm.
-    coefficient, t_ref_C, q_min : float
-    """
-
-    sensor: str
-    axis: str
-    kind: int
-    coefficient: float
-    t_ref_C: float
-    q_min: float = 0.0
-
-    def __post_init__(self) -> None:
-        if not isinstance(self.sensor, str) or not _LABEL.fullmatch(self.sensor) \
-                or len(self.sensor) > MAX_LABEL_BYTES:
-            raise ValueError(f"thermal sensor must be 1 to 16 printable ASCII characters "
-                             f"without spaces, got {self.sensor!r}")
-        if not isinstance(self.axis, str) or not re.fullmatch(r"[XYZ][0-9]{0,3}", self.axis):
-            raise ValueError(f"thermal record axis must be a linear axis name, "
-                             f"got {self.axis!r}")
-        if self.kind not in (THERMAL_DRIFT, THERMAL_EXPANSION) or isinstance(self.kind, bool):
-            raise ValueError(f"thermal record kind must be 1 (drift) or 2 (expansion), "
-                             f"got {self.kind!r}")
-        for f in ("coefficient", "t_ref_C", "q_min"):
-            check.finite(f"thermal record {self.sensor}/{self.axis} {f}", getattr(self, f))
 
 
 @dataclass(frozen=True, slots=True)
@@ -487,10 +454,7 @@ def encode_tables(p: TablesPayload) -> bytes:
         first += len(t.values)
     for name, value in p.locations:
         parts.append(_LOCATION.pack(_name_field(name, 8), float(value)))
-    for th in p.thermal:
-        parts.append(_THERMAL.pack(_name_field(th.sensor, 16), _name_field(th.axis, 4),
-                                   th.kind, bytes(3), float(th.coefficient),
-                                   float(th.t_ref_C), float(th.q_min)))
+    parts += [pack_thermal(th) for th in p.thermal]
     values = array.array("f", (v for t in p.tables for v in t.values))
     if sys.byteorder == "big":
         values.byteswap()
@@ -506,7 +470,8 @@ def encode_payload(p: ErrorMapPayload | TablesPayload) -> bytes:
 
 
 def payload_kind(p: ErrorMapPayload | TablesPayload) -> Literal["grid", "tables"]:
-    """``"grid"`` (format version 1) or ``"tables"`` (format version 2)."""
+    """``"grid"`` (format version 1, or 3 with thermal records) or ``"tables"`` (format
+    version 2)."""
     return "tables" if isinstance(p, TablesPayload) else "grid"
 
 
@@ -526,12 +491,12 @@ def decode_payload(data: bytes) -> ErrorMapPayload | TablesPayload:
     magic, fmt = struct.unpack_from("<4sH", data, 0)
     if magic != MAP_MAGIC:
         raise MapFormatError(f"map magic is {magic!r}, expected {MAP_MAGIC!r}")
-    if fmt == 1:
+    if fmt in (MAP_FORMAT_VERSION, GRID_THERMAL_FORMAT_VERSION):
         return decode_map(data)
     if fmt == TABLES_FORMAT_VERSION:
         return decode_tables(data)
-    raise MapFormatError(f"map format version {fmt} at offset 4, this end reads 1 (grid) "
-                         f"and 2 (tables)")
+    raise MapFormatError(f"map format version {fmt} at offset 4, this end reads 1 (grid), "
+                         f"2 (tables) and 3 (grid with thermal records)")
 
 
 def decode_tables(data: bytes) -> TablesPayload:
@@ -611,7 +576,7 @@ def decode_tables(data: bytes) -> TablesPayload:
         at = at_loc + _LOCATION.size * i
         raw, value = _LOCATION.unpack_from(data, at)
         locations.append((_name_from(raw, f"location {i} name", at), value))
-    thermal = [_thermal_at(data, at_th + _THERMAL.size * i, i) for i in range(n_th)]
+    thermal = [thermal_at(data, at_th + _THERMAL.size * i, i) for i in range(n_th)]
     want = at_val + 4 * expect_first
     if len(data) != want:
         raise MapFormatError(f"tables map is {len(data)} bytes, its header and table "
@@ -682,15 +647,3 @@ def _output_at(data: bytes, at: int, k: int, enc: int) -> OutputAxis:
                           value if flags & 1 else None)
     except ValueError as exc:
         raise MapFormatError(f"output axis {k} at offset {at}: {exc}") from None
-
-
-def _thermal_at(data: bytes, at: int, i: int) -> ThermalRecord:
-    raw_sensor, raw_axis, kind, pad, coef, t_ref, q_min = _THERMAL.unpack_from(data, at)
-    if any(pad):
-        raise MapFormatError(f"thermal record {i} at offset {at} has non-zero reserved bytes")
-    sensor = _name_from(raw_sensor, f"thermal record {i} sensor", at)
-    axis = _name_from(raw_axis, f"thermal record {i} axis", at + 16)
-    try:
-        return ThermalRecord(sensor, axis, kind, coef, t_ref, q_min)
-    except ValueError as exc:
-        raise MapFormatError(f"thermal record {i} at offset {at}: {exc}") from None

@@ -203,6 +203,11 @@ class MapAssembler:
         if isinstance(payload, TablesPayload) and not self.accepted & MapEncoding.TABLES:
             return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
                                "a tables map, and this machine evaluates only grid maps")
+        if (isinstance(payload, ErrorMapPayload) and payload.thermal
+                and not self.accepted & MapEncoding.THERMAL):
+            return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
+                               "a grid map with thermal records (format version 3), and this "
+                               "machine does not apply them")
         if not payload.encoding & self.accepted:
             return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
                                f"map encoding {payload.encoding.name} is not one this "

@@ -86,7 +86,8 @@ def _patch(data: bytes, offset: int, new: bytes) -> bytes:
 @pytest.mark.parametrize(("data", "pattern"), [
     (TINY_BYTES[:63], r"map payload is 63 bytes, shorter than the 64-byte header"),
     (_patch(TINY_BYTES, 0, b"EDMQ"), r"map magic is b'EDMQ', expected b'EDMP'"),
-    (_patch(TINY_BYTES, 4, b"\x02\x00"), r"map format version 2, this end reads 1"),
+    (_patch(TINY_BYTES, 4, b"\x02\x00"),
+     r"map format version 2 at offset 4, a grid map is version 1 or 3"),
     (_patch(TINY_BYTES, 6, b"\x03"), r"map value encoding 3 at offset 6 is unknown"),
     (_patch(TINY_BYTES, 7, b"\x00"), r"map has 0 grid dimensions, 1 to 6 allowed"),
     (_patch(TINY_BYTES, 8, b"\x11"), r"map has 17 output axes, 1 to 16 allowed"),
