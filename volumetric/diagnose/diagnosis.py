@@ -716,8 +716,10 @@ def diagnose(
         details["alternatives"] = alternatives
     # further effects: forward selection, each judged against the model with the effects
     # already found and held to the same three tests as the first
-    effects = [{"effect": effect, "axis": axis, "sensor": sensor, "estimate": estimate,
-                "rms_after_um": round(best.rms_after_um, 4)}]
+    effects: list[dict[str, Any]] = [{"effect": effect, "axis": axis, "sensor": sensor,
+                                      "estimate": estimate,
+                                      "rms_after_um": round(best.rms_after_um, 4)}]
+    effect_terms: list[Term | None] = [model.terms[0] if model.terms else None]
     chosen = [best.candidate]
     current = best
     while len(chosen) < MAX_EFFECTS:
@@ -731,8 +733,23 @@ def diagnose(
         effects.append({"effect": found.candidate.effect, "axis": found.candidate.axis,
                         "sensor": found.candidate.sensor, "estimate": est2,
                         "rms_after_um": round(found.rms_after_um, 4)})
+        effect_terms.append(term2)
         if term2 is not None:
             model = model.with_terms(term2)
+    if len(chosen) > 1:
+        # each estimate again with every other effect in the model: effects on one axis
+        # (a drift and an expansion) share variance that the first fit gave to one alone
+        for i, c_i in enumerate(chosen):
+            if c_i.drop or "lagged" in c_i.extra:
+                continue  # a replacing or dynamic model keeps its own fit
+            others = _combined(a0, [c for j, c in enumerate(chosen) if j != i])
+            est_i, term_i, _ = _estimate(machine, m, others, w, y, train, c_i)
+            est_i.pop("_t")
+            effects[i]["estimate"] = est_i
+            effect_terms[i] = term_i
+        model = MachineModel(model.machine, model.geometry,
+                             tuple(t for t in effect_terms if t is not None), model.info)
+        estimate = effects[0]["estimate"]
     details["effects"] = effects
     if split == "forward":
         details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids, current.heldout)
