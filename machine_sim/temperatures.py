@@ -73,10 +73,16 @@ class TemperatureStore:
         """Machine time of the last change (a cycle can tell new values cheaply)."""
 
     def update(self, sensor: str, celsius: float, taken_s: float, source: Source) -> bool:
-        """Store a reading unless the sensor already has a newer one; True if stored."""
+        """Store a reading; True if stored.
+
+        Readings of one source replace each other in the order they come (the center sends
+        a sensor's readings in order; a sender's clock that steps back must not freeze
+        it). Between the two sources the newer reading wins, so the machine's own sensor
+        read a moment ago is not overwritten by an older value forwarded by the center.
+        """
         old = self._readings.get(sensor)
-        if old is not None and old.taken_s > taken_s:
-            return False  # frames or sources out of order: the newest reading wins
+        if old is not None and old.source != source and old.taken_s > taken_s:
+            return False
         self._readings[sensor] = Reading(float(celsius), float(taken_s), source)
         self._values[column_of(sensor)] = float(celsius)
         self.updated_s = max(self.updated_s, float(taken_s))

@@ -195,6 +195,7 @@ async def test_published_temperature_reaches_the_machine_without_a_map_build(
         async with simulator(r.port) as sim:
             store = sim.runtime.controller.temperatures
             await until(lambda: store.values().get("T_spindle_C") == 22.5)  # at connect
+            await until(lambda: sim.runtime.controller.store.version == 1)  # its one map
             for k in range(1, 6):
                 celsius = 22.5 + 0.25 * k
                 await pub.publish(f"{top}/vmc-01/temperature/spindle",

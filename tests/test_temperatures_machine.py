@@ -17,21 +17,28 @@ DESCRIPTION = {"name": "vmc-01", "controller": "fanuc", "ip": "127.0.0.1",
                "tool_length_mm": 100.0}
 
 
-def test_message_readings_are_dated_by_their_age_and_the_newest_wins() -> None:
+def test_message_readings_are_dated_by_their_age_and_sources_do_not_overwrite_newer(
+) -> None:
     store = TemperatureStore(stale_after_s=10.0)
     msg = Temperatures(0, (TemperatureReading("spindle", 24.0, 2000),
                            TemperatureReading("air", 20.0)))
     assert store.apply(msg, now_s=100.0) == 2
     assert store.readings()["spindle"].taken_s == pytest.approx(98.0)
     assert store.values(100.0) == {"T_spindle_C": 24.0, "T_air_C": 20.0}
-    # an older reading arriving later (another path, a reordered source) is ignored
+    # the center's readings replace each other in order, whatever their stamps say
     assert store.apply(Temperatures(0, (TemperatureReading("spindle", 23.0, 5000),)),
-                       now_s=100.5) == 0
-    assert store.values()["T_spindle_C"] == 24.0
+                       now_s=100.5) == 1
+    assert store.values()["T_spindle_C"] == 23.0
+    # the machine's own sensor, newer, wins over an older forwarded reading
     assert store.update("spindle", 25.0, 101.0, "sensor")
+    assert store.apply(Temperatures(0, (TemperatureReading("spindle", 22.0, 1000),)),
+                       now_s=101.5) == 0
     assert store.values()["T_spindle_C"] == 25.0
     assert store.readings()["spindle"].source == "sensor"
-    assert store.messages == 2
+    assert store.apply(Temperatures(0, (TemperatureReading("spindle", 26.0),)),
+                       now_s=102.0) == 1
+    assert store.values()["T_spindle_C"] == 26.0
+    assert store.messages == 4
 
 
 def test_stale_readings_are_kept_and_flagged() -> None:
