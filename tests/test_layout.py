@@ -45,12 +45,7 @@ KNOWN_CIRCLES = {
     # belongs in campaign.py (or callers call run_campaign directly).
     frozenset({"machine_sim.campaign", "machine_sim.instruments"}),
 }
-KNOWN_STAGE_BREAKS = {
-    # work in progress at the time of writing (thermal_dynamic terms): the model evaluates
-    # lagged temperatures with identify's filter. The filter belongs in model/ (it is part
-    # of what a model is); identify/ fits its time constant.
-    ("volumetric.model.model", "volumetric.identify.thermal"),
-}
+KNOWN_STAGE_BREAKS: set[tuple[str, str]] = set()  # none since first_order_lag moved to model/
 
 ALL = modules(PACKAGES)
 EDGES = edges(ALL)
