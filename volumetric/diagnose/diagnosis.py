@@ -64,8 +64,9 @@ Procedure (``ednc diagnose``):
    (``MIN_GAIN`` of the remaining RMS, ``Z_MIN``, ``T_MIN``), up to ``MAX_EFFECTS``. A
    null campaign cannot pass: the gates are those that keep single effects free of false
    alarms. Each entry's ``rms_after_um`` counts the effects up to it; the top-level
-   ``rms_after_um`` is the last one's. Not assessed yet: a rotary axis's harmonics after
-   another effect (they replace the base columns).
+   ``rms_after_um`` is the last one's. A rotary axis's harmonics replace the base
+   columns, so at most one ``rotary_periodic`` is named (the saved model still takes the
+   Fourier basis on every rotary axis whose harmonics are significant on their own).
 
 Candidates that the data cannot support are not guessed at: they are listed in
 ``not_assessed`` with the reason (no temperature columns, one approach direction only,
@@ -736,6 +737,12 @@ def diagnose(
         effect_terms.append(term2)
         if term2 is not None:
             model = model.with_terms(term2)
+        if found.candidate.effect == "rotary_periodic":
+            # the rigid part in the Fourier basis of that axis, as for a first effect
+            rotary_axis = machine.axis(found.candidate.axis).name
+            periodic = fit(machine, m.select(train), fourier=frozenset({rotary_axis}))
+            model = MachineModel(machine.name, periodic.model.geometry, model.terms,
+                                 {**model.info, "fourier_axes": [rotary_axis]})
     if len(chosen) > 1:
         # each estimate again with every other effect in the model: effects on one axis
         # (a drift and an expansion) share variance that the first fit gave to one alone
@@ -787,9 +794,8 @@ def _next_effect(
         c = s.candidate
         if (c.effect, c.axis) in taken or "lagged" in c.extra or (c.drop and replacing):
             continue
-        if c.drop:
-            continue  # a rotary axis's harmonics after another effect: not assessed yet
-        r = heldout(np.column_stack((base, c.columns)))
+        # a replacing candidate drops the base model's columns, which lead ``base``
+        r = heldout(c.design(base))
         rms = _rms(r[judge])
         if best is None or rms < best.rms_after_um:
             z = _significance(current.heldout, r, order_judge, np.any(c.columns != 0, axis=1))
