@@ -243,7 +243,7 @@ async def _follow_heat(console: Console, p: Prepared, cnc: SimulatedCNC, warm_s:
         if grid is None:
             continue
         temp = cnc.runtime.temperatures(cnc.now())[key]
-        z = float(grid.lookup(ref[:, [m.axis_names.index(g) for g in grid.grid]])[0, zi] * 1e3)
+        z = float(grid.lookup(ref[:, [m.axis_names.index(g) for g in grid.inputs]])[0, zi] * 1e3)
         if start_t is None or start_z is None:
             start_t, start_z = temp, z
         drift = coefficient * (temp - start_t)

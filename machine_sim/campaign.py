@@ -217,7 +217,8 @@ def map_compensation(machine: Machine, grid_map: ActiveMap, *,
                      increment_mm: float | None = None) -> Compensation:
     """The shift a controller applies from an error map, as a campaign ``compensation``.
 
-    Looks the map up at the commanded coordinates of its grid axes, adds an output's
+    Looks the map up at the commanded coordinates of its input axes (a grid's axes and
+    those of its thermal records, at the temperatures last given to the map), adds an output's
     reversal value where that axis last moved negative (protocol/README.md section 6),
     and rounds to ``increment_mm`` when given (a Fanuc-style controller). Rate limits and
     ramps are left out: a verification reading is taken at rest, long after any change.
@@ -228,10 +229,10 @@ def map_compensation(machine: Machine, grid_map: ActiveMap, *,
         A grid or output axis the machine does not have.
     """
     names = machine.axis_names
-    for a in (*grid_map.grid, *grid_map.outputs):
+    for a in (*grid_map.inputs, *grid_map.outputs):
         if a not in names:
             raise ValueError(f"map axis {a!r} is not an axis of {machine.name} ({names})")
-    cols = [names.index(g) for g in grid_map.grid]
+    cols = [names.index(g) for g in grid_map.inputs]
     outs = [names.index(o) for o in grid_map.outputs]
 
     def shift(q: F64, direction: NDArray[np.int8]) -> F64:

@@ -5,7 +5,8 @@ Per cycle the controller wants a compensation per axis (mm, degrees for rotary a
 * with a map in use: the map looked up at the current (commanded, uncompensated) machine
   coordinates of its grid axes (:mod:`machine_sim.lookup`), on its output axes (a tables
   map: evaluated through the chain at the coordinates of its chain axes and the latest
-  temperatures, :mod:`machine_sim.chaineval`); the values
+  temperatures, :mod:`machine_sim.chaineval`; a grid with thermal records adds their
+  corrections at the latest temperatures, :class:`machine_sim.lookup.GridMap`); the values
   are the corrections for a positive approach, so while an output axis last moved in the
   negative direction its reversal value is added (protocol/README.md section 6: reversal =
   negative-approach minus positive-approach correction; a backlash of ``-(B/2)·d`` in
@@ -87,7 +88,7 @@ class Compensator:
         return reply
 
     def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
-        """Fold temperatures (°C by sensor label) into a tables map's thermal records now;
+        """Fold temperatures (°C by sensor label) into the map's thermal records now;
         the cycle does it by itself from :attr:`temperatures` whenever those change."""
         self.store.set_temperatures(temperatures)
 
@@ -137,14 +138,14 @@ class Compensator:
             out: F64 = r.snapshot * (1.0 - frac)
             return out
         if self.temperatures.updated_s != self._folded_s:
-            # new readings (own sensors or the center's): refold a tables map's thermal terms
+            # new readings (own sensors or the center's): refold the map's thermal records
             self._folded_s = self.temperatures.updated_s
             self.store.set_temperatures(self.temperatures.values(now_s))
         m = self.store.active
         wanted = np.zeros(len(self.axes))
         if m is None:
             return wanted
-        q = np.array([pos[self.axes.index(g)] for g in m.grid])
+        q = np.array([pos[self.axes.index(g)] for g in m.inputs])
         values = m.lookup(q[None, :])[0]
         dirs = (np.zeros(len(self.axes)) if directions is None
                 else self._vector(directions, float))

@@ -8,6 +8,12 @@ addresses the EMZPS function reads. A change larger than ``max_step_counts`` in 
 is split over several scans (``on_jump="ramp"``), or latches an alarm and holds the shift
 (``on_jump="alarm"``) until :meth:`FanucPMC.reset_alarm`.
 
+Thermal records (grid maps of format version 3, protocol/README.md §6.4): the ladder keeps
+per output a constant and a slope, recomputed when a temperature arrives (the center's
+Temperatures messages), and adds ``constant + slope · position`` to the looked-up value
+every scan before rounding to increments: multiply-add only. It declares
+``INT32_INCREMENTS | THERMAL`` in Hello (``FanucConfig.thermal_records``).
+
 R address layout (offsets from ``r_base``, default R7000; multi-byte values
 little-endian, as PMC memory is)::
 
@@ -81,6 +87,9 @@ class FanucConfig:
         Bytes of R memory (R0 .. R<r_size - 1>).
     layout : RLayout
     expiry_ramp_s : float
+    thermal_records : bool
+        The ladder applies the thermal records of grid maps (declares
+        ``MapEncoding.THERMAL``); False: a ladder that takes version-1 grids only.
     """
 
     scan_s: float = 0.008
@@ -91,6 +100,7 @@ class FanucConfig:
     r_size: int = 8000
     layout: RLayout = RLayout()
     expiry_ramp_s: float = 2.0
+    thermal_records: bool = True
 
     def __post_init__(self) -> None:
         if self.on_jump not in ("ramp", "alarm"):
@@ -123,8 +133,12 @@ class FanucPMC(Compensator):
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"a Fanuc path has 1 to {MAX_AXES} axes here, got {len(axes)}")
         c = self.config
-        # a ladder has no trigonometry: grid maps only, never tables
-        store = MapStore(machine, axes, accepted=MapEncoding.INT32_INCREMENTS,
+        # a ladder has no trigonometry: grid maps only, never tables; thermal records
+        # need only a multiply-add per output
+        accepted = MapEncoding.INT32_INCREMENTS
+        if c.thermal_records:
+            accepted |= MapEncoding.THERMAL
+        store = MapStore(machine, axes, accepted=accepted,
                          limit_mm=c.limit_counts * c.increment_mm)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)
         self.r = bytearray(c.r_size)

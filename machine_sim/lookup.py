@@ -1,7 +1,12 @@
 """Error-map lookup as a PLC does it, for both map kinds.
 
 A ``grid`` map (format version 1) is looked up by multilinear interpolation on a regular
-grid, below. A ``tables`` map (format version 2) is evaluated through the machine's chain
+grid, below; a grid of format version 3 also carries thermal records, which
+:class:`GridMap` applies at the latest temperatures (:meth:`GridMap.set_temperatures`):
+each adds ``-ΔE`` (protocol/README.md §6.4) to its axis's correction, a constant per
+output and, for an expansion, a slope times that axis's position; so the positions a
+lookup takes are :attr:`GridMap.inputs`, the grid axes then any record axis outside the
+grid. A ``tables`` map (format version 2) is evaluated through the machine's chain
 by :mod:`machine_sim.chaineval`; :class:`TablesMap` wraps it with the same face as
 :class:`GridMap` (``lookup``, ``outputs``, ``reversal``), and :func:`active_map` builds
 whichever a payload calls for.
@@ -28,10 +33,10 @@ import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
-from protocol.mapformat import ErrorMapPayload
+from protocol.mapformat import THERMAL_DRIFT, ErrorMapPayload, ThermalRecord
 from protocol.maptables import TablesPayload
 
-from .chaineval import ChainBatch
+from .chaineval import ChainBatch, sensor_key
 
 __all__ = ["ActiveMap", "FleetLadder", "FleetLookup", "GridMap", "TablesMap", "active_map",
            "interpolate"]
@@ -105,6 +110,12 @@ class GridMap:
     reversal : ndarray, shape (K,)
         Per output, the negative-approach minus the positive-approach correction, mm; 0
         where the map gives none.
+    thermal : tuple of ThermalRecord
+        The map's thermal records (format version 3), applied by :meth:`lookup` at the
+        temperatures of the last :meth:`set_temperatures`.
+    inputs : tuple of str
+        The axes whose positions :meth:`lookup` takes: ``grid``, then the axes of thermal
+        expansion records that are not grid axes.
     """
 
     machine: str
@@ -117,22 +128,65 @@ class GridMap:
     outputs: tuple[str, ...]
     values: F64
     reversal: F64
+    thermal: tuple[ThermalRecord, ...] = ()
+    inputs: tuple[str, ...] = ()
+    thermal_mm: F64 = field(default_factory=lambda: np.zeros((2, 0)), repr=False)
+    """(2, K): per output, the thermal correction's constant (mm) and its slope (mm per mm
+    of the output's position), at the last temperatures; updated in place."""
+    slope_cols: I64 = field(init=False, repr=False)
+    """(K,): the column of ``inputs`` holding each output's position, -1 where none is
+    needed (no expansion record on it)."""
+
+    def __post_init__(self) -> None:
+        if not self.inputs:  # frozen: set once, here
+            extra = [r.axis.upper() for r in self.thermal
+                     if r.kind != THERMAL_DRIFT and r.axis.upper() not in self.grid]
+            object.__setattr__(self, "inputs", (*self.grid, *dict.fromkeys(extra)))
+        if self.thermal_mm.shape != (2, len(self.outputs)):
+            object.__setattr__(self, "thermal_mm", np.zeros((2, len(self.outputs))))
+        cols = [self.inputs.index(o) if o in self.inputs else -1 for o in self.outputs]
+        object.__setattr__(self, "slope_cols", np.array(cols, dtype=np.int64))
 
     @staticmethod
-    def from_payload(p: ErrorMapPayload) -> GridMap:
-        """Convert a payload (int32 counts times its increment, or float32 mm) to mm."""
+    def from_payload(p: ErrorMapPayload,
+                     temperatures: Mapping[str, float] | None = None) -> GridMap:
+        """Convert a payload (int32 counts times its increment, or float32 mm) to mm, its
+        thermal records at ``temperatures`` (°C by sensor label or ``T_<label>_C``)."""
         raw = np.frombuffer(p.values, dtype=p.dtype).reshape(-1, len(p.outputs))
         int32 = p.encoding is MapEncoding.INT32_INCREMENTS
         scale = p.increment_mm if int32 else 1.0
         rev = np.array([0.0 if o.reversal is None else o.reversal * scale for o in p.outputs])
-        return GridMap(
+        g = GridMap(
             machine=p.machine, version=p.version, valid_s=p.valid_s,
             grid=tuple(g.name.upper() for g in p.grid),
             start=np.array([g.start for g in p.grid]), step=np.array([g.step for g in p.grid]),
             count=np.array([g.count for g in p.grid], dtype=np.int64),
             outputs=tuple(o.name.upper() for o in p.outputs),
-            values=raw.astype(np.float64) * scale, reversal=rev,
+            values=raw.astype(np.float64) * scale, reversal=rev, thermal=p.thermal,
         )
+        if temperatures:
+            g.set_temperatures(temperatures)
+        return g
+
+    def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """The latest temperatures, °C by sensor label (``spindle`` or ``T_spindle_C``),
+        folded into the thermal records' constants and slopes: what a ladder computes
+        once per new temperature, so that the scan only multiplies and adds. A sensor
+        without a value counts as at its reference."""
+        temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
+        self.thermal_mm[:] = 0.0
+        for rec in self.thermal:
+            t = temps.get(sensor_key(rec.sensor))
+            if t is None or not np.isfinite(t):
+                continue
+            k = self.outputs.index(rec.axis.upper())
+            dt = t - rec.t_ref_C
+            if rec.kind == THERMAL_DRIFT:  # -ΔE = -k·ΔT µm
+                self.thermal_mm[0, k] -= rec.coefficient * dt * 1e-3
+            else:  # -ΔE = -k·ΔT·(q - q_min)·1e-3 µm, q in mm
+                slope = rec.coefficient * dt * 1e-6
+                self.thermal_mm[0, k] += slope * rec.q_min
+                self.thermal_mm[1, k] -= slope
 
     @property
     def strides(self) -> I64:
@@ -143,17 +197,25 @@ class GridMap:
         return self.values.reshape((*self.count.tolist(), len(self.outputs)))
 
     def lookup(self, q: F64) -> F64:
-        """Interpolated values at positions q, shape (N, D) in ``grid`` order → (N, K), mm."""
+        """Interpolated values plus the thermal records' corrections at positions q, shape
+        (N, len(inputs)) in :attr:`inputs` order → (N, K), mm."""
         qa = np.atleast_2d(np.asarray(q, dtype=float))
-        if qa.shape[1] != len(self.grid):
-            raise ValueError(f"map of grid {self.grid} needs positions of shape (N, "
-                             f"{len(self.grid)}), got {qa.shape}")
-        n = qa.shape[0]
-        return interpolate(self.values, np.zeros(n, dtype=np.int64),
-                           np.broadcast_to(self.start, qa.shape),
-                           np.broadcast_to(self.step, qa.shape),
-                           np.broadcast_to(self.count, qa.shape),
-                           np.broadcast_to(self.strides, qa.shape), qa)
+        if qa.shape[1] != len(self.inputs):
+            raise ValueError(f"map of grid {self.grid} needs positions of axes "
+                             f"{' '.join(self.inputs)}: shape (N, {len(self.inputs)}), got "
+                             f"{qa.shape}")
+        n, d = qa.shape[0], len(self.grid)
+        qg = qa[:, :d]
+        out = interpolate(self.values, np.zeros(n, dtype=np.int64),
+                          np.broadcast_to(self.start, qg.shape),
+                          np.broadcast_to(self.step, qg.shape),
+                          np.broadcast_to(self.count, qg.shape),
+                          np.broadcast_to(self.strides, qg.shape), qg)
+        if self.thermal:  # the ladder's multiply-add, per output
+            cols = self.slope_cols
+            pos = np.where(cols >= 0, qa[:, np.maximum(cols, 0)], 0.0)
+            out += self.thermal_mm[0] + self.thermal_mm[1] * pos
+        return out
 
 
 @dataclass(eq=False)
@@ -166,7 +228,8 @@ class TablesMap:
     version, valid_s : int
     grid : tuple of str
         The chain axes (upper case): the columns of the positions ``lookup`` takes (the
-        name matches :class:`GridMap`, whose looked-up axes are its grid).
+        name matches :class:`GridMap`, whose looked-up axes are its grid); ``inputs`` is
+        the same.
     outputs : tuple of str
         Corrected axes.
     reversal : ndarray, shape (K,)
@@ -196,6 +259,11 @@ class TablesMap:
         return TablesMap(p.machine, p.version, p.valid_s, batch.axes, batch.outputs, rev,
                          batch, p)
 
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The axes whose positions :meth:`lookup` takes (the chain axes)."""
+        return self.grid
+
     def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
         """The latest temperatures, °C by sensor label, for the thermal records."""
         self.batch.set_temperatures(0, temperatures)
@@ -221,14 +289,16 @@ def active_map(p: ErrorMapPayload | TablesPayload,
     """The evaluable form of a decoded payload of either kind."""
     if isinstance(p, TablesPayload):
         return TablesMap.from_payload(p, temperatures)
-    return GridMap.from_payload(p)
+    return GridMap.from_payload(p, temperatures)
 
 
 class FleetLookup:
     """The maps of many machines in one table, looked up all at once.
 
     All maps must have the same number of grid dimensions D and outputs K (their sizes,
-    origins and spacings may differ). Row m of every call belongs to ``maps[m]``.
+    origins and spacings may differ). Row m of every call belongs to ``maps[m]``. Thermal
+    records are not applied here (the interpolation alone, as measured by the fleet
+    benchmark).
     """
 
     def __init__(self, maps: Sequence[GridMap]) -> None:

@@ -13,8 +13,10 @@ the problem:
   corners of the travel (a probe of its tables, thermal records and solve). Its
   corrections are clamped to the smaller of the map's limits and ``limit_mm``.
 
-A map of either kind is kept as :data:`~machine_sim.lookup.ActiveMap`; a tables map folds
-in the latest temperatures (:meth:`MapStore.set_temperatures`) before it is swapped in.
+A map of either kind is kept as :data:`~machine_sim.lookup.ActiveMap`; a map with thermal
+records (tables, or a grid of format version 3) folds in the latest temperatures
+(:meth:`MapStore.set_temperatures`) before it is swapped in, and again whenever they
+change.
 
 Only then does the store swap to the new map, in one assignment between two scans. On
 any rejection the map in use stays as it was.
@@ -83,7 +85,7 @@ class MapStore:
     def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
         """The latest temperatures (°C by sensor label); sensors not named keep theirs."""
         self.temperatures.update({k: float(v) for k, v in temperatures.items()})
-        if isinstance(self.active, TablesMap):
+        if self.active is not None:  # either kind may carry thermal records
             self.active.set_temperatures(self.temperatures)
 
     def feed(self, msg: MapBegin | MapChunk | MapEnd, now_s: float
@@ -102,7 +104,8 @@ class MapStore:
             p = verdict.payload
             problem = self.check(p) if isinstance(p, ErrorMapPayload) else self.check_tables(p)
             if problem is None:
-                built = (GridMap.from_payload(p) if isinstance(p, ErrorMapPayload)
+                built = (GridMap.from_payload(p, self.temperatures)
+                         if isinstance(p, ErrorMapPayload)
                          else TablesMap.from_payload(self._clamped(p), self.temperatures))
                 self.active = built  # the one-step swap, after everything is built
                 self.applied_at_s = now_s

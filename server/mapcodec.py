@@ -5,7 +5,9 @@ knowing the wire; :mod:`protocol` knows the bytes without knowing the numbers' m
 This module converts one into the other, and picks the map kind for a machine
 (:func:`build_for`): the smallest payload that meets the tolerance among the kinds the
 machine evaluates, preferring a kind that carries the model's thermal terms (so a
-temperature change never needs a new map).
+temperature change never needs a new map). Tables maps always carry them; grid maps do for
+machines that declared ``MapEncoding.THERMAL`` (format version 3: the ladder applies them
+by multiply-add), and :func:`carries_thermal` tells either from a map or its payload.
 """
 
 from __future__ import annotations
@@ -18,8 +20,15 @@ from typing import Any, Final
 import numpy as np
 
 from protocol.codes import MapEncoding
-from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis, encode_map
+from protocol.mapformat import (
+    GRID_THERMAL_FORMAT_VERSION,
+    ErrorMapPayload,
+    GridAxis,
+    OutputAxis,
+    encode_map,
+)
 from protocol.maptables import (
+    TABLES_FORMAT_VERSION,
     ChainAxis,
     ComponentTable,
     Spindle,
@@ -43,7 +52,8 @@ MapContent = ErrorMap | TablesMap
 
 
 def grid_to_payload(m: ErrorMap) -> ErrorMapPayload:
-    """The wire payload of a grid map (format version 1).
+    """The wire payload of a grid map (format version 1, or 3 when it carries thermal
+    terms).
 
     Raises
     ------
@@ -71,6 +81,7 @@ def grid_to_payload(m: ErrorMap) -> ErrorMapPayload:
             values=raw,
             increment_mm=float(m.increment) if m.increment is not None else 0.0,
             valid_s=m.valid_s,
+            thermal=_records(m.thermal),
         )
     except ValueError as exc:
         raise MapBuildError(f"map of {m.machine!r} cannot be encoded: {exc}") from None
@@ -95,11 +106,25 @@ def grid_from_payload(payload: ErrorMapPayload) -> ErrorMap:
         grid=tuple(GridDim(g.name, g.start, g.step, g.count) for g in payload.grid),
         outputs=tuple(o.name for o in payload.outputs),
         values=values, increment=inc, limits=limits, reversal=reversal,
-        valid_s=payload.valid_s,
+        valid_s=payload.valid_s, thermal=_terms(payload.thermal),
     )
 
 
 _THERMAL_KINDS = {"thermal_drift": 1, "thermal_expansion": 2}
+_THERMAL_NAMES = {v: k for k, v in _THERMAL_KINDS.items()}
+
+
+def _records(terms: tuple[ThermalTerm, ...]) -> tuple[ThermalRecord, ...]:
+    """The wire records of the model's thermal terms (both map kinds)."""
+    return tuple(ThermalRecord(th.sensor, th.axis.upper(), _THERMAL_KINDS[th.kind],
+                               float(th.coefficient), float(th.t_ref_C), float(th.q_min))
+                 for th in terms)
+
+
+def _terms(records: tuple[ThermalRecord, ...]) -> tuple[ThermalTerm, ...]:
+    return tuple(ThermalTerm(_THERMAL_NAMES[r.kind],  # type: ignore[arg-type]
+                             r.axis.lower(), r.sensor, r.coefficient, r.t_ref_C, r.q_min)
+                 for r in records)
 
 
 def tables_to_payload(t: TablesMap) -> TablesPayload:
@@ -131,18 +156,12 @@ def tables_to_payload(t: TablesMap) -> TablesPayload:
                                         tuple(float(v) for v in s.values))
                          for s in t.tables),
             locations=tuple((k, float(v)) for k, v in sorted(t.locations.items())),
-            thermal=tuple(ThermalRecord(th.sensor, th.axis.upper(), _THERMAL_KINDS[th.kind],
-                                        float(th.coefficient), float(th.t_ref_C),
-                                        float(th.q_min))
-                          for th in t.thermal),
+            thermal=_records(t.thermal),
             limit_mm=float(_limit(t, "linear")),
             limit_deg=float(_limit(t, "rotary")),
         )
     except ValueError as exc:
         raise MapBuildError(f"map of {m.name!r} cannot be encoded: {exc}") from None
-
-
-_THERMAL_NAMES = {v: k for k, v in _THERMAL_KINDS.items()}
 
 
 def tables_from_payload(p: TablesPayload, machine: Machine) -> TablesMap:
@@ -166,10 +185,7 @@ def tables_from_payload(p: TablesPayload, machine: Machine) -> TablesMap:
         tables=tuple(ComponentSamples(t.name, t.start, t.step,
                                       np.asarray(t.values, dtype=float)) for t in p.tables),
         locations=dict(p.locations),
-        thermal=tuple(ThermalTerm(_THERMAL_NAMES[r.kind],  # type: ignore[arg-type]
-                                  r.axis.lower(), r.sensor, r.coefficient, r.t_ref_C,
-                                  r.q_min)
-                      for r in p.thermal),
+        thermal=_terms(p.thermal),
         reversal=tuple(None if o.reversal is None else float(o.reversal) for o in p.outputs),
         weights=Weights(w[:, :3].copy(), w[:, 3:].copy()),
         tool_mm={s.name: s.tool_length_mm for s in p.spindles},
@@ -215,8 +231,20 @@ def kind_of(content: MapContent) -> MapKind:
 
 
 CARRIES_THERMAL: Final[frozenset[MapKind]] = frozenset({"tables"})
-"""Kinds whose payload carries the model's thermal terms: the machine applies its latest
-temperatures itself, so a temperature change needs no new map."""
+"""Kinds whose payload always carries the model's thermal terms: the machine applies its
+latest temperatures itself, so a temperature change needs no new map. A grid carries them
+when built for a machine that declared ``MapEncoding.THERMAL``: ask :func:`carries_thermal`."""
+
+
+def carries_thermal(map_or_payload: MapContent | bytes) -> bool:
+    """Whether a map (or its encoded payload) carries the thermal terms, so that the
+    machine applies its latest temperatures itself: a tables map, or a grid map with
+    thermal terms (format version 3). A grid of a model without thermal terms carries
+    nothing, and needs nothing either."""
+    if isinstance(map_or_payload, bytes):
+        version = int.from_bytes(map_or_payload[4:6], "little")
+        return version in (TABLES_FORMAT_VERSION, GRID_THERMAL_FORMAT_VERSION)
+    return isinstance(map_or_payload, TablesMap) or bool(map_or_payload.thermal)
 
 
 def declared_kinds(formats: MapEncoding) -> tuple[MapKind, ...]:
@@ -231,9 +259,10 @@ def declared_kinds(formats: MapEncoding) -> tuple[MapKind, ...]:
 
 def default_formats(controller: str) -> MapEncoding:
     """What a machine of a controller family evaluates when it has not said (the
-    simulated Siemens-style endpoint evaluates tables, the Fanuc-style one grids)."""
+    simulated Siemens-style endpoint evaluates tables, the Fanuc-style one grids and
+    applies their thermal records)."""
     if controller.lower() == "fanuc":
-        return MapEncoding.INT32_INCREMENTS
+        return MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
     return MapEncoding.FLOAT32_MM | MapEncoding.TABLES
 
 
@@ -248,9 +277,10 @@ def build_for(machine: Machine, model: MachineModel,
     ----------
     machine, model, temperatures
         As for :func:`volumetric.compensate.gridmap.build_map`.
-    kinds : MapEncoding, optional
+    formats : MapEncoding, optional
         What the machine declared in its Hello (or its registration); by default what its
-        controller family evaluates.
+        controller family evaluates. With ``MapEncoding.THERMAL`` a grid carries the
+        model's thermal terms (built at their references, checked at ``temperatures``).
     kind : {"auto", "grid", "tables"}
         ``auto`` picks the smallest payload meeting the tolerance among the declared kinds.
     tolerance_um : float
@@ -263,7 +293,9 @@ def build_for(machine: Machine, model: MachineModel,
     """
     t0 = time.perf_counter()
     ctrl = str(options.get("controller") or machine.controller)
-    have = declared_kinds(default_formats(ctrl) if formats is None else formats)
+    declared = default_formats(ctrl) if formats is None else formats
+    have = declared_kinds(declared)
+    thermal_grid = bool(declared & MapEncoding.THERMAL)
     if kind not in ("auto", "grid", "tables"):
         raise MapBuildError(f"map kind {kind!r}: expected auto, grid or tables")
     if kind != "auto" and kind not in have:
@@ -284,14 +316,16 @@ def build_for(machine: Machine, model: MachineModel,
         # a grid only wins when smaller: it may not grow beyond the tables' size (a
         # five-axis grid at a tight tolerance would take seconds and megabytes), and the
         # tables carry the thermal terms, so they win a tie when the model has any
+        # (unless the grid carries them too)
         limit = MAX_MAP_BYTES
         if best is not None and best.report is not None:
-            limit = best.report.bytes - (1 if model.sensors else 0)
+            limit = best.report.bytes - (1 if model.sensors and not thermal_grid else 0)
         tol = tolerance_um
         while True:
             try:
                 grid = build_map(machine, model, temperatures, tolerance_um=tol,
-                                 max_bytes=max(limit, 1), **options)
+                                 max_bytes=max(limit, 1), thermal_in_map=thermal_grid,
+                                 **options)
                 best = grid
                 break
             except MapTooLargeError:
@@ -320,6 +354,7 @@ __all__ = [
     "CARRIES_THERMAL",
     "MapContent",
     "build_for",
+    "carries_thermal",
     "declared_kinds",
     "default_formats",
     "encode",

@@ -9,9 +9,11 @@ One worker per session (started by the machine server after Welcome, see
   scheduler watches committed ``models`` rows and updated ``machines`` rows through
   SQLAlchemy session events, so every path that stores a model is covered);
 * when a temperature that its thermal model uses moves by more than ``threshold_K`` from
-  the temperature its current map was built at (MQTT or Telemetry) -- only for a map kind
-  that does not carry the thermal terms (``grid``): a ``tables`` map carries them and the
-  machine applies its latest temperatures itself, so a temperature change needs no new map;
+  the temperature its current map was built at (MQTT or Telemetry) -- only for a map that
+  does not carry the thermal terms (a version-1 ``grid``): a ``tables`` map, and a grid
+  with thermal records for a machine that declared ``MapEncoding.THERMAL``, carry them and
+  the machine applies its latest temperatures itself, so a temperature change needs no
+  new map (:func:`server.mapcodec.carries_thermal`);
 * every ``period_s`` otherwise (catching whatever no event announced).
 
 Then it rebuilds the map if its inputs changed (model version, machine description, and
@@ -53,7 +55,7 @@ from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.link.session import LinkClosed, MachineSession
-from server.mapcodec import CARRIES_THERMAL, MapContent
+from server.mapcodec import MapContent, carries_thermal
 from server.temperatures import TemperatureBoard
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
@@ -103,8 +105,10 @@ def build_for(description: Mapping[str, Any], controller: str, model_body: Mappi
 
 
 def payload_kind(payload: bytes) -> str:
-    """The kind of a stored payload from its format version (protocol/README.md §6)."""
-    return "tables" if payload[4:6] == b"\x02\x00" else "grid"
+    """The kind of a stored payload from its format version (protocol/README.md §6): a
+    grid with thermal records (version 3) is ``grid+thermal``."""
+    version = int.from_bytes(payload[4:6], "little")
+    return {2: "tables", 3: "grid+thermal"}.get(version, "grid")
 
 
 # -- database steps (each runs in one transaction through Database.run)
@@ -231,7 +235,8 @@ class _Target:
     waiting_for: frozenset[str] = frozenset()
     resend: bool = False
     kind: str | None = None
-    """Kind of the current map (None: not known yet)."""
+    """Kind of the current map (None: not known yet); ``grid+thermal`` for a grid that
+    carries the thermal terms."""
 
     @property
     def formats(self) -> MapEncoding | None:
@@ -240,7 +245,7 @@ class _Target:
 
     @property
     def thermal_in_map(self) -> bool:
-        return self.kind in CARRIES_THERMAL
+        return self.kind in ("tables", "grid+thermal")
 
     def poke(self, why: str, *, resend: bool = False) -> None:
         self.why.append(why)
@@ -388,9 +393,9 @@ class PushScheduler:
         applied_id: int | None = None
         if rebuild:
             # a kind that carries the thermal terms is built without today's temperatures
-            takes_tables = bool(target.formats is None
-                                or target.formats & MapEncoding.TABLES)
-            missing = set() if takes_tables else target.sensors - temps.keys()
+            carries = bool(target.formats is None
+                           or target.formats & (MapEncoding.TABLES | MapEncoding.THERMAL))
+            missing = set() if carries else target.sensors - temps.keys()
             if missing:
                 if missing != target.waiting_for:
                     target.waiting_for = frozenset(missing)
@@ -453,7 +458,8 @@ class PushScheduler:
                                    f"map build failed ({why}): {exc}")
             return None
         target.failed = None
-        target.kind = mapcodec.kind_of(built)
+        target.kind = ("grid+thermal" if mapcodec.kind_of(built) == "grid"
+                       and carries_thermal(built) else mapcodec.kind_of(built))
         log.info("%s: built %s map version %d (%s)", target.name, target.kind, row.version, why)
         return row, applied_id
 

@@ -3,6 +3,8 @@ machine, and the dashboard's view of a tables map."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 
@@ -11,6 +13,7 @@ from protocol.maptables import decode_payload
 from server.dashboard.mapgrid import MapSliceError, slice_tables
 from server.mapcodec import (
     build_for,
+    carries_thermal,
     declared_kinds,
     encode,
     kind_of,
@@ -102,5 +105,12 @@ def test_a_thermal_model_without_temperatures_still_gets_its_tables() -> None:
     model = thermal_model(mach.name)
     got = build_for(mach, model, {}, tolerance_um=1.0, controller="siemens")
     assert kind_of(got) == "tables"
+    # a ladder that applies thermal records gets them in its grid, built at reference
+    fanuc = build_for(mach, model, {}, tolerance_um=4.0, controller="fanuc")
+    assert kind_of(fanuc) == "grid" and fanuc.thermal and carries_thermal(fanuc)
+    assert carries_thermal(encode(fanuc)) and not carries_thermal(encode(
+        dataclasses.replace(fanuc, thermal=())))
+    # one that takes version-1 grids only still needs today's temperatures
     with pytest.raises(MapBuildError, match="temperatures"):
-        build_for(mach, model, {}, tolerance_um=1.0, controller="fanuc")
+        build_for(mach, model, {}, tolerance_um=4.0, controller="fanuc",
+                  formats=MapEncoding.INT32_INCREMENTS)

@@ -7,6 +7,7 @@ from __future__ import annotations
 import asyncio
 from pathlib import Path
 
+from machine_sim.lookup import GridMap
 from protocol import (
     Error,
     ErrorCode,
@@ -111,7 +112,9 @@ async def test_temperature_change_beyond_the_threshold_gives_a_new_version(
         board = r.services.temperatures
         delivered: list[Delivery] = []
         r.services.push.observers.append(delivered.append)
-        async with simulator(r.port) as sim:
+        grid_only = simulator(r.port)  # a ladder that takes version-1 grids only
+        grid_only.runtime.controller.store.assembler.accepted = MapEncoding.INT32_INCREMENTS
+        async with grid_only as sim:
             await sim.ready.wait()
             await asyncio.sleep(0.2)
             assert await r.acked_version(mid) is None  # no temperature yet: no map
@@ -128,6 +131,32 @@ async def test_temperature_change_beyond_the_threshold_gives_a_new_version(
         assert [m.temperatures for m in maps] == [{"T_spindle_C": 24.5},
                                                   {"T_spindle_C": 24.0}]
         assert [d.outcome for d in delivered] == ["applied", "applied"]
+
+
+async def test_a_grid_with_thermal_records_is_not_rebuilt_for_temperatures(
+        tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, threshold_K=0.05) as r:
+        mid = await r.register(model=model_body(thermal_sensor="T_spindle_C"))
+        board = r.services.temperatures
+        delivered: list[Delivery] = []
+        r.services.push.observers.append(delivered.append)
+        async with simulator(r.port) as sim:  # declares INT32_INCREMENTS | THERMAL
+            store = sim.runtime.controller.store
+            # no temperature needed: the map is built at the term's reference
+            await until(lambda: store.version == 1)
+            active = store.active
+            assert isinstance(active, GridMap) and [r.sensor for r in active.thermal] == [
+                "T_spindle_C"]
+            board.update("vmc-01", "spindle", 24.0, source="mqtt")
+            board.update("vmc-01", "spindle", 27.5, source="mqtt")
+            # a wake rebuilds only when the inputs changed: the temperatures are not inputs
+            assert r.services.push.request("vmc-01", "check")
+            await asyncio.sleep(0.5)
+            assert store.version == 1
+        maps = await r.db.run(map_repo.list_map_versions, mid)
+        assert len(maps) == 1 and len(delivered) == 1
+        v1 = await r.db.run(map_repo.get_map_version, mid, 1)
+        assert v1 is not None and v1.payload[4:6] == b"\x03\x00"  # grid + thermal records
 
 
 async def test_siemens_telemetry_temperatures_drive_its_thermal_map(tmp_path: Path) -> None:

@@ -51,7 +51,9 @@ def map_axes(p: ErrorMapPayload | TablesPayload) -> tuple[list[str], list[str]]:
         return names, names
     grid = [g.name.upper() for g in p.grid]
     rest = [o.name.upper() for o in p.outputs if o.name.upper() not in grid]
-    return grid + rest, grid
+    # a thermal expansion record (format version 3) needs its axis's position too
+    needed = GridMap.from_payload(p).inputs
+    return grid + rest, list(needed)
 
 
 def _unit(axis: str) -> str:
@@ -109,20 +111,20 @@ def evaluate(p: ErrorMapPayload | TablesPayload, q: F64, axes: list[str],
              temperatures: dict[str, float]) -> F64:
     """Corrections (N, len(axes)), mm or degrees, that the endpoint applies at q."""
     out = np.zeros(q.shape)
+    have = {sensor_key(k) for k in temperatures}
+    missing = sorted({r.sensor for r in p.thermal if sensor_key(r.sensor) not in have})
+    if missing:
+        raise UserError(f"the map's thermal records need temperatures of {missing}; "
+                        f"give them with --temperature SENSOR=°C")
     if isinstance(p, TablesPayload):
-        have = {sensor_key(k) for k in temperatures}
-        missing = sorted({r.sensor for r in p.thermal if sensor_key(r.sensor) not in have})
-        if missing:
-            raise UserError(f"the map's thermal records need temperatures of {missing}; "
-                            f"give them with --temperature SENSOR=°C")
         tm = TablesMap.from_payload(p, temperatures)
         try:
             values = tm.lookup(q)
         except StructureError as exc:
             raise UserError(str(exc)) from None
     else:
-        g = GridMap.from_payload(p)
-        values = g.lookup(q[:, [axes.index(a) for a in g.grid]])
+        g = GridMap.from_payload(p, temperatures)
+        values = g.lookup(q[:, [axes.index(a) for a in g.inputs]])
     outputs = [o.name.upper() for o in p.outputs]
     for k, name in enumerate(outputs):
         out[:, axes.index(name)] = values[:, k]

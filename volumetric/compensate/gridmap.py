@@ -31,6 +31,16 @@ Quantisation and limits come last: values are clamped to ±limit, then rounded t
 increments (Fanuc) or to float32 (Siemens). The report gives the worst error both before
 and after that step; Fanuc's rounding adds up to half an increment per axis.
 
+Thermal terms in the map (``thermal_in_map=True``, for controllers that apply them: a
+Fanuc PMC ladder by multiply-add, protocol/README.md §6.4). The grid is then built from the
+model without its :class:`~volumetric.model.model.ThermalTerm` s (at their reference
+temperatures), and the terms travel with the map: the machine adds, per term and cycle,
+``-ΔE`` to the correction of the term's own axis (a positioning error of an axis is
+cancelled by that axis moving back along its own line of motion, exactly, whatever the
+chain). The check judges the map as the machine applies it at the given temperatures
+(each sensor's reference when not given), against the exact model with its terms, so the
+reported worst error stays honest. A temperature change then needs no new map.
+
 Units: grid positions and values in mm (linear axes) or degrees (rotary axes).
 """
 
@@ -62,10 +72,11 @@ from volumetric.compensate.maps import (
 )
 from volumetric.compensate.solver import Weights
 from volumetric.model.machine import Machine
-from volumetric.model.model import MachineModel
+from volumetric.model.model import MachineModel, ThermalTerm
 
 F64 = NDArray[np.float64]
 _HEADER_BYTES = 64  # encoded grid payload: 64 + 24 D + 12 K + 4 N K (protocol/README.md §6)
+_THERMAL_BYTES = 48  # one thermal record of a version-3 payload, after a 4-byte count
 _MAX_ROUNDS = 40
 
 
@@ -138,6 +149,10 @@ class ErrorMap:
         Seconds the map stays valid once applied, 0 = no limit.
     report : MapReport or None
         Build statistics (None for a map decoded from a payload).
+    thermal : tuple of ThermalTerm
+        Thermal terms the controller applies itself at its latest temperatures (each on
+        an output axis); ``values`` are then the corrections at the terms' reference
+        temperatures (see :meth:`thermal_correction`).
     """
 
     machine: str
@@ -152,6 +167,7 @@ class ErrorMap:
     temperatures: Mapping[str, float] = field(default_factory=dict)
     valid_s: int = 0
     report: MapReport | None = None
+    thermal: tuple[ThermalTerm, ...] = ()
 
     def __post_init__(self) -> None:
         if not self.grid:
@@ -172,6 +188,10 @@ class ErrorMap:
         names = [g.name for g in self.grid]
         if len(set(names)) != len(names) or len(set(self.outputs)) != len(self.outputs):
             raise MapBuildError(f"grid {names} or outputs {self.outputs} repeat a name")
+        for t in self.thermal:
+            if t.axis.upper() not in self.outputs:
+                raise MapBuildError(f"thermal term on axis {t.axis} ({t.sensor}): not an "
+                                    f"output of the map ({' '.join(self.outputs)})")
 
     def __eq__(self, other: object) -> bool:
         """Equal content (the build report does not count)."""
@@ -181,6 +201,7 @@ class ErrorMap:
                 and self.controller == other.controller and self.grid == other.grid
                 and self.outputs == other.outputs and self.increment == other.increment
                 and self.reversal == other.reversal and self.valid_s == other.valid_s
+                and self.thermal == other.thermal
                 and bool(np.array_equal(self.values, other.values)))
 
     __hash__ = None  # type: ignore[assignment]
@@ -197,7 +218,21 @@ class ErrorMap:
     @property
     def nbytes(self) -> int:
         """Length of the encoded payload (protocol/README.md §6)."""
-        return payload_bytes(len(self.grid), len(self.outputs), self.nodes)
+        return payload_bytes(len(self.grid), len(self.outputs), self.nodes, len(self.thermal))
+
+    def thermal_correction(self, positions: ArrayLike,
+                           temperatures: Mapping[str, float]) -> F64:
+        """What the controller adds for the thermal terms, mm, shape (N, n_outputs).
+
+        Parameters
+        ----------
+        positions : array_like, shape (N, n_outputs)
+            Commanded positions of the output axes (:attr:`outputs` order), mm or degrees.
+        temperatures : mapping of str to float
+            °C per sensor column; a sensor not named is at its reference (adds nothing).
+        """
+        q = np.atleast_2d(np.asarray(positions, dtype=float))
+        return thermal_correction(self.outputs, self.thermal, q, temperatures)
 
     def lookup(self, points: ArrayLike) -> F64:
         """Multilinear interpolation of the corrections, clamped at the grid edges.
@@ -234,9 +269,41 @@ class ErrorMap:
         return out
 
 
-def payload_bytes(n_dims: int, n_outputs: int, nodes: int) -> int:
-    """Encoded size of a grid map: 64 + 24 D + 12 K + 4 N K bytes (protocol/README.md §6)."""
-    return _HEADER_BYTES + 24 * n_dims + 12 * n_outputs + 4 * nodes * n_outputs
+def payload_bytes(n_dims: int, n_outputs: int, nodes: int, n_thermal: int = 0) -> int:
+    """Encoded size of a grid map: 64 + 24 D + 12 K + 4 N K bytes, plus 4 + 48 H for H
+    thermal records (format version 3, protocol/README.md §6)."""
+    trailer = 4 + _THERMAL_BYTES * n_thermal if n_thermal else 0
+    return _HEADER_BYTES + 24 * n_dims + 12 * n_outputs + 4 * nodes * n_outputs + trailer
+
+
+def thermal_correction(axes: Sequence[str], thermal: Sequence[ThermalTerm], q: F64,
+                       temperatures: Mapping[str, float]) -> F64:
+    """The corrections that cancel thermal terms, mm, shape (N, len(axes)).
+
+    Each term's error ``ΔE`` (µm, :meth:`ThermalTerm.component` at its sensor's
+    temperature) is along its own axis's line of motion, so that axis moving by ``-ΔE``
+    cancels it exactly: ``-k·ΔT·1e-3`` mm for a drift, ``-k·ΔT·(q - q_min)·1e-6`` mm for
+    an expansion (k in µm/(m·K), q in mm). A sensor without a temperature adds nothing.
+
+    Parameters
+    ----------
+    axes : sequence of str
+        Names of the columns of ``q`` (upper case machine axes).
+    thermal : sequence of ThermalTerm
+    q : ndarray, shape (N, len(axes))
+        Commanded positions, mm or degrees.
+    temperatures : mapping of str to float
+        °C per sensor column.
+    """
+    out = np.zeros(q.shape)
+    names = [a.upper() for a in axes]
+    for t in thermal:
+        celsius = temperatures.get(t.sensor)
+        if celsius is None:
+            continue
+        j = names.index(t.axis.upper())
+        out[:, j] -= 1e-3 * np.asarray(t.component(float(celsius))(q[:, j]), dtype=float)
+    return out
 
 
 def _multilinear(grid: Sequence[GridDim], values: F64, p: F64) -> F64:
@@ -365,6 +432,7 @@ def build_map(
     check_points: int = 4096,
     seed: int = 0,
     max_bytes: int = MAX_MAP_BYTES,
+    thermal_in_map: bool = False,
 ) -> ErrorMap:
     """The error map of a machine at given temperatures.
 
@@ -397,6 +465,10 @@ def build_map(
         Seed of the random check points and lines: builds are reproducible.
     max_bytes : int
         Largest payload allowed (the protocol's limit by default).
+    thermal_in_map : bool
+        Carry the model's thermal terms for the controller to apply (module docstring):
+        the grid is built at their reference temperatures, the check applies them at
+        ``temperatures`` (a sensor not given: at its reference).
 
     Returns
     -------
@@ -414,11 +486,23 @@ def build_map(
     t0 = time.perf_counter()
     ctrl = check_parameters(machine, model, tolerance_um, controller, increment, limit_mm,
                              limit_deg, check_points)
-    geometry = geometry_of(model, temperatures)
+    names = machine.axis_names
+    thermal = tuple(t for t in model.terms if isinstance(t, ThermalTerm)) if thermal_in_map \
+        else ()
+    static, temps = model, dict(temperatures or {})
+    if thermal:
+        for t in thermal:
+            if t.axis.upper() not in names:
+                raise MapBuildError(f"thermal term on axis {t.axis}: machine {machine.name!r} "
+                                    f"has {' '.join(names)}")
+        static = MachineModel(model.machine, model.geometry,
+                              tuple(t for t in model.terms if not isinstance(t, ThermalTerm)),
+                              model.info)
+        temps = {t.sensor: t.t_ref_C for t in thermal} | temps
+    geometry = geometry_of(static, temps)
     geometry.check(machine)
     w = Weights.default(machine) if weights is None else weights
     prob = MapProblem(machine, geometry, w, tool_mm, machine.travel_lo, machine.travel_hi)
-    names = machine.axis_names
     n_out = len(names)
     rng = np.random.default_rng(seed)
     lines = _Lines(prob, rng, n_lines=16)
@@ -439,7 +523,7 @@ def build_map(
             i = _best_axis(counts, errs)
             counts[i] = _interval_count(counts[i])
             nodes = math.prod(counts)
-            if payload_bytes(len(names), n_out, nodes) > max_bytes:
+            if payload_bytes(len(names), n_out, nodes, len(thermal)) > max_bytes:
                 raise MapTooLargeError(
                     f"machine {machine.name!r}: {tolerance_um} µm needs more than {nodes} "
                     f"nodes ({' x '.join(map(str, counts))}), over the {max_bytes}-byte map "
@@ -485,12 +569,16 @@ def build_map(
     inc = increment if ctrl == "fanuc" else None
     sent = np.rint(sent / inc) * inc if inc is not None else sent.astype(np.float32).astype(float)
     # judged on the direction-free part: the positive-approach shift is not an error
-    worst_sent = float(_map_error(prob, names, grid, sent - 0.5 * backlash_mm, indep,
-                                  indep_exact).max())
+    if thermal:
+        worst_sent = _thermal_error(prob, model, names, grid, sent, thermal, temps, inc,
+                                    indep)
+    else:
+        worst_sent = float(_map_error(prob, names, grid, sent - 0.5 * backlash_mm, indep,
+                                      indep_exact).max())
     reversal = reversal_of(machine, model, inc)
     report = MapReport(
         nodes=math.prod(g.count for g in grid),
-        bytes=payload_bytes(len(grid), n_out, math.prod(g.count for g in grid)),
+        bytes=payload_bytes(len(grid), n_out, math.prod(g.count for g in grid), len(thermal)),
         tolerance_um=tolerance_um, worst_interpolation_um=worst_indep,
         worst_error_um=worst_sent, check_points=indep.shape[0],
         clamped_nodes=clamped_nodes, rounds=rounds, build_s=time.perf_counter() - t0,
@@ -498,9 +586,27 @@ def build_map(
     return ErrorMap(
         machine=machine.name, version=version, controller=ctrl, grid=tuple(grid),
         outputs=names, values=sent, increment=inc, limits=tuple(float(v) for v in limits),
-        reversal=reversal, temperatures=dict(temperatures or {}), valid_s=valid_s,
-        report=report,
+        reversal=reversal, temperatures=temps, valid_s=valid_s,
+        report=report, thermal=thermal,
     )
+
+
+def _thermal_error(prob: MapProblem, model: MachineModel, names: Sequence[str],
+                   grid: Sequence[GridDim], sent: F64, thermal: Sequence[ThermalTerm],
+                   temps: Mapping[str, float], inc: float | None, q: F64) -> float:
+    """Worst tool-tip error (µm) at ``q`` of a map with thermal terms as the controller
+    applies it at ``temps`` (interpolated values plus the terms' corrections, rounded
+    together to increments), against the exact model with its thermal terms there."""
+    backlash_mm = np.array([model.reversal_um().get(a.key, 0.0) * 1e-3
+                            for a in prob.machine.axes])
+    full = MapProblem(prob.machine, geometry_of(model, temps), prob.weights, prob.tool_mm,
+                      prob.lo, prob.hi)
+    cols = [list(names).index(g.name) for g in grid]
+    applied = _multilinear(grid, sent, q[:, cols]) + thermal_correction(names, thermal, q,
+                                                                         temps)
+    if inc is not None:  # the ladder rounds the sum to whole increments
+        applied = np.rint(applied / inc) * inc
+    return float(full.tip_um(q, applied - 0.5 * backlash_mm - full.exact(q)).max())
 
 
 def build_map_within(
@@ -558,4 +664,5 @@ __all__ = [
     "build_map",
     "build_map_within",
     "payload_bytes",
+    "thermal_correction",
 ]
