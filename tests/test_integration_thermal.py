@@ -1,12 +1,16 @@
-"""A machine whose spindle grows with heat, end to end: the center's diagnosis model (a
-thermal drift along z on ``T_spindle_C``, found by ``volumetric.diagnose.diagnosis`` in a simulated
-campaign) is uploaded through the REST API; spindle temperatures published on MQTT give
-the machine new map versions, pushed and acknowledged, whose z correction moves by the
-model's coefficient × ΔT, and the machine stays compensated as it warms."""
+"""A Fanuc-style machine whose spindle grows with heat, end to end: the center's diagnosis
+model (a thermal drift along z on ``T_spindle_C``, found by ``volumetric.diagnose.diagnosis``
+in a simulated campaign) is uploaded through the REST API; the machine gets one grid map
+that carries the term (format version 3: its ladder applies it by multiply-add), at once,
+without waiting for a temperature; spindle temperatures published on MQTT reach it through
+the center's Temperatures messages, and its z correction moves by the model's
+coefficient × ΔT per step while the map version stays 1 (no rebuild, one push); the
+machine stays compensated as it warms."""
 
 from __future__ import annotations
 
 import asyncio
+import dataclasses
 import uuid
 from contextlib import AsyncExitStack
 from pathlib import Path
@@ -56,7 +60,12 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
     top = f"ednc-it-{uuid.uuid4().hex[:12]}"
     name = THERMAL.name
     topic = f"{top}/{name}/temperature/spindle"
-    t1, t2 = round(term.t_ref_C + 2.0, 3), round(term.t_ref_C + 8.0, 3)  # as published
+    m = THERMAL.machine
+    ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
+    z = m.axis_names.index("Z")
+    seen: list[float] = []
+    snapshots: list[GridMap] = []
+    temps: list[float] = []
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
         plant = await stack.enter_async_context(center(
             f"sqlite:///{tmp_path / 'center.db'}", mqtt=mqtt_broker, prefix=top,
@@ -68,38 +77,50 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
         await plant.register(THERMAL)
         await plant.post_model(name, plain_json(model.to_json()))
         sim = await stack.enter_async_context(cnc(THERMAL, plant.port))
-        store = sim.runtime.controller.store
+        ctl = sim.runtime.controller
+        store = ctl.store
         await sim.ready.wait()
-        await asyncio.sleep(0.3)
-        assert store.version == 0  # a thermal model waits for its temperature
-
-        await pub.publish(topic, f"{t1:.3f}")
+        # the grid carries the term: built at its reference, it needs no temperature
         await until(lambda: store.version == 1)
         await until(plant.applied(name, 1))
-        grid1 = store.active
-        await pub.publish(topic, f"{t2:.3f}")
-        await until(lambda: store.version == 2)
-        await until(plant.applied(name, 2))
-        grid2 = store.active
+        assert isinstance(store.active, GridMap) and store.active.thermal
+        # steps of 1.5 K, a second apart: within the intake's plausible rate of change
+        for k in range(3):
+            celsius = round(term.t_ref_C + 1.5 * (k + 1), 3)  # as published
+            await pub.publish(topic, f"{celsius:.3f}")
+            await until(lambda c=celsius: abs(ctl.temperatures.values().get(
+                "T_spindle_C", -1e9) - c) < 1e-6)
+            await asyncio.sleep(0.1)  # a few 20 ms cycles: the next one folds it in
+            active = store.active
+            assert isinstance(active, GridMap) and active.version == 1
+            seen.append(float(active.lookup(ref[:, [m.axis_names.index(a)
+                                                    for a in active.inputs]])[0, z]) * 1e3)
+            snapshots.append(dataclasses.replace(active, thermal_mm=active.thermal_mm.copy()))
+            temps.append(celsius)
+            await asyncio.sleep(1.0)
         maps = await plant.maps(name)
         pushed = await plant.events(kind="pushed", machine=name)
-    assert [m["temperatures"] for m in maps] == [{"T_spindle_C": pytest.approx(t2)},
-                                                 {"T_spindle_C": pytest.approx(t1)}]
-    assert len(pushed) == 2
-    assert isinstance(grid1, GridMap) and isinstance(grid2, GridMap)
-    _check_shift(grid1, grid2, term, t2 - t1)
-    _check_still_compensated(grid1, grid2, t1, t2)
+    assert len(maps) == 1 and len(pushed) == 1  # one map, one push, three temperatures
+    steps = np.diff(seen)  # µm of z correction per temperature step
+    expected = -term.coefficient * np.diff(temps)  # the correction opposes the growth
+    print(f"\nthermal in the grid: k = {term.coefficient:.3f} µm/K; z correction moved "
+          f"{steps.round(3)} µm per 1.5 K step (expected {expected.round(3)})")
+    assert abs(expected[0]) > 2.0  # a move the test can see
+    # exact before the ladder's rounding (the term is added, not interpolated)
+    np.testing.assert_allclose(steps, expected, rtol=0, atol=1e-6)
+    _check_shift(snapshots[0], snapshots[-1], term, temps[-1] - temps[0])
+    _check_still_compensated(snapshots[0], snapshots[-1], temps[0], temps[-1])
 
 
 def _check_shift(grid1: GridMap, grid2: GridMap, term: ThermalTerm, dt_K: float) -> None:
-    """The two maps differ by the drift term alone: z by -k·ΔT, x and y not at all (each
-    within one Fanuc increment, the rounding of either map)."""
+    """The same map at two temperatures differs by the drift term alone, everywhere: z by
+    -k·ΔT, x and y not at all (each within one Fanuc increment, the ladder's rounding)."""
     assert grid1.grid == grid2.grid and grid1.outputs == grid2.outputs
     rng = np.random.default_rng(3)
     lo = grid1.start
     hi = grid1.start + grid1.step * (grid1.count - 1)
     q = rng.uniform(lo, hi, size=(500, lo.size))
-    delta = (grid2.lookup(q) - grid1.lookup(q)) * 1e3  # µm
+    delta = (np.rint(grid2.lookup(q) * 1e3) - np.rint(grid1.lookup(q) * 1e3))  # counts = µm
     expected_z = -term.coefficient * dt_K  # the correction opposes the tool's growth
     z = grid1.outputs.index("Z")
     print(f"\nthermal: k = {term.coefficient:.3f} µm/K, ΔT = {dt_K:.1f} K: map z moved "
@@ -114,7 +135,7 @@ def _check_shift(grid1: GridMap, grid2: GridMap, term: ThermalTerm, dt_K: float)
 
 def _check_still_compensated(grid1: GridMap, grid2: GridMap, t1: float, t2: float) -> None:
     """On the true machine: warmed from t1 to t2, the tool tip drifts along z; with the
-    map of t2 the compensated tool tip stays where the map of t1 held it at t1."""
+    map's terms at t2 the compensated tool tip stays where they held it at t1."""
     from machine_sim.campaign import map_compensation
 
     sim, _, _ = campaign(THERMAL.name)
@@ -134,6 +155,6 @@ def _check_still_compensated(grid1: GridMap, grid2: GridMap, t1: float, t2: floa
     uncorrected = z_bias(grid1, t2) - held
     corrected = z_bias(grid2, t2) - held
     print(f"thermal: z drift from {t1:.1f} to {t2:.1f} °C: {uncorrected:+.2f} µm with the old "
-          f"map, {corrected:+.2f} µm with the new one")
-    assert abs(uncorrected) > 10.0
+          f"temperature, {corrected:+.2f} µm with the new one (same map)")
+    assert abs(uncorrected) > 5.0  # 3 K of a -2.5 µm/K drift
     assert abs(corrected) < 0.1 * abs(uncorrected)
