@@ -216,6 +216,7 @@ class TemperatureIntake:
         self._known: dict[str, _Known] = {}
         self._reloaded: dict[str, float] = {}
         self._deferred: dict[str, list[tuple[str, float, Source, float]]] = {}
+        self._orphans: dict[str, list[NewReading]] = {}
         self._buffer: deque[NewReading] = deque()
         self._last_refusal: Refusal | None = None
         self._evented: dict[tuple[str, str, str], float] = {}
@@ -305,12 +306,17 @@ class TemperatureIntake:
             return self._refuse(machine, column, celsius, source, "out_of_range",
                                 f"{celsius:g} °C is outside {lo:g}..{hi:g} °C").text
         known = self._known.get(machine)
-        if known is None:
+        if known is None and source == "telemetry" and machine in self.forwarder.sessions:
+            # a machine with a live session here is registered and authenticated: take its
+            # own readings now (the push may build a map on them at once) and look it up
+            # for the time series meanwhile
+            self._lookup_soon(machine)
+        elif known is None:
             if self._defer(machine, column, celsius, source, taken):
                 return "deferred: the machine is looked up in the database"
             return self._refuse(machine, column, celsius, source, "unknown_machine",
                                 f"no machine named {machine[:64]!r} is registered").text
-        if source != "telemetry" and column not in known.columns:
+        elif source != "telemetry" and column not in known.columns:
             if self._defer(machine, column, celsius, source, taken):
                 return "deferred: the machine's sensors are looked up in the database"
             have = ", ".join(sorted(known.columns)) or "none"
@@ -331,18 +337,27 @@ class TemperatureIntake:
 
     def _on_stored(self, machine: str, column: str, celsius: float) -> None:
         r = self.board.reading(machine, column)
-        known = self._known.get(machine)
-        if r is None or known is None:
+        if r is None:
             return
         self.stats.accepted += 1
         self._accepted.labels(source=r.source).inc()
+        known = self._known.get(machine)
+        row = NewReading(known.id if known else 0, column, float(celsius),
+                         dt.datetime.fromtimestamp(r.time, dt.UTC), r.source)
+        if known is None:  # a connected machine being looked up: stored when it is known
+            waiting = self._orphans.setdefault(machine, [])
+            if len(waiting) < 1024:
+                waiting.append(row)
+        else:
+            self._store(row)
+        if r.source != "telemetry":  # the machine has its own readings already
+            self.forwarder.note(machine, column, float(celsius), r.time)
+
+    def _store(self, row: NewReading) -> None:
         if len(self._buffer) >= MAX_BUFFER:
             self._buffer.popleft()
             self.stats.unstored += 1
-        self._buffer.append(NewReading(known.id, column, float(celsius),
-                                       dt.datetime.fromtimestamp(r.time, dt.UTC), r.source))
-        if r.source != "telemetry":  # the machine has its own readings already
-            self.forwarder.note(machine, column, float(celsius), r.time)
+        self._buffer.append(row)
 
     def _on_notice(self, notice: Notice) -> None:
         if notice.kind is EventKind.CONNECTED:
@@ -393,6 +408,17 @@ class TemperatureIntake:
             waiting.append((column, celsius, source, taken))
         return True
 
+    def _lookup_soon(self, machine: str) -> None:
+        """Look a connected machine up (at most every RELOAD_EVERY_S), holding nothing."""
+        if machine in self._deferred:
+            return  # a lookup is under way
+        now = time.monotonic()
+        if now - self._reloaded.get(machine, -math.inf) < RELOAD_EVERY_S:
+            return
+        self._reloaded[machine] = now
+        self._deferred[machine] = []
+        self._spawn(self._reload(machine), "temperatures:reload")
+
     async def _reload(self, machine: str) -> None:
         """Look one machine up again, then take the readings held for it."""
         try:
@@ -403,6 +429,11 @@ class TemperatureIntake:
         finally:
             waiting = self._deferred.pop(machine, [])
         self._known.update(found)
+        orphans = self._orphans.pop(machine, [])
+        if machine in found:
+            for row in orphans:
+                self._store(NewReading(found[machine].id, row.sensor, row.celsius, row.time,
+                                       row.source))
         for column, celsius, source, taken in waiting:  # screened again, now for good
             self.board.update(machine, column, celsius, source=source, at=taken)
 

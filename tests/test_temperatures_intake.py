@@ -292,3 +292,19 @@ async def test_post_without_the_machine_services_says_why(tmp_path: Path) -> Non
         assert r.status_code == 409 and "not running" in r.json()["detail"]
         r = await client.get(url)
         assert r.status_code == 200 and r.json()["known_sensors"] is None
+
+
+async def test_a_connected_machines_telemetry_is_taken_at_once_and_stored(
+        tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(controller="siemens", model=model_body())  # after start-up
+        intake = intake_of(r.center)
+        assert intake.knows("vmc-01") is None
+        async with simulator(r.port, controller="siemens") as sim:
+            await sim.ready.wait()
+            await until(lambda: "T_spindle_C" in r.services.temperatures.readings("vmc-01"))
+            await until(lambda: intake.knows("vmc-01") is not None)
+        await intake.flush()
+        rows = await r.db.run(reading_repo.list_readings, mid, sensor="T_spindle_C")
+        assert rows and {x.source for x in rows} == {"telemetry"}
+        assert intake.stats.refused == 0
