@@ -3,6 +3,7 @@ map swap atomicity, last good map kept on a bad push, release and expiry."""
 
 from __future__ import annotations
 
+import dataclasses
 import struct
 from collections.abc import Sequence
 
@@ -16,7 +17,13 @@ from machine_sim.fanuc import ALARM_JUMP, FanucConfig, FanucPMC
 from machine_sim.lookup import FleetLadder, FleetLookup, GridMap
 from machine_sim.siemens import SiemensAlarm, SiemensConfig, SiemensNC
 from protocol.codes import MapEncoding, MapRejectReason
-from protocol.mapformat import ErrorMapPayload, GridAxis, OutputAxis, encode_map
+from protocol.mapformat import (
+    ErrorMapPayload,
+    GridAxis,
+    OutputAxis,
+    ThermalRecord,
+    encode_map,
+)
 from protocol.maptransfer import split_into_chunks
 from protocol.messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject
 
@@ -119,6 +126,37 @@ def test_fanuc_scan_interpolates_between_nodes_and_quantises() -> None:
     assert struct.unpack_from("<I", ctl.r, 7036)[0] == 1  # map version
     assert struct.unpack_from("<i", ctl.r, 7044)[0] == 237000  # X read by the scan
     assert ctl.state == "compensating"
+
+
+def test_fanuc_scan_adds_the_thermal_records_and_rounds_once() -> None:
+    grid = (GridAxis("X", 0.0, 100.0, 6), GridAxis("Y", 0.0, 100.0, 4))
+    coef = np.array([[3.0, 0.2, -0.1], [-7.0, 0.05, 0.3], [11.0, -0.15, 0.0]])
+    values = np.rint(linear_field(grid, coef)).astype(np.int64)
+    records = (ThermalRecord("spindle", "Z", 1, -2.5, 20.0),  # drift of Z
+               ThermalRecord("T_x_C", "X", 2, 11.5, 20.0, 0.0))  # expansion of X
+    p = dataclasses.replace(payload(values), thermal=records)
+    plain = fanuc(max_step_counts=1000, thermal_records=False)  # version-1 grids only
+    refused = push(plain, p)
+    assert isinstance(refused, MapReject)
+    assert refused.reason is MapRejectReason.UNSUPPORTED_ENCODING
+    ctl = fanuc(max_step_counts=1000)
+    assert ctl.store.assembler.accepted == MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
+    assert isinstance(push(ctl, p), MapAck)
+    pos = {"x": 237.0, "y": 161.0, "z": -50.0}
+    cold = ctl.scan(0.0, pos).copy()  # no temperature yet: the records add nothing
+    # the center's Temperatures arrive; the next scan folds them in
+    ctl.temperatures.update("spindle", 25.4, 0.01, "center")
+    ctl.temperatures.update("x", 31.0, 0.01, "center")
+    hot = ctl.scan(0.02, pos)
+    cell = values.reshape(6, 4, 3)
+    fx, fy = 0.37, 0.61
+    interp = ((1 - fx) * (1 - fy) * cell[2, 1] + fx * (1 - fy) * cell[3, 1]
+              + (1 - fx) * fy * cell[2, 2] + fx * fy * cell[3, 2])
+    # counts (µm): -ΔE of each record, added before the one rounding
+    thermal = np.array([-11.5 * 11.0 * 237.0 * 1e-3, 0.0, 2.5 * 5.4])
+    np.testing.assert_array_equal(cold, np.rint(interp))
+    np.testing.assert_array_equal(hot, np.rint(interp + thermal))
+    assert np.abs(hot - cold).max() >= 13  # a move the test sees
 
 
 def test_fanuc_clamps_beyond_the_grid_and_the_emzps_range() -> None:
