@@ -90,7 +90,8 @@ async def test_published_temperature_gives_the_machine_a_new_map(
         bridge = r.services.mqtt
         assert bridge is not None
         await bridge.connected.wait()
-        async with simulator(r.port) as sim:
+        # a ladder without thermal records: each temperature gives a new map
+        async with simulator(r.port, thermal_records=False) as sim:
             await sim.ready.wait()
             await pub.publish(f"{top}/vmc-01/temperature/spindle", "23.5")
             await until(lambda: sim.runtime.controller.store.version == 1)

@@ -112,9 +112,8 @@ async def test_temperature_change_beyond_the_threshold_gives_a_new_version(
         board = r.services.temperatures
         delivered: list[Delivery] = []
         r.services.push.observers.append(delivered.append)
-        grid_only = simulator(r.port)  # a ladder that takes version-1 grids only
-        grid_only.runtime.controller.store.assembler.accepted = MapEncoding.INT32_INCREMENTS
-        async with grid_only as sim:
+        # a ladder that takes version-1 grids only: the center rebuilds on temperatures
+        async with simulator(r.port, thermal_records=False) as sim:
             await sim.ready.wait()
             await asyncio.sleep(0.2)
             assert await r.acked_version(mid) is None  # no temperature yet: no map

@@ -283,10 +283,14 @@ def machines_file(path: Path, specs: list[Spec]) -> Path:
 
 def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
         host: str = "127.0.0.1", mqtt: MqttTarget | None = None,
-        own_sensors: bool | None = None) -> SimulatedCNC:
-    """The simulated CNC of ``s`` connecting to ``host:port`` from its own address."""
+        own_sensors: bool | None = None, thermal_records: bool = True) -> SimulatedCNC:
+    """The simulated CNC of ``s`` connecting to ``host:port`` from its own address;
+    ``thermal_records=False``: a Fanuc ladder that takes version-1 grids only (the center
+    rebuilds its map when a temperature moves)."""
     m = s.machine
-    runtime = MachineRuntime(m, seed=s.seed, fanuc=FanucConfig(max_step_counts=1000),
+    runtime = MachineRuntime(m, seed=s.seed,
+                             fanuc=FanucConfig(max_step_counts=1000,
+                                               thermal_records=thermal_records),
                              own_sensors=own_sensors)
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
                         ip=ip, cycle_s=0.02, backoff=Backoff(0.05, 2.0, 0.5), mqtt=mqtt)

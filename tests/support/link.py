@@ -127,9 +127,12 @@ async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 
 
 def simulator(port: int, name: str = "vmc-01", *, controller: str = "fanuc",
               secret: str = SECRET, ip: str | None = None,
-              mqtt: MqttTarget | None = None) -> SimulatedCNC:
+              mqtt: MqttTarget | None = None, thermal_records: bool = True) -> SimulatedCNC:
+    """A simulated CNC; ``thermal_records=False``: a Fanuc ladder that takes version-1
+    grids only (the center then rebuilds its map on temperature changes)."""
     m = parse_machine(description(name, controller, ip or "127.0.0.1"))
-    runtime = MachineRuntime(m, seed=1, fanuc=FanucConfig(max_step_counts=1000))
+    runtime = MachineRuntime(m, seed=1, fanuc=FanucConfig(max_step_counts=1000,
+                                                          thermal_records=thermal_records))
     return SimulatedCNC(m, ("127.0.0.1", port), secret.encode(), runtime=runtime,
                         cycle_s=0.004, backoff=Backoff(0.05, 2.0, 0.2), mqtt=mqtt)
 
