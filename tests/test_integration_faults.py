@@ -79,17 +79,22 @@ def _has_deliveries(plant: Plant, name: str, want: list[tuple[int, str]]
 
 async def test_wrong_secret_and_unknown_address_are_refused(tmp_path: Path) -> None:
     require_loopback_aliases()
-    ghost = Spec({**VMC.description, "name": "ghost-09", "ip": "127.0.2.9"},
+    # Impostors come from addresses where machines are registered (a peer from any other
+    # address is closed at accept, without a Reject: checked last), each from its own, as
+    # failed logins from one address throttle the next ones (AUTH_FAILED).
+    bystanders = [spec("vmc-06"), THERMAL]  # registered, never connected: 127.0.2.6/.7
+    ghost = Spec({**VMC.description, "name": "ghost-09", "ip": bystanders[1].description["ip"]},
                  "secret-of-ghost-09-012345", 9)
+    stranger = bystanders[0].description["ip"]
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
         plant = await stack.enter_async_context(center(_sqlite(tmp_path)))
-        for s in (VMC, GANTRY):
+        for s in (VMC, GANTRY, *bystanders):
             await plant.register(s)
         await plant.fit_from_campaign(GANTRY.name)
         honest = await stack.enter_async_context(cnc(GANTRY, plant.port))
         impostors = {
             "auth": cnc(VMC, plant.port, secret="not-the-registered-secret"),
-            "address": cnc(GANTRY, plant.port, ip="127.0.2.99"),  # its name, another host
+            "address": cnc(GANTRY, plant.port, ip=stranger),  # its name, another host
             "unknown": cnc(ghost, plant.port),
         }
         async with AsyncExitStack() as bad:
@@ -97,30 +102,46 @@ async def test_wrong_secret_and_unknown_address_are_refused(tmp_path: Path) -> N
                 await bad.enter_async_context(sim)
             for sim in impostors.values():
                 await until(lambda s=sim: bool(s.stats.rejects))
-        # the honest machine is served all along, from its own address
+        # the honest machine is served all along, from its own address: never refused
+        # (under heavy load its 1.5 s dead-peer limit may make it reconnect once)
         await until(plant.applied(GANTRY.name, 1))
-        assert honest.stats.rejects == [] and honest.stats.welcomes == 1
+        assert honest.stats.rejects == [] and honest.stats.welcomes >= 1
         assert not plant.center.registry.get(VMC.name).connected
         refused = await plant.events(kind="refused")
         print("\n".join(f"\nevent: {e['machine']}: {e['detail']}" for e in refused))
         for reason, sim in impostors.items():
-            assert all(r.startswith(CODES[reason]) for r in sim.stats.rejects), sim.stats.rejects
+            # the first refusal says why; retries within the throttle's delay: AUTH_FAILED
+            assert sim.stats.rejects[0].startswith(CODES[reason]), sim.stats.rejects
+            assert all(r.startswith((CODES[reason], "AUTH_FAILED")) for r in sim.stats.rejects)
             assert sim.stats.welcomes == 0
             count = await plant.metric("ednc_connections_refused_total", reason=reason)
             assert count >= 1, reason
             print(f"\nrefused ({reason}): {sim.stats.rejects[0]}")
-        # who (the name when known, else the peer address) and why, as the dashboard lists
+        # who (the name when known, else the peer address) and why, as the dashboard lists;
+        # the impostors learnt the code only
         seen = {(e["machine"], e["detail"]) for e in refused}
-        assert seen == {
+        assert seen >= {
             (VMC.name, "authentication failed: wrong response to the challenge"),
-            ("127.0.2.99", "machine 'gantry-02' is registered at 127.0.2.2, this connection "
-                           "comes from 127.0.2.99"),
-            ("127.0.2.9", "no machine named 'ghost-09' is registered"),
+            (stranger, f"machine 'gantry-02' is registered at {GANTRY.description['ip']}, "
+                       f"this connection comes from {stranger}"),
+            (ghost.description["ip"], "no machine named 'ghost-09' is registered"),
         }
+        assert all("throttled" in d for _, d in seen - {
+            (VMC.name, "authentication failed: wrong response to the challenge")}
+            if "registered" not in d), seen
+        assert not any(r.split(":", 1)[1].strip() for sim in impostors.values()
+                       for r in sim.stats.rejects)
+        # one row per peer and minute, every refusal counted
         total = sum([await plant.metric("ednc_connections_refused_total", reason=r)
-                     for r in ("auth", "address", "unknown", "unsupported", "duplicate",
-                               "timeout", "protocol", "other")])
-        assert total == len(refused)  # every refusal both stored and counted
+                     for r in ("auth", "address", "unknown", "throttled")])
+        assert total >= len(refused)
+        # a peer where no machine is registered: closed at accept, counted, no row
+        async with cnc(ghost, plant.port, ip="127.0.2.99") as nowhere:
+            await until(lambda: nowhere.stats.connects >= 2)
+            assert nowhere.stats.rejects == []
+        assert await plant.metric("ednc_connections_refused_total",
+                                  reason="unregistered") >= 2
+        assert len(await plant.events(kind="refused")) == len(refused)
 
 
 # -- 4a. a machine's link drops and comes back
