@@ -82,6 +82,22 @@ def test_grid_map_corrections_interpolate_its_nodes(tmp_path: Path) -> None:
     assert out["axes"] == ["x", "y", "z"] and out["kind"] == "grid"
     corr = [[pt["correction"][k] for k in ("x", "y", "z")] for pt in out["points"]]
     np.testing.assert_allclose(corr, [[0.175, 0.0, -0.05], [0.4, 0.0, -0.2]], atol=1e-12)
+    # the same grid with thermal records (format version 3): -ΔE added per record
+    records = (ThermalRecord("T_spindle_C", "Z", 1, -2.0, 20.0),
+               ThermalRecord("x", "X", 2, 11.5, 20.0, 0.0))
+    (tmp_path / "map3.bin").write_bytes(encode_payload(
+        ErrorMapPayload(p.machine, p.version, p.encoding, p.grid, p.outputs, p.values,
+                        p.increment_mm, thermal=records)))
+    r = ednc("lookup", "--map", str(tmp_path / "map3.bin"), "--points",
+             str(tmp_path / "p.csv"), "--temperature", "spindle=25", "--temperature",
+             "x=30", "--json")
+    assert r.returncode == 0, r.stderr
+    hot = [[pt["correction"][k] for k in ("x", "y", "z")] for pt in json.loads(r.stdout)[
+        "points"]]
+    # x: -11.5 µm/(m·K) · 10 K · x; z: +2 µm/K · 5 K
+    np.testing.assert_allclose(np.subtract(hot, corr),
+                               [[-1.15e-4 * 50, 0.0, 0.01], [-1.15e-4 * 200, 0.0, 0.01]],
+                               atol=1e-12)
 
 
 @pytest.mark.parametrize(("map_bytes", "csv", "message"), [
