@@ -493,6 +493,10 @@ class PushScheduler:
         if verdict.applied:
             target.acked, kind = version, EventKind.APPLIED
             reason, text = None, f"map version {version} applied"
+            if self.center.intake is not None:
+                # a map that carries thermal terms evaluates them with the machine's
+                # latest temperatures: send what the center holds at once
+                self.center.intake.forward(target.name)
         else:
             target.rejected, kind = version, EventKind.REJECTED
             label = verdict.reason.name if verdict.reason is not None else "?"
