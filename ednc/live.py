@@ -34,6 +34,7 @@ from machine_sim.link import MqttTarget, SimulatedCNC
 from machine_sim.lookup import ActiveMap, TablesMap
 from machine_sim.runtime import MachineRuntime
 from machine_sim.testprograms import diagonal_test
+from machine_sim.thermal import default_thermal
 from server.app import create_app
 from server.services import machine_services
 from server.settings import Settings
@@ -88,7 +89,10 @@ async def running_center(settings: Settings) -> AsyncIterator[None]:
 
 async def _register(client: httpx.AsyncClient, p: Prepared, ip: str, secret: str) -> None:
     name = p.machine.name
-    description = {**p.fleet.description, "ip": ip}
+    # the sensors it publishes: the center stores their readings (re-identification) and
+    # refuses names it was not told of
+    sensors = [f"T_{s.name}_C" for s in default_thermal(p.machine).sensors]
+    description = {**p.fleet.description, "ip": ip, "sensors": sensors}
     r = await client.post("/api/machines", json={**description, "secret": secret})
     r.raise_for_status()
     r = await client.post(f"/api/machines/{name}/measurements", params={"set_name": "campaign"},

@@ -278,7 +278,8 @@ def build_tables_map(
                           tuple(t for t in model.terms if not isinstance(t, ThermalTerm)),
                           model.info)
     temps = {t.sensor: t.t_ref_C for t in thermal} | dict(temperatures or {})
-    geometry = geometry_of(static, {})
+    # terms the tables cannot carry (a lagged thermal model) fold in at the temperatures given
+    geometry = geometry_of(static, dict(temperatures or {}))
     geometry.check(machine)
     full = geometry_of(model, temps)  # the exact model the map is judged against
     reversal = reversal_of(machine, model, None)
