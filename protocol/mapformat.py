@@ -420,6 +420,9 @@ def decode_map(data: bytes) -> ErrorMapPayload:
             if flags & ~1 or any(pad):
                 raise MapFormatError(f"output axis {k} at offset {at} has unknown flags "
                                      f"0x{flags:02x} or non-zero reserved bytes")
+            if not flags & 1 and any(raw):  # "0 when absent": one encoding per map
+                raise MapFormatError(f"output axis {k} at offset {at + 8}: reversal is not "
+                                     f"0 though flagged absent")
             value: float = struct.unpack("<i" if enc == 1 else "<f", raw)[0]
             outputs.append(OutputAxis(_name_from(raw_name, f"output axis {k} name", at),
                                       value if flags & 1 else None))

@@ -641,6 +641,9 @@ def _output_at(data: bytes, at: int, k: int, enc: int) -> OutputAxis:
     if flags & ~1 or any(pad):
         raise MapFormatError(f"output axis {k} at offset {at} has unknown flags "
                              f"0x{flags:02x} or non-zero reserved bytes")
+    if not flags & 1 and any(raw):  # "0 when absent": one encoding per map
+        raise MapFormatError(f"output axis {k} at offset {at + 8}: reversal is not 0 though "
+                             f"flagged absent")
     value: float = struct.unpack("<i" if enc == 1 else "<f", raw)[0]
     try:
         return OutputAxis(_name_from(raw_name, f"output axis {k} name", at),

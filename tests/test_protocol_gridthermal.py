@@ -101,6 +101,7 @@ def test_round_trip(encoding: MapEncoding) -> None:
     (_patch(TINY3_BYTES, 180 + 24, struct.pack("<d", float("nan"))),
      r"thermal record 1 at offset 180: .*coefficient must be finite"),
     (_patch(TINY3_BYTES, 4, b"\x01\x00"), r"map payload is 228 bytes, its header describes 128"),
+    (_patch(TINY3_BYTES, 108, b"\x01"), r"output axis 1 at offset 108: reversal is not 0"),
 ])
 def test_decode_error_names_the_field(data: bytes, pattern: str) -> None:
     with pytest.raises(MapFormatError, match=pattern):
