@@ -11,6 +11,7 @@ machine page's map, diagonal plots and model.
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 import httpx
@@ -115,6 +116,21 @@ def test_dashboard_and_machine_page_in_chromium(live_server: Live, tmp_path: Pat
             expect(position).to_have_text(MM)
             first = position.inner_text()
             expect(position).not_to_have_text(first, timeout=10_000)  # it moves on screen
+
+            # fleet health at a glance: one segment per machine, coloured by its health
+            strip = page.locator("#health-strip .seg")
+            expect(strip).to_have_count(3)
+            expect(page.locator('#health-strip .seg[data-machine="vmc-01"]')).to_have_class(
+                "seg health-ok")
+            expect(page.locator('#health-strip .seg[data-machine="vmc-03"]')).to_have_class(
+                "seg health-offline")
+            # trends drawn from the snapshots: a line once two or more have arrived
+            spark = vmc.locator('svg[data-field="trend-comp"]')
+            expect(spark).to_have_attribute("data-points", re.compile(r"^([2-9]|\d\d+)$"),
+                                            timeout=10_000)
+            expect(spark.locator("path.spark-line")).to_have_count(1)
+            expect(dmu.locator('svg[data-field="trend-temp"] path.spark-line')).to_have_count(1)
+            expect(vmc.locator('[data-field="trend-version"]')).to_contain_text("map v1")
 
             live.call(_refuse(live))
             refusal = page.locator('#events tr[data-kind="refused"]')

@@ -1,9 +1,78 @@
-// The machines dashboard: one row per registered machine, redrawn from every snapshot of
+// The machines dashboard: a fleet health strip, one row per registered machine with small
+// trends (temperature, applied compensation, map version), redrawn from every snapshot of
 // /api/live (about once a second), and the recent events below.
 "use strict";
 
 (() => {
-  const { el, num, qty, signed, age, time, posUnit, compUnit } = EDNC;
+  const { el, svg, num, qty, signed, age, time, posUnit, compUnit } = EDNC;
+
+  // Trends are kept in the page from the snapshots it received (about one a second): the
+  // last TREND_POINTS of each machine's hottest sensor, largest applied compensation and
+  // applied map version.
+  const TREND_POINTS = 300;
+  const history = new Map();
+
+  function remember(card) {
+    let h = history.get(card.name);
+    if (!h) {
+      h = { temp: [], comp: [], version: [] };
+      history.set(card.name, h);
+    }
+    const push = (list, v) => {
+      list.push(v);
+      if (list.length > TREND_POINTS) list.shift();
+    };
+    const temps = card.temperatures.filter((t) => t.celsius !== null).map((t) => t.celsius);
+    push(h.temp, temps.length ? Math.max(...temps) : null);
+    const comps = card.axes.filter((a) => !a.rotary && a.compensation !== null)
+      .map((a) => Math.abs(a.compensation));  // µm (rotary axes in µrad stay out)
+    push(h.comp, comps.length ? Math.max(...comps) : null);
+    push(h.version, card.maps.applied ?? null);
+    return h;
+  }
+
+  /** A small line over the last values (nulls are gaps), labelled with the latest. */
+  function sparkline(values, field, unit, digits) {
+    const width = 120, height = 28;
+    const known = values.map((v, i) => [i, v]).filter(([, v]) => v !== null);
+    const root = svg("svg", { class: "spark", viewBox: `0 0 ${width} ${height}`,
+      "data-field": field, "data-points": String(known.length) });
+    if (known.length) {
+      const ys = known.map(([, v]) => v);
+      const lo = Math.min(...ys), hi = Math.max(...ys);
+      const span = hi - lo || 1;
+      const X = (i) => (i / Math.max(TREND_POINTS - 1, 1)) * width;
+      const Y = (v) => height - 3 - ((v - lo) / span) * (height - 6);
+      const d = known.map(([i, v], k) => `${k ? "L" : "M"}${X(i).toFixed(1)},${Y(v).toFixed(1)}`)
+        .join("");
+      root.append(svg("path", { d, class: "spark-line" }));
+      root.append(svg("title", {}, `${num(lo, digits)} … ${num(hi, digits)} ${unit} over ` +
+        `the last ${known.length} s`));
+    }
+    return root;
+  }
+
+  function trendCell(card, h) {
+    const last = (list) => (list.length ? list[list.length - 1] : null);
+    const row = (label, values, field, unit, digits) => el("div", { class: "trend" },
+      el("span", { class: "sub" }, label), sparkline(values, field, unit, digits),
+      el("span", { class: "num" }, last(values) === null ? "—" : qty(last(values), unit, digits)));
+    const changes = h.version.filter((v, i) => i > 0 && v !== h.version[i - 1]).length;
+    return el("td", { class: "trends" },
+      row("temp", h.temp, "trend-temp", "°C", 1),
+      row("comp", h.comp, "trend-comp", "µm", 1),
+      el("div", { class: "sub", "data-field": "trend-version" },
+        card.maps.applied ? `map v${card.maps.applied}, ${changes} change(s) seen` : "no map"));
+  }
+
+  /** One segment per machine, coloured by health, in the header. */
+  function healthStrip(machines) {
+    const strip = document.getElementById("health-strip");
+    strip.replaceChildren(...machines.map((c) => el("a", {
+      class: `seg health-${c.health}`, href: `/machines/${encodeURIComponent(c.name)}`,
+      title: `${c.name}: ${c.health}${c.health_reason ? " — " + c.health_reason : ""}`,
+      "data-machine": c.name }, c.name)));
+  }
 
   function machineCell(card) {
     return el("td", { class: "machine" },
@@ -101,7 +170,8 @@
         qty(a.position, posUnit(a), 3))),
       axesCell(card, (a) => el("td", { class: "num", "data-field": `comp-${a.name}` },
         signed(a.compensation, compUnit(a), 1))),
-      temperatureCell(card), verificationCell(card), diagnosisCell(card));
+      temperatureCell(card), trendCell(card, remember(card)), verificationCell(card),
+      diagnosisCell(card));
   }
 
   function eventRow(e) {
@@ -115,6 +185,7 @@
   function render(snapshot) {
     const machines = snapshot.machines;
     document.querySelector("#machines > tbody").replaceChildren(...machines.map(row));
+    healthStrip(machines);
     document.getElementById("no-machines").hidden = machines.length > 0;
     document.querySelector("#events > tbody").replaceChildren(...snapshot.events.map(eventRow));
     const count = (h) => machines.filter((c) => c.health === h).length;
