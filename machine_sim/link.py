@@ -64,6 +64,7 @@ from protocol import (
     Welcome,
     compute_mac,
 )
+from protocol.backoff import Backoff
 from volumetric.model.machine import Machine
 
 from .runtime import MachineRuntime
@@ -82,22 +83,6 @@ def _is_loopback(address: str) -> bool:
         return ipaddress.ip_address(address).is_loopback
     except ValueError:
         return address == "localhost"
-
-
-@dataclass(frozen=True)
-class Backoff:
-    """Reconnect delays: ``min(cap, initial · factor^n)`` times a random factor in
-    ``[1 - jitter, 1]`` so a fleet that lost the center does not return in step."""
-
-    initial_s: float = 1.0
-    factor: float = 2.0
-    cap_s: float = 60.0
-    jitter: float = 0.5
-
-    def delay(self, attempt: int, rng: random.Random) -> float:
-        """Delay before reconnect attempt ``attempt`` (0 for the first retry), s."""
-        base = min(self.cap_s, self.initial_s * self.factor ** min(attempt, 64))
-        return base * (1.0 - self.jitter * rng.random())
 
 
 @dataclass(frozen=True)

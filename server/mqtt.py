@@ -37,6 +37,7 @@ from typing import Any, Final
 import aiomqtt
 from prometheus_client import Counter
 
+from protocol.backoff import Backoff
 from server.center import Center
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
@@ -116,18 +117,6 @@ def _stamp(body: dict[str, Any]) -> float | None:
     raise PayloadError(f"time must be ISO 8601 or seconds, got {raw!r}")
 
 
-@dataclass(frozen=True)
-class Backoff:
-    """Reconnect delays ``min(cap, initial · 2^n)`` times a random factor in [0.5, 1]."""
-
-    initial_s: float = 0.5
-    cap_s: float = 30.0
-
-    def delay(self, attempt: int, rng: random.Random) -> float:
-        return min(self.cap_s, self.initial_s * 2.0 ** min(attempt, 32)) * (
-            0.5 + 0.5 * rng.random())
-
-
 @dataclass
 class _Status:
     connected: bool = False
@@ -171,7 +160,7 @@ class MqttBridge:
         self.host = host
         self.port = port
         self.prefix = prefix
-        self.backoff = backoff or Backoff()
+        self.backoff = backoff or Backoff(initial_s=0.5, cap_s=30.0)
         self.stale_check_s = stale_check_s
         self.status_refresh_s = status_refresh_s
         self.stats = BridgeStats()

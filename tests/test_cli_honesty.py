@@ -25,8 +25,8 @@ from machine_sim.campaign import standard_campaign, write_campaign
 from machine_sim.effects import Backlash, Effects, Noise
 from machine_sim.fleet import Fleet, generated_fleet
 from machine_sim.instruments import SimulatedMachine
-from machine_sim.link import Backoff
 from machine_sim.truth import random_geometry
+from protocol.backoff import Backoff
 from tests.support.integration import center, require_loopback_aliases, until
 from volumetric.diagnose.diagnosis import Z_MIN, Diagnosis
 from volumetric.diagnose.report import estimate_rows, relevant_sensors
@@ -221,7 +221,7 @@ async def test_registered_generated_machines_are_welcomed(tmp_path: Path) -> Non
         # a second run leaves them as they are
         assert await register_fleet(plant.client, entries, SECRET) == ([], added)
         fleet = Fleet(entries, ("127.0.0.1", plant.port), cycle_s=0.02,
-                      backoff=Backoff(0.05, 1.0, 0.5))
+                      backoff=Backoff(initial_s=0.05, factor=1.0, cap_s=0.5))
         async with fleet, asyncio.timeout(60):
             await until(lambda: fleet.summary()["welcomes"] >= 2)
         wrong = httpx.AsyncClient(transport=httpx.ASGITransport(app=plant.app),

@@ -24,8 +24,9 @@ import httpx
 import pytest
 
 from machine_sim.fanuc import FanucConfig
-from machine_sim.link import Backoff, SimulatedCNC
+from machine_sim.link import SimulatedCNC
 from machine_sim.runtime import MachineRuntime
+from protocol.backoff import Backoff
 from server.center import Center
 from server.link import LinkTiming
 from server.services import MachineServices, machine_services
@@ -109,7 +110,7 @@ class Fleet:
                                          fanuc=FanucConfig(max_step_counts=1000))
                 await stack.enter_async_context(SimulatedCNC(
                     machine, ("127.0.0.1", port), secret.encode(), runtime=runtime,
-                    backoff=Backoff(0.2, 2.0, 2.0)))
+                    backoff=Backoff(initial_s=0.2, factor=2.0, cap_s=2.0)))
             self.started.set()
             await self.stop.wait()
 

@@ -21,8 +21,8 @@ import pytest
 from sqlalchemy import create_engine
 
 from machine_sim.link import SimulatedCNC
+from protocol.backoff import Backoff
 from server.db.tables import Base
-from server.mqtt import Backoff
 from server.numeric import plain_json
 from tests.support.db import postgres_url  # noqa: F401  (fixture)
 from tests.support.integration import (
@@ -44,10 +44,10 @@ from volumetric.diagnose.diagnosis import diagnose
 
 pytestmark = pytest.mark.slow
 
-VMC = spec("vmc-01")       # Fanuc, 127.0.2.1
-GANTRY = spec("gantry-02")  # Siemens, 127.0.2.2
+VMC = spec("vmc-01")       # Siemens, 127.0.2.1
+GANTRY = spec("gantry-02")  # Fanuc, 127.0.2.2
 CODES = {"auth": "AUTH_FAILED", "address": "ADDRESS_MISMATCH", "unknown": "UNKNOWN_MACHINE"}
-FAST_MQTT = {"backoff": Backoff(0.05, 0.2), "stale_check_s": 0.05}
+FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 
 
 def _sqlite(tmp_path: Path) -> str:
@@ -276,7 +276,9 @@ async def test_broker_outage_keeps_stale_temperatures_and_recovers(
             await bridge.connected.wait()
             await plant.register(THERMAL)
             await plant.post_model(THERMAL.name, body)
-            sim = await stack.enter_async_context(cnc(THERMAL, plant.port))
+            # a ladder without thermal records: the center rebuilds on temperatures
+            sim = await stack.enter_async_context(cnc(THERMAL, plant.port,
+                                                      thermal_records=False))
             store = sim.runtime.controller.store
             await pub.publish(topic, b"24.0")
             await until(plant.applied(THERMAL.name, 1))

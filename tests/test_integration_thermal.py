@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 
 from machine_sim.lookup import GridMap
-from server.mqtt import Backoff
+from protocol.backoff import Backoff
 from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
@@ -36,7 +36,7 @@ from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
-FAST_MQTT = {"backoff": Backoff(0.05, 0.2), "stale_check_s": 0.05}
+FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 
 
 def diagnosed_model() -> MachineModel:

@@ -26,8 +26,9 @@ from sqlalchemy import update
 
 from machine_sim.fanuc import FanucConfig
 from machine_sim.fleet import FleetSpecError, parse_centers
-from machine_sim.link import Backoff, SimulatedCNC
+from machine_sim.link import SimulatedCNC
 from machine_sim.runtime import MachineRuntime
+from protocol.backoff import Backoff
 from server.center import Center
 from server.db import Database, leases, live_links, machines, make_engine
 from server.db import error_models as model_repo
@@ -198,7 +199,7 @@ def cnc(name: str, ip: str, centers: list[tuple[str, int]], controller: str = "f
     m = parse_machine(description(name, controller, ip))
     runtime = MachineRuntime(m, seed=seed, fanuc=FanucConfig(max_step_counts=1000))
     return SimulatedCNC(m, centers, SECRET.encode(), runtime=runtime, cycle_s=0.02,
-                        backoff=Backoff(0.05, 2.0, 0.3))
+                        backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.3))
 
 
 def free_port() -> int:

@@ -13,15 +13,16 @@ from typing import Any
 
 import pytest
 
+from protocol.backoff import Backoff
 from server.db import maps as map_repo
-from server.mqtt import Backoff, PayloadError, parse_temperature
+from server.mqtt import PayloadError, parse_temperature
 from server.temperatures import TemperatureBoard, column_of
 from tests.support.link import DEADLINE_S, model_body, rig, simulator, until
 from tests.support.mqtt import TcpProxy, publisher
 
 pytestmark = pytest.mark.services
 
-FAST = {"backoff": Backoff(0.05, 0.2), "stale_check_s": 0.05}
+FAST = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 
 
 @pytest.mark.parametrize(("payload", "celsius", "stamp"), [

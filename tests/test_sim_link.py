@@ -12,7 +12,7 @@ import pytest
 
 from machine_sim.fanuc import FanucConfig
 from machine_sim.fleet import Fleet, generated_fleet
-from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
+from machine_sim.link import MqttTarget, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from protocol import (
     ErrorMapPayload,
@@ -31,6 +31,7 @@ from protocol import (
     encode_map,
     split_into_chunks,
 )
+from protocol.backoff import Backoff
 from tests.support.sim_link import SECRET, MiniCenter, Session
 from volumetric.model.machine import Machine, parse_machine
 
@@ -56,7 +57,7 @@ async def center() -> AsyncIterator[MiniCenter]:
 def cnc(m: Machine, port: int, secret: bytes = SECRET, **kw: object) -> SimulatedCNC:
     runtime = MachineRuntime(m, seed=1, fanuc=FanucConfig(max_step_counts=1000))
     return SimulatedCNC(m, ("127.0.0.1", port), secret, runtime=runtime, cycle_s=0.004,
-                        backoff=Backoff(0.02, 2.0, 0.1), **kw)  # type: ignore[arg-type]
+                        backoff=Backoff(initial_s=0.02, factor=2.0, cap_s=0.1), **kw)  # type: ignore[arg-type]
 
 
 def map_payload(name: str, value: float, encoding: MapEncoding, version: int = 1
@@ -152,7 +153,7 @@ async def test_wrong_secret_is_refused_and_retried_with_backoff(center: MiniCent
 
 
 def test_backoff_grows_is_capped_and_jittered() -> None:
-    b = Backoff(1.0, 2.0, 60.0, 0.5)
+    b = Backoff(initial_s=1.0, factor=2.0, cap_s=60.0, jitter=0.5)
     rng = random.Random(0)
     delays = [b.delay(n, rng) for n in range(12)]
     for n, d in enumerate(delays):

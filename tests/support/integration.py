@@ -36,9 +36,10 @@ from machine_sim.campaign import standard_campaign
 from machine_sim.effects import Effects, Noise, ThermalDrift
 from machine_sim.fanuc import FanucConfig
 from machine_sim.instruments import SimulatedMachine
-from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
+from machine_sim.link import MqttTarget, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from machine_sim.truth import random_geometry
+from protocol.backoff import Backoff
 from protocol.codes import MessageType
 from server.app import create_app
 from server.center import Center
@@ -293,7 +294,8 @@ def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
                                                thermal_records=thermal_records),
                              own_sensors=own_sensors)
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
-                        ip=ip, cycle_s=0.02, backoff=Backoff(0.05, 2.0, 0.5), mqtt=mqtt)
+                        ip=ip, cycle_s=0.02,
+                        backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.5), mqtt=mqtt)
 
 
 async def until(check: Callable[[], Awaitable[bool]] | Callable[[], bool],

@@ -12,7 +12,7 @@ from pathlib import Path
 from typing import Any
 
 from machine_sim.fanuc import FanucConfig
-from machine_sim.link import Backoff, MqttTarget, SimulatedCNC
+from machine_sim.link import MqttTarget, SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from protocol import (
     NEED_DATA,
@@ -26,6 +26,7 @@ from protocol import (
     Role,
     compute_mac,
 )
+from protocol.backoff import Backoff
 from server.center import Center
 from server.db import Database
 from server.db import error_models as model_repo
@@ -134,7 +135,8 @@ def simulator(port: int, name: str = "vmc-01", *, controller: str = "fanuc",
     runtime = MachineRuntime(m, seed=1, fanuc=FanucConfig(max_step_counts=1000,
                                                           thermal_records=thermal_records))
     return SimulatedCNC(m, ("127.0.0.1", port), secret.encode(), runtime=runtime,
-                        cycle_s=0.004, backoff=Backoff(0.05, 2.0, 0.2), mqtt=mqtt)
+                        cycle_s=0.004, backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.2),
+                        mqtt=mqtt)
 
 
 async def until(check: Callable[[], Awaitable[bool]] | Callable[[], bool],
