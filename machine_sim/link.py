@@ -65,6 +65,7 @@ from protocol import (
     compute_mac,
 )
 from protocol.backoff import Backoff
+from protocol.limits import HANDSHAKE_TIMEOUT_MS, HEARTBEAT_PERIOD_MS, MISSED_HEARTBEATS
 from volumetric.model.machine import Machine
 
 from .runtime import MachineRuntime
@@ -74,8 +75,8 @@ __all__ = ["Backoff", "LinkStats", "MqttTarget", "SimulatedCNC"]
 
 log = logging.getLogger(__name__)
 READ_BYTES = 65536
-HANDSHAKE_S = 10.0  # protocol README section 9
-DEAD_PEER_PERIODS = 3
+HANDSHAKE_S = HANDSHAKE_TIMEOUT_MS / 1000  # protocol README section 9
+DEAD_PEER_PERIODS = MISSED_HEARTBEATS
 
 
 def _is_loopback(address: str) -> bool:
@@ -175,7 +176,7 @@ class SimulatedCNC:
         self._conn: Connection | None = None
         self._writer: asyncio.StreamWriter | None = None
         self._telemetry_s = 1.0
-        self._heartbeat_s = 5.0
+        self._heartbeat_s = HEARTBEAT_PERIOD_MS / 1000  # until Welcome says
         self._welcomed_this_time = False
         self._release_pending = False
         self._stopping = False

@@ -45,6 +45,7 @@ from sqlalchemy.exc import SQLAlchemyError
 from sqlalchemy.orm import Session
 
 from protocol import ErrorCode, MapEncoding
+from protocol.limits import MAP_VERDICT_TIMEOUT_MS
 from server import mapcodec
 from server.center import Center
 from server.db import Database
@@ -66,7 +67,7 @@ THRESHOLD_K: Final = 0.05
 """A temperature change that triggers a new map: 0.05 K moves a 500 mm steel axis
 (11.5 µm/(m·K)) by 0.3 µm, about the map's own interpolation tolerance."""
 
-VERDICT_TIMEOUT_S: Final = 30.0
+VERDICT_TIMEOUT_S: Final = MAP_VERDICT_TIMEOUT_MS / 1000
 """MapAck or MapReject within 30 s of sending (protocol README §9)."""
 
 _THERMAL: Final = ("thermal_expansion", "thermal_drift")

@@ -64,6 +64,7 @@ from protocol import (
     new_nonce,
     verify_mac,
 )
+from protocol.limits import HANDSHAKE_TIMEOUT_MS, MISSED_HEARTBEATS, TELEMETRY_PERIOD_MS
 from protocol.messages import Heartbeat
 from server.center import Center
 from server.db import events as event_repo
@@ -86,15 +87,14 @@ from server.temperatures import TemperatureBoard, valid_sensor
 
 log = logging.getLogger(__name__)
 
-HANDSHAKE_S: Final = 10.0
+HANDSHAKE_S: Final = HANDSHAKE_TIMEOUT_MS / 1000
 HELLO_S: Final = 2.0
 """Accept to Hello, s. A machine sends Hello as soon as it is connected (a few ms on a
 LAN); a peer that holds a handshake slot without speaking is dropped after this."""
 MAX_HANDSHAKES_PER_ADDRESS: Final = 4
 """A machine has one address and needs one handshake at a time (two while a half-open
 old connection lingers); four leave room and stop one address from taking all slots."""
-TELEMETRY_PERIOD_MS: Final = 1000
-DEAD_AFTER_PERIODS: Final = 3
+DEAD_AFTER_PERIODS: Final = MISSED_HEARTBEATS
 MAX_HANDSHAKES: Final = 256
 """Connections allowed between accept and Welcome at once. Each handshake waits for a few
 database round trips (machine, lease, event) that the database serialises: measured ~23 ms
