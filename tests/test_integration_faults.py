@@ -103,9 +103,8 @@ async def test_wrong_secret_and_unknown_address_are_refused(tmp_path: Path) -> N
             for sim in impostors.values():
                 await until(lambda s=sim: bool(s.stats.rejects))
         # the honest machine is served all along, from its own address: never refused
-        # (under heavy load its 1.5 s dead-peer limit may make it reconnect once)
         await until(plant.applied(GANTRY.name, 1))
-        assert honest.stats.rejects == [] and honest.stats.welcomes >= 1
+        assert honest.stats.rejects == [] and honest.stats.welcomes == 1
         assert not plant.center.registry.get(VMC.name).connected
         refused = await plant.events(kind="refused")
         print("\n".join(f"\nevent: {e['machine']}: {e['detail']}" for e in refused))
