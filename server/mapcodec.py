@@ -15,7 +15,7 @@ from __future__ import annotations
 import dataclasses
 import time
 from collections.abc import Mapping
-from typing import Any, Final
+from typing import Any
 
 import numpy as np
 
@@ -230,12 +230,6 @@ def kind_of(content: MapContent) -> MapKind:
     return "tables" if isinstance(content, TablesMap) else "grid"
 
 
-CARRIES_THERMAL: Final[frozenset[MapKind]] = frozenset({"tables"})
-"""Kinds whose payload always carries the model's thermal terms: the machine applies its
-latest temperatures itself, so a temperature change needs no new map. A grid carries them
-when built for a machine that declared ``MapEncoding.THERMAL``: ask :func:`carries_thermal`."""
-
-
 def carries_thermal(map_or_payload: MapContent | bytes) -> bool:
     """Whether a map (or its encoded payload) carries the thermal terms, so that the
     machine applies its latest temperatures itself: a tables map, or a grid map with
@@ -351,7 +345,6 @@ def build_for(machine: Machine, model: MachineModel,
 
 
 __all__ = [
-    "CARRIES_THERMAL",
     "MapContent",
     "build_for",
     "carries_thermal",

@@ -105,13 +105,6 @@ def build_for(description: Mapping[str, Any], controller: str, model_body: Mappi
                               controller="fanuc" if controller == "fanuc" else "siemens")
 
 
-def payload_kind(payload: bytes) -> str:
-    """The kind of a stored payload from its format version (protocol/README.md §6): a
-    grid with thermal records (version 3) is ``grid+thermal``."""
-    version = int.from_bytes(payload[4:6], "little")
-    return {2: "tables", 3: "grid+thermal"}.get(version, "grid")
-
-
 # -- database steps (each runs in one transaction through Database.run)
 
 @dataclass(frozen=True, slots=True)
@@ -235,18 +228,13 @@ class _Target:
     failed: tuple[Any, ...] | None = None
     waiting_for: frozenset[str] = frozenset()
     resend: bool = False
-    kind: str | None = None
-    """Kind of the current map (None: not known yet); ``grid+thermal`` for a grid that
-    carries the thermal terms."""
+    thermal_in_map: bool | None = None
+    """Whether the current map carries the thermal terms (None: not known yet)."""
 
     @property
     def formats(self) -> MapEncoding | None:
         hello = self.session.hello
         return None if hello is None else hello.map_formats
-
-    @property
-    def thermal_in_map(self) -> bool:
-        return self.kind in ("tables", "grid+thermal")
 
     def poke(self, why: str, *, resend: bool = False) -> None:
         self.why.append(why)
@@ -385,9 +373,9 @@ class PushScheduler:
             return
         target.sensors = thermal_sensors(model.body)
         temps = self.temperatures.columns(target.name, sorted(target.sensors))
-        if current is not None and target.kind is None:
+        if current is not None and target.thermal_in_map is None:
             stored = await self.db.run(_payload, target.machine_id, current.version)
-            target.kind = payload_kind(stored) if stored else None
+            target.thermal_in_map = carries_thermal(stored) if stored else None
         rebuild = self._rebuild_reason(machine, model, current,
                                        {} if target.thermal_in_map else temps)
         payload: bytes | None = None
@@ -459,9 +447,9 @@ class PushScheduler:
                                    f"map build failed ({why}): {exc}")
             return None
         target.failed = None
-        target.kind = ("grid+thermal" if mapcodec.kind_of(built) == "grid"
-                       and carries_thermal(built) else mapcodec.kind_of(built))
-        log.info("%s: built %s map version %d (%s)", target.name, target.kind, row.version, why)
+        target.thermal_in_map = carries_thermal(built)
+        log.info("%s: built %s map version %d%s (%s)", target.name, mapcodec.kind_of(built),
+                 row.version, " with thermal terms" if target.thermal_in_map else "", why)
         return row, applied_id
 
     async def _deliver(self, target: _Target, version: int, payload: bytes, why: str,

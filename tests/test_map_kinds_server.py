@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from protocol.codes import MapEncoding
-from protocol.maptables import decode_payload
+from protocol.maptables import decode_payload, payload_kind
 from server.dashboard.mapgrid import MapSliceError, slice_tables
 from server.mapcodec import (
     build_for,
@@ -20,7 +20,6 @@ from server.mapcodec import (
     tables_from_payload,
     tables_to_payload,
 )
-from server.push import payload_kind
 from tests.support.kinematics import machine, random_errors, random_q
 from volumetric.compensate.maps import MapBuildError
 from volumetric.compensate.tablesmap import TablesMap, build_tables_map
@@ -49,7 +48,7 @@ def test_a_tables_map_survives_the_wire_unchanged() -> None:
     t = build_tables_map(mach, thermal_model(mach.name), tolerance_um=0.2, controller="siemens")
     data = encode(t)
     decoded = decode_payload(data)
-    assert payload_kind(data) == "tables"
+    assert payload_kind(decoded) == "tables" and carries_thermal(data)
     back = tables_from_payload(decoded, mach)  # type: ignore[arg-type]
     assert isinstance(back, TablesMap)
     q = random_q(mach, np.random.default_rng(1), 300)
