@@ -4,6 +4,7 @@ that names the file (and the line, column or entry the core names)."""
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 from ednc.cli import UserError
@@ -11,6 +12,17 @@ from volumetric.errors import ComponentErrorSpecError, MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
 from volumetric.model.machine import Machine, load_machine
 from volumetric.model.model import MachineModel
+
+
+def parse_number(text: str, where: str) -> float:
+    """A finite number from a cell or an option; ``where`` names it in the error."""
+    try:
+        v = float(text)
+    except ValueError:
+        raise UserError(f"{where}: {text.strip()!r} is not a number") from None
+    if not math.isfinite(v):
+        raise UserError(f"{where}: must be finite")
+    return v
 
 
 def read_machine(path: Path) -> Machine:

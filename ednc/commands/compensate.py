@@ -17,7 +17,7 @@ import typer
 from numpy.typing import NDArray
 
 from ednc.cli import UserError
-from ednc.inputs import read_machine, read_model
+from ednc.inputs import parse_number, read_machine, read_model
 from volumetric.compensate.solver import Compensation, CompensationError, Weights, compensate
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.components import GeometricErrors
@@ -88,7 +88,7 @@ def parse_point(text: str, machine: Machine) -> F64:
                                 f"{machine.name!r} has axes {' '.join(keys)}")
             if k in row:
                 raise UserError(f"--point {text!r}: axis {k} given twice")
-            row[k] = _number(v, f"--point {text!r}: axis {k}")
+            row[k] = parse_number(v, f"--point {text!r}: axis {k}")
         missing = [k for k in keys if k not in row]
         if missing:
             raise UserError(f"--point {text!r}: no value for axes {' '.join(missing)}")
@@ -96,18 +96,8 @@ def parse_point(text: str, machine: Machine) -> F64:
     if len(parts) != len(keys):
         raise UserError(f"--point {text!r}: expected {len(keys)} values for axes "
                         f"{' '.join(keys)}, got {len(parts)}")
-    return np.array([_number(v, f"--point {text!r}: value {i + 1}")
+    return np.array([parse_number(v, f"--point {text!r}: value {i + 1}")
                      for i, v in enumerate(parts)])
-
-
-def _number(text: str, where: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise UserError(f"{where}: {text.strip()!r} is not a number") from None
-    if not math.isfinite(v):
-        raise UserError(f"{where}: must be finite")
-    return v
 
 
 def read_points(path: Path, machine: Machine) -> F64:
@@ -138,7 +128,7 @@ def read_points(path: Path, machine: Machine) -> F64:
         if len(row) < len(header):
             raise UserError(f"{path}: line {line} has {len(row)} cells, the header "
                             f"{len(header)}")
-        out.append([_number(row[j], f"{path}: line {line}, column {header[j]}") for j in cols])
+        out.append([parse_number(row[j], f"{path}: line {line}, column {header[j]}") for j in cols])
     if not out:
         raise UserError(f"{path}: no points after the header")
     return np.array(out)

@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import csv
 import json
-import math
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -22,6 +21,7 @@ from numpy.typing import NDArray
 
 from ednc.cli import UserError
 from ednc.commands.compensate import parse_temperatures
+from ednc.inputs import parse_number
 from machine_sim.chaineval import StructureError, sensor_key
 from machine_sim.lookup import GridMap, TablesMap
 from protocol.mapformat import ErrorMapPayload, MapFormatError
@@ -60,16 +60,6 @@ def _unit(axis: str) -> str:
     return "deg" if axis[0] in "ABC" else "mm"
 
 
-def _number(text: str, where: str) -> float:
-    try:
-        v = float(text)
-    except ValueError:
-        raise UserError(f"{where}: {text.strip()!r} is not a number") from None
-    if not math.isfinite(v):
-        raise UserError(f"{where}: must be finite")
-    return v
-
-
 def read_points(path: Path, axes: list[str], needed: list[str]) -> tuple[F64, list[str]]:
     """Points (N, len(axes)) from a CSV whose header names the axes (``x`` or ``x_mm``,
     ``c`` or ``c_deg``); an axis the evaluation does not need may be missing (0). Returns
@@ -100,7 +90,7 @@ def read_points(path: Path, axes: list[str], needed: list[str]) -> tuple[F64, li
         if len(row) < len(header):
             raise UserError(f"{path}: line {line} has {len(row)} cells, the header "
                             f"{len(header)}")
-        out.append([_number(row[cols[a]], f"{path}: line {line}, column {header[cols[a]]}")
+        out.append([parse_number(row[cols[a]], f"{path}: line {line}, column {header[cols[a]]}")
                     if a in cols else 0.0 for a in axes])
     if not out:
         raise UserError(f"{path}: no points after the header")
