@@ -94,10 +94,12 @@ def test_grid_map_corrections_interpolate_its_nodes(tmp_path: Path) -> None:
     assert r.returncode == 0, r.stderr
     hot = [[pt["correction"][k] for k in ("x", "y", "z")] for pt in json.loads(r.stdout)[
         "points"]]
-    # x: -11.5 µm/(m·K) · 10 K · x; z: +2 µm/K · 5 K
-    np.testing.assert_allclose(np.subtract(hot, corr),
-                               [[-1.15e-4 * 50, 0.0, 0.01], [-1.15e-4 * 200, 0.0, 0.01]],
+    # x: -11.5 µm/(m·K) · 10 K · x; z: +2 µm/K · 5 K; then, as the ladder writes the
+    # EMZPS, whole increments of 0.001 mm (0.16925 mm -> 0.169)
+    thermal = [[-1.15e-4 * 50, 0.0, 0.01], [-1.15e-4 * 200, 0.0, 0.01]]
+    np.testing.assert_allclose(hot, np.rint(np.add(corr, thermal) / 0.001) * 0.001,
                                atol=1e-12)
+    assert hot[0][0] == pytest.approx(0.169, abs=1e-12)
 
 
 @pytest.mark.parametrize(("map_bytes", "csv", "message"), [

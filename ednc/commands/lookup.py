@@ -24,6 +24,7 @@ from ednc.commands.compensate import parse_temperatures
 from ednc.inputs import parse_number
 from machine_sim.chaineval import StructureError, sensor_key
 from machine_sim.lookup import GridMap, TablesMap
+from protocol.codes import MapEncoding
 from protocol.mapformat import ErrorMapPayload, MapFormatError
 from protocol.maptables import TablesPayload, decode_payload
 
@@ -115,6 +116,10 @@ def evaluate(p: ErrorMapPayload | TablesPayload, q: F64, axes: list[str],
     else:
         g = GridMap.from_payload(p, temperatures)
         values = g.lookup(q[:, [axes.index(a) for a in g.inputs]])
+        if p.encoding is MapEncoding.INT32_INCREMENTS:
+            # the ladder writes whole increments to the EMZPS (machine_sim/fanuc.py); the
+            # tables evaluation rounds to its encoding itself
+            values = np.rint(values / p.increment_mm) * p.increment_mm
     outputs = [o.name.upper() for o in p.outputs]
     for k, name in enumerate(outputs):
         out[:, axes.index(name)] = values[:, k]
