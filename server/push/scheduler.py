@@ -40,26 +40,21 @@ from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Any, Final
 
-from sqlalchemy import event
 from sqlalchemy.exc import SQLAlchemyError
-from sqlalchemy.orm import Session
 
 from protocol import ErrorCode, MapEncoding
 from protocol.limits import MAP_VERDICT_TIMEOUT_MS
 from server import mapcodec
 from server.center import Center
-from server.db import Database
-from server.db import error_models as model_repo
-from server.db import events as event_repo
-from server.db import maps as map_repo
 from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.link.session import LinkClosed, MachineSession
-from server.mapcodec import MapContent, carries_thermal
+from server.mapcodec import carries_thermal
+from server.push import steps
+from server.push.adapter import build_for, thermal_sensors
+from server.push.watcher import CommitWatcher
 from server.temperatures import TemperatureBoard
-from volumetric.model.machine import parse_machine
-from volumetric.model.model import MachineModel
 
 log = logging.getLogger(__name__)
 
@@ -69,146 +64,6 @@ THRESHOLD_K: Final = 0.05
 
 VERDICT_TIMEOUT_S: Final = MAP_VERDICT_TIMEOUT_MS / 1000
 """MapAck or MapReject within 30 s of sending (protocol README §9)."""
-
-_THERMAL: Final = ("thermal_expansion", "thermal_drift")
-
-
-def thermal_sensors(body: Mapping[str, Any]) -> frozenset[str]:
-    """The temperature columns a model's thermal terms use (``MachineModel.sensors``,
-    read from its JSON without building the model)."""
-    terms = body.get("terms") or []
-    return frozenset(str(t["sensor"]) for t in terms
-                     if isinstance(t, Mapping) and t.get("effect") in _THERMAL
-                     and "sensor" in t)
-
-
-def build_for(description: Mapping[str, Any], controller: str, model_body: Mapping[str, Any],
-              temperatures: Mapping[str, float], tolerance_um: float,
-              formats: MapEncoding | None = None) -> MapContent:
-    """Build a machine's map (synchronous, seconds at most: run it off the loop).
-
-    Raises
-    ------
-    ValueError
-        The description, the model or the build is refused (MapBuildError is one); the
-        text is the core's.
-    """
-    machine = parse_machine(description)
-    try:
-        model = MachineModel.from_json(model_body)
-    except (TypeError, KeyError) as exc:
-        raise ValueError(f"stored model cannot be read: {exc}") from None
-    # the smallest kind the machine takes; a grid alone is built at the tightest tolerance
-    # that fits the map memory (five-axis grids can need a coarser one)
-    return mapcodec.build_for(machine, model, dict(temperatures), formats=formats,
-                              tolerance_um=tolerance_um, max_tolerance_um=4.0,
-                              controller="fanuc" if controller == "fanuc" else "siemens")
-
-
-# -- database steps (each runs in one transaction through Database.run)
-
-@dataclass(frozen=True, slots=True)
-class _Inputs:
-    machine: MachineRow | None
-    model: ModelRow | None
-    map: MapVersionRow | None
-
-
-def _load_inputs(session: Session, machine_id: int) -> _Inputs:
-    machine = session.get(MachineRow, machine_id)
-    if machine is None:
-        return _Inputs(None, None, None)
-    return _Inputs(machine, model_repo.get_model(session, machine_id),
-                   map_repo.get_map_version(session, machine_id, with_payload=False))
-
-
-def _store_map(session: Session, machine_id: int, built: MapContent, model_version: int,
-               temperatures: dict[str, float]) -> MapVersionRow:
-    # above every version a machine of this name ever received: registered again, it still
-    # holds its last map and would reject a lower version (STALE_VERSION)
-    version = map_repo.next_map_version(session, machine_id)
-    payload = mapcodec.encode(mapcodec.with_version(built, version))
-    row = map_repo.add_map_version(session, machine_id, payload=payload,
-                                   model_version=model_version, temperatures=temperatures)
-    if row.version != version:  # cannot happen in one transaction; the payload says `version`
-        raise RuntimeError(f"map version {row.version} stored for a payload of {version}")
-    return row
-
-
-def _payload(session: Session, machine_id: int, version: int) -> bytes | None:
-    row = map_repo.get_map_version(session, machine_id, version)
-    return None if row is None else row.payload
-
-
-def _detail(version: int, size: int, why: str) -> str:
-    return f"map version {version} ({size} bytes): {why}"
-
-
-def _store_and_send(session: Session, machine_id: int, name: str, built: MapContent,
-                    model_version: int, temperatures: dict[str, float],
-                    why: str) -> tuple[MapVersionRow, int]:
-    """Store a new map and note its delivery in one transaction (one commit saved on the
-    way from a temperature change to the machine)."""
-    row = _store_map(session, machine_id, built, model_version, temperatures)
-    detail = _detail(row.version, row.size_bytes, why)
-    return row, _sent(session, machine_id, name, row.version, detail)
-
-
-def _sent(session: Session, machine_id: int, name: str, version: int, detail: str) -> int:
-    row = map_repo.record_sent(session, machine_id, version)
-    if row is None:
-        raise RuntimeError(f"{name} has no map version {version}")
-    event_repo.add_event(session, kind=EventKind.PUSHED.value, machine=name, detail=detail)
-    return row.id
-
-
-def _answered(session: Session, applied_id: int, name: str, kind: EventKind, *,
-              acked: bool, reason: str | None, detail: str) -> None:
-    map_repo.record_answer(session, applied_id, acked=acked, reject_reason=reason)
-    event_repo.add_event(session, kind=kind.value, machine=name, detail=detail)
-
-
-# -- the model-change hook
-
-class CommitWatcher:
-    """Calls ``callback(machine_ids)`` in the event loop after a transaction on ``db``
-    commits new ``models`` rows or changed ``machines`` rows."""
-
-    _KEY: Final = "ednc.push.changed"
-
-    def __init__(self, db: Database, loop: asyncio.AbstractEventLoop,
-                 callback: Callable[[set[int]], None]) -> None:
-        self.engine = db.engine
-        self.loop = loop
-        self.callback = callback
-
-    def _after_flush(self, session: Session, _context: Any) -> None:
-        if session.bind is not self.engine:
-            return
-        ids: set[int] = session.info.setdefault(self._KEY, set())
-        ids.update(o.machine_id for o in session.new if isinstance(o, ModelRow))
-        ids.update(o.id for o in session.dirty if isinstance(o, MachineRow))
-
-    def _after_commit(self, session: Session) -> None:
-        ids = session.info.pop(self._KEY, None)
-        if ids:
-            with contextlib.suppress(RuntimeError):  # loop closed: nobody to tell
-                self.loop.call_soon_threadsafe(self.callback, set(ids))
-
-    def _after_rollback(self, session: Session) -> None:
-        session.info.pop(self._KEY, None)
-
-    def __enter__(self) -> CommitWatcher:
-        event.listen(Session, "after_flush", self._after_flush)
-        event.listen(Session, "after_commit", self._after_commit)
-        event.listen(Session, "after_rollback", self._after_rollback)
-        return self
-
-    def __exit__(self, *_: object) -> None:
-        event.remove(Session, "after_flush", self._after_flush)
-        event.remove(Session, "after_commit", self._after_commit)
-        event.remove(Session, "after_rollback", self._after_rollback)
-
 
 # -- the scheduler
 
@@ -362,7 +217,7 @@ class PushScheduler:
 
     async def _refresh(self, target: _Target, *, send_anyway: bool, periodic: bool,
                        why: str) -> None:
-        inputs = await self.db.run(_load_inputs, target.machine_id)
+        inputs = await self.db.run(steps.load_inputs, target.machine_id)
         machine, model, current = inputs.machine, inputs.model, inputs.map
         if machine is None:
             target.session.abort(ErrorCode.SHUTDOWN, "the machine is no longer registered")
@@ -374,7 +229,7 @@ class PushScheduler:
         target.sensors = thermal_sensors(model.body)
         temps = self.temperatures.columns(target.name, sorted(target.sensors))
         if current is not None and target.thermal_in_map is None:
-            stored = await self.db.run(_payload, target.machine_id, current.version)
+            stored = await self.db.run(steps.stored_payload, target.machine_id, current.version)
             target.thermal_in_map = carries_thermal(stored) if stored else None
         rebuild = self._rebuild_reason(machine, model, current,
                                        {} if target.thermal_in_map else temps)
@@ -408,7 +263,7 @@ class PushScheduler:
         if not (send_anyway or fresh or resend):
             return
         if payload is None:
-            payload = await self.db.run(_payload, target.machine_id, current.version)
+            payload = await self.db.run(steps.stored_payload, target.machine_id, current.version)
             if payload is None:
                 return
         await self._deliver(target, current.version, payload,
@@ -439,8 +294,8 @@ class PushScheduler:
             built = await loop.run_in_executor(
                 self._pool, build_for, machine.description, machine.controller, model.body,
                 temps, self.tolerance_um, target.formats)
-            row, applied_id = await self.db.run(_store_and_send, target.machine_id, target.name,
-                                                built, model.version, temps, why)
+            row, applied_id = await self.db.run(steps.store_and_send, target.machine_id,
+                                                target.name, built, model.version, temps, why)
         except (ValueError, ArithmeticError) as exc:
             target.failed = signature
             await self.feed.record(EventKind.ERROR, target.name,
@@ -457,9 +312,10 @@ class PushScheduler:
         """Send a map and record the answer; ``applied_id``: its delivery row, if the
         build already wrote it."""
         name = target.name
-        detail = _detail(version, len(payload), why)
+        detail = steps.detail_of(version, len(payload), why)
         if applied_id is None:
-            applied_id = await self.db.run(_sent, target.machine_id, name, version, detail)
+            applied_id = await self.db.run(steps.record_sent, target.machine_id, name, version,
+                                           detail)
         self.center.metrics.events.labels(kind=EventKind.PUSHED.value).inc()
         self.feed.publish(Notice(EventKind.PUSHED, name, detail, version))
         try:
@@ -514,8 +370,8 @@ class PushScheduler:
         """Store the machine's answer; a machine deleted meanwhile (its delivery rows went
         with it) is logged, not fatal: the next refresh closes its session."""
         try:
-            await self.db.run(_answered, applied_id, name, kind, acked=acked, reason=reason,
-                              detail=detail)
+            await self.db.run(steps.record_answer, applied_id, name, kind, acked=acked,
+                              reason=reason, detail=detail)
         except SQLAlchemyError as exc:
             log.warning("%s: answer to delivery %d not stored: %s", name, applied_id,
                         str(exc).splitlines()[0])
@@ -530,7 +386,4 @@ class PushScheduler:
         return iter(list(self._targets))
 
 
-__all__ = ["THRESHOLD_K", "CommitWatcher", "Delivery", "PushScheduler", "build_for",
-           "thermal_sensors"]
-
-
+__all__ = ["THRESHOLD_K", "Delivery", "PushScheduler"]
