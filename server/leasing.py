@@ -21,7 +21,6 @@ renewal and the other nodes then accept its machines.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -30,6 +29,7 @@ from typing import Final
 
 from sqlalchemy.exc import SQLAlchemyError
 
+from server.background import Background, every
 from server.center import Center
 from server.db import leases as lease_repo
 
@@ -73,20 +73,16 @@ class LeaseKeeper:
         self.ttl_s = ttl_s if ttl_s is not None else center.settings.lease_ttl_s
         self.renew_s = self.ttl_s / RENEWALS_PER_TTL
         self._held: dict[int, _Holding] = {}
-        self._renewer: asyncio.Task[None] | None = None
+        self._background = Background()
         self._releases: set[asyncio.Task[None]] = set()
 
     async def __aenter__(self) -> LeaseKeeper:
-        self._renewer = asyncio.create_task(self._renew_loop(), name="leases:renew")
+        self._background.start(every(self.renew_s, self.renew_once), "leases:renew")
         return self
 
     async def __aexit__(self, exc_type: type[BaseException] | None,
                         exc: BaseException | None, tb: TracebackType | None) -> None:
-        renewer, self._renewer = self._renewer, None
-        if renewer is not None:
-            renewer.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await renewer
+        await self._background.stop()
         if self._releases:
             await asyncio.gather(*self._releases, return_exceptions=True)
         self._held.clear()
@@ -168,11 +164,6 @@ class LeaseKeeper:
         return {mid: h.name for mid, h in self._held.items()}
 
     # -- renewal
-    async def _renew_loop(self) -> None:
-        while True:
-            await asyncio.sleep(self.renew_s)
-            await self.renew_once()
-
     async def renew_once(self) -> None:
         """Renew every held lease now; end the sessions whose lease is gone."""
         loop = asyncio.get_running_loop()

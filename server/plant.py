@@ -17,8 +17,6 @@ shows whichever of the local and stored links was seen last.
 
 from __future__ import annotations
 
-import asyncio
-import contextlib
 import logging
 from collections.abc import Mapping
 from dataclasses import replace
@@ -27,6 +25,7 @@ from typing import Any
 
 from sqlalchemy.exc import SQLAlchemyError
 
+from server.background import Background, every
 from server.center import Center
 from server.db import live_links as live_repo
 from server.db.live_links import LiveLink
@@ -63,25 +62,16 @@ class LinkPublisher:
         self.center = center
         self.period_s = period_s
         self._written: dict[str, LinkState] = {}
-        self._task: asyncio.Task[None] | None = None
+        self._background = Background()
 
     async def __aenter__(self) -> LinkPublisher:
-        self._task = asyncio.create_task(self._loop(), name="live-links:publish")
+        self._background.start(every(self.period_s, self.flush), "live-links:publish")
         return self
 
     async def __aexit__(self, exc_type: type[BaseException] | None,
                         exc: BaseException | None, tb: TracebackType | None) -> None:
-        task, self._task = self._task, None
-        if task is not None:
-            task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await task
+        await self._background.stop()
         await self.flush()
-
-    async def _loop(self) -> None:
-        while True:
-            await asyncio.sleep(self.period_s)
-            await self.flush()
 
     async def flush(self) -> int:
         """Write the links that changed since the last write; returns how many."""
