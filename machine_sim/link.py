@@ -32,7 +32,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from types import TracebackType
-from typing import Any, cast
+from typing import cast
 
 from protocol import (
     CONNECTION_CLOSED,
@@ -52,6 +52,7 @@ from protocol import (
     MapBegin,
     MapChunk,
     MapEnd,
+    Message,
     ProtocolError,
     Reject,
     ReleaseCompensation,
@@ -265,7 +266,7 @@ class SimulatedCNC:
             with contextlib.suppress(OSError, ConnectionError):
                 await w.wait_closed()
 
-    async def _send(self, msg: Any) -> None:
+    async def _send(self, msg: Message) -> None:
         conn, w = self._conn, self._writer
         if conn is None or w is None:
             return
@@ -342,7 +343,9 @@ class SimulatedCNC:
                 raise _Closed("the center closed the connection")
             await self._dispatch(event)
 
-    async def _dispatch(self, msg: Any) -> None:
+    async def _dispatch(self, msg: Message) -> None:
+        """Act on one message from the center; every message type is a case (mypy checks
+        the names and fields the cases bind)."""
         ctl = self.runtime.controller
         match msg:
             case Challenge(nonce=nonce):
