@@ -2,7 +2,7 @@
 
     .venv/bin/python benchmarks/fleet_scan.py [--machines 1000] [--seconds 10] [--scan-ms 8]
     .venv/bin/python benchmarks/fleet_scan.py --mode tables [--scan-ms 4]
-        [--chain "w C A X Y b Z t"] [--plc-every 1] [--cold]
+        [--mix "w X Y b Z t=0.5,w C A X Y b Z t=0.5"] [--plc-every 1] [--cold] [--no-compare]
 
 ``grid`` (default): 1,000 Fanuc-style machines, each with its own error map (3-D grid,
 11 x 7 x 7 nodes, 3 outputs, random origins and spacings); each scan looks every map up
@@ -11,17 +11,22 @@ clamp, step limit).
 
 ``tables``: Siemens-style machines, each with its own tables map (format version 2): per
 axis six ISO 230-1 component tables of 33 points over its travel, the location errors,
-orientation weighed on a 5-axis chain; all machines share one chain, so one
-:class:`machine_sim.chaineval.ChainBatch` call per cycle evaluates the whole fleet: table
-lookups, the exact chain, the weighted least-squares solve refined at q + dq, clamp and
-float32 rounding. Each machine starts its refinement from its previous cycle's correction
-(as its PLC would; ``--cold`` starts from zero). ``--plc-every n`` runs each machine's
-lookup every n-th cycle in n staggered groups (Siemens' PLC-to-IPO ratio).
+orientation weighed on a 5-axis chain. The fleet is a mix of chains (``--mix``: chain and
+share, comma separated; ``--chain`` is a mix of one); machines of one chain structure
+share one :class:`machine_sim.chaineval.ChainBatch`, so a cycle is one call per chain:
+table lookups, the exact chain, the weighted least-squares solve refined at q + dq, clamp
+and float32 rounding. Each machine starts its refinement from its previous cycle's
+correction (as its PLC would; ``--cold`` starts from zero). ``--plc-every n`` runs each
+machine's lookup every n-th cycle in n staggered groups (Siemens' PLC-to-IPO ratio).
 
 Every machine moves along its own path. A cycle is *missed* when it finishes after the end
 of its slot (an overrun, whether from its own work or a late wake-up), and every slot that
-began and ended meanwhile is missed too. Prints the cycle compute time (mean, p99, max) and
-the share of missed cycles; the target is below 1 %.
+began and ended meanwhile is missed too. Prints the cycle's compute time (wall: mean, p99,
+max), its CPU time (this thread's: mean, p99; the wall time minus what other processes
+took from us), and the share of missed cycles; the target is below 1 %. In tables mode
+the same cycles are then run, not against the clock, with the straightforward evaluation
+(:meth:`~machine_sim.chaineval.ChainBatch.corrections_reference`, rows first) for the
+ratio in the same run (``--no-compare`` skips it).
 """
 
 from __future__ import annotations
@@ -91,25 +96,85 @@ def tables_map(name: str, chain: str, rng: np.random.Generator) -> TablesPayload
                          tuple(locations), limit_mm=0.5, limit_deg=0.5)
 
 
+def parse_mix(text: str, machines: int) -> list[tuple[str, int]]:
+    """``"CHAIN=SHARE,CHAIN=SHARE"`` (a bare chain: share 1) → machines per chain."""
+    parts = []
+    for item in text.split(","):
+        chain, _, share = item.partition("=")
+        parts.append((chain.strip(), float(share) if share.strip() else 1.0))
+    total = sum(w for _, w in parts)
+    if not parts or total <= 0 or any(w < 0 for _, w in parts):
+        raise SystemExit(f"--mix {text!r}: give CHAIN=SHARE items with shares >= 0")
+    counts = [round(machines * w / total) for _, w in parts]
+    counts[-1] = machines - sum(counts[:-1])
+    return [(c, n) for (c, _), n in zip(parts, counts, strict=True) if n > 0]
+
+
 def tables_cycle(args: argparse.Namespace, rng: np.random.Generator
-                 ) -> tuple[Callable[[int, F64], None], F64, F64]:
-    maps = [tables_map(f"m{i:04d}", args.chain, rng) for i in range(args.machines)]
-    batch = ChainBatch(maps)
-    lo = np.array([a.travel[0] for a in maps[0].axes])
-    hi = np.array([a.travel[1] for a in maps[0].axes])
-    last = np.zeros((len(maps), len(batch.outputs)))
-    groups = [np.arange(g, len(maps), args.plc_every) for g in range(args.plc_every)]
+                 ) -> tuple[Callable[[int, F64, bool], None], F64, F64, str]:
+    """The fleet's cycle ``cycle(k, q, reference)``, the travel centre and half-range of
+    each machine (M, A_max) and a description of the mix."""
+    mix = parse_mix(args.mix or args.chain, args.machines)
+    batches: list[tuple[ChainBatch, NDArray[np.int64], list[NDArray[np.int64]]]] = []
+    width = max(len(c.split()) - 3 for c, _ in mix)
+    lo = np.zeros((args.machines, width))
+    hi = np.ones((args.machines, width))
+    first = 0
+    for chain, n in mix:
+        maps = [tables_map(f"m{first + i:04d}", chain, rng) for i in range(n)]
+        batch = ChainBatch(maps)
+        rows = np.arange(first, first + n)
+        a = len(batch.axes)
+        lo[rows, :a] = [x.travel[0] for x in maps[0].axes]
+        hi[rows, :a] = [x.travel[1] for x in maps[0].axes]
+        groups = [np.arange(g, n, args.plc_every) for g in range(args.plc_every)]
+        batches.append((batch, rows, groups))
+        first += n
+    last = [np.zeros((len(b), len(b.outputs))) for b, _, _ in batches]
 
-    def cycle(k: int, q: F64) -> None:
-        idx = groups[k % len(groups)]
-        start = None if args.cold or k < len(groups) else last[idx]
-        steps = 6 if start is None else args.steps
-        c = batch.corrections(idx, q[idx], start, steps)
-        last[idx] = c
-        batch.finish(idx, c)
+    def cycle(k: int, q: F64, reference: bool = False) -> None:
+        for (batch, rows, groups), prev in zip(batches, last, strict=True):
+            idx = groups[k % len(groups)]
+            start = None if args.cold or k < len(groups) else prev[idx]
+            steps = 6 if start is None else args.steps
+            qi = q[rows[idx], :len(batch.axes)]
+            solve = batch.corrections_reference if reference else batch.corrections
+            c = solve(idx, qi, start, steps)
+            prev[idx] = c
+            batch.finish(idx, c)
 
-    centre = 0.5 * (lo + hi)
-    return cycle, centre, 0.45 * (hi - lo)
+    what = ", ".join(f"{n} x {c!r}" for c, n in mix)
+    return cycle, 0.5 * (lo + hi), 0.45 * (hi - lo), what
+
+
+def run_clock(run: Callable[[int, F64], None], centre: F64, amp: F64, freq: F64,
+              period: float, scans: int) -> tuple[F64, F64, int, float]:
+    """Cycles against the clock: compute wall and CPU times (ms), missed slots, wall s."""
+    compute: list[float] = []
+    cpu: list[float] = []
+    missed = 0
+    t0 = time.perf_counter()
+    k = 0
+    while k < scans:
+        slot = t0 + k * period
+        pause = slot - time.perf_counter()
+        if pause > 0:
+            time.sleep(pause)
+        start = time.perf_counter()
+        c0 = time.thread_time()
+        q = centre + amp * np.sin(2 * np.pi * freq * (k * period))
+        run(k, q)
+        cpu.append(time.thread_time() - c0)
+        done = time.perf_counter()
+        compute.append(done - start)
+        if done > slot + period:  # this cycle overran its slot
+            missed += 1
+        # slots that began and ended while this one ran are lost as well
+        lost = min(max(int((done - t0) / period) - (k + 1), 0), scans - k - 1)
+        missed += lost
+        k += 1 + lost
+    return (np.array(compute) * 1e3, np.array(cpu) * 1e3, missed,
+            time.perf_counter() - t0)
 
 
 def main() -> None:
@@ -119,63 +184,77 @@ def main() -> None:
     ap.add_argument("--seconds", type=float, default=10.0)
     ap.add_argument("--scan-ms", type=float, default=None,
                     help="cycle period; 8 ms (grid) or 4 ms (tables) by default")
-    ap.add_argument("--chain", default="w C A X Y b Z t", help="tables mode: the chain")
+    ap.add_argument("--chain", default="w C A X Y b Z t",
+                    help="tables mode: one chain for the whole fleet (see --mix)")
+    ap.add_argument("--mix", default=None,
+                    help='tables mode: chains and shares, "w X Y b Z t=0.5,w C A X Y b Z t=0.5"')
     ap.add_argument("--plc-every", type=int, default=1, help="tables mode: PLC/IPO ratio")
     ap.add_argument("--cold", action="store_true", help="tables mode: no warm start")
     ap.add_argument("--steps", type=int, default=1,
                     help="tables mode: refinement steps per cycle from the previous one")
+    ap.add_argument("--no-compare", action="store_true",
+                    help="tables mode: skip the straightforward evaluation's figure")
+    ap.add_argument("--compare-cycles", type=int, default=200,
+                    help="tables mode: cycles of the straightforward evaluation")
     args = ap.parse_args()
     scan_ms = args.scan_ms or (8.0 if args.mode == "grid" else 4.0)
     rng = np.random.default_rng(0)
     m = args.machines
     run: Callable[[int, F64], None]
+    reference: Callable[[int, F64], None] | None = None
     if args.mode == "grid":
         ladder = FleetLadder(fleet_maps(m, rng))
         centre = np.column_stack([rng.uniform(100, 400, m), rng.uniform(50, 250, m),
                                   rng.uniform(-250, -50, m)])
         amp = rng.uniform(10, 100, (m, 3))
+        what = "grid maps, Fanuc ladder"
 
         def run(k: int, q: F64) -> None:  # k unused: one signature for both modes
             ladder.scan(q)
     else:
-        run, mid, half = tables_cycle(args, rng)
-        centre = np.broadcast_to(mid, (m, mid.size)).copy()
-        amp = half * rng.uniform(0.2, 1.0, (m, mid.size))
+        cycle, centre, half, mix = tables_cycle(args, rng)
+        amp = half * rng.uniform(0.2, 1.0, half.shape)
+        what = (f"tables maps: {mix}; PLC every {args.plc_every} cycle(s), "
+                f"{'cold' if args.cold else 'warm'} start")
+
+        def run(k: int, q: F64) -> None:
+            cycle(k, q, False)
+
+        if not args.no_compare:
+            def reference(k: int, q: F64) -> None:
+                cycle(k, q, True)
     freq = rng.uniform(0.05, 0.5, amp.shape)
     period = scan_ms / 1000.0
     scans = int(args.seconds / period)
-    compute: list[float] = []
-    missed = 0
     run(0, centre)  # warm-up: first-call allocations are not a cycle
-    t0 = time.perf_counter()
-    k = 0
-    while k < scans:
-        slot = t0 + k * period
-        pause = slot - time.perf_counter()
-        if pause > 0:
-            time.sleep(pause)
-        start = time.perf_counter()
-        q = centre + amp * np.sin(2 * np.pi * freq * (k * period))
-        run(k, q)
-        done = time.perf_counter()
-        compute.append(done - start)
-        if done > slot + period:  # this cycle overran its slot
-            missed += 1
-        # slots that began and ended while this one ran are lost as well
-        lost = max(int((done - t0) / period) - (k + 1), 0)
-        missed += lost
-        k += 1 + lost
-    wall = time.perf_counter() - t0
-    ms = np.array(compute) * 1000.0
-    what = (f"tables maps, chain {args.chain!r}, PLC every {args.plc_every} cycle(s), "
-            f"{'cold' if args.cold else 'warm'} start" if args.mode == "tables"
-            else "grid maps, Fanuc ladder")
-    print(f"machines: {m} ({what}), cycle: {scan_ms:g} ms, cycles: {scans}, "
-          f"wall: {wall:.2f} s")
-    print(f"cycle compute: mean {ms.mean():.3f} ms, p99 {np.percentile(ms, 99):.3f} ms, "
+    ms, cpu, missed, wall = run_clock(run, centre, amp, freq, period, scans)
+    print(f"machines: {m} ({what})")
+    print(f"cycle: {scan_ms:g} ms, cycles: {scans}, wall: {wall:.2f} s")
+    print(f"cycle compute (wall): mean {ms.mean():.3f} ms, p99 {np.percentile(ms, 99):.3f} ms, "
           f"max {ms.max():.3f} ms ({ms.mean() / scan_ms * 100:.1f} % of the period)")
+    print(f"cycle CPU: mean {cpu.mean():.3f} ms, p99 {np.percentile(cpu, 99):.3f} ms")
     print(f"missed cycles: {missed} of {scans} slots "
           f"({missed / scans * 100:.2f} %, target < 1 %)")
+    if reference is not None:
+        # the same cycles with the straightforward evaluation, back to back (not against
+        # the clock: it cannot keep it), for the ratio measured under the same load
+        n = args.compare_cycles
+        old = np.zeros(n)
+        new = np.zeros(n)
+        for k in range(n):
+            q = centre + amp * np.sin(2 * np.pi * freq * (k * period))
+            c0 = time.thread_time()
+            reference(k, q)
+            old[k] = time.thread_time() - c0
+            c0 = time.thread_time()
+            run(k, q)
+            new[k] = time.thread_time() - c0
+        old *= 1e3
+        new *= 1e3
+        print(f"straightforward evaluation (rows first), {n} cycles interleaved with the "
+              f"fleet cycle's: CPU mean {old.mean():.3f} ms, p99 "
+              f"{np.percentile(old, 99):.3f} ms; fleet cycle mean {new.mean():.3f} ms, p99 "
+              f"{np.percentile(new, 99):.3f} ms ({old.mean() / new.mean():.1f}x)")
 
 
 if __name__ == "__main__":
