@@ -29,7 +29,7 @@ The matrix is in the readings' units: µm per µm or µrad of a parameter.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -215,6 +215,60 @@ def fourier_basis(q: F64, degrees: range) -> F64:
     return np.column_stack(cols) if cols else np.zeros((q.shape[0], 0))
 
 
+def _branch_params(machine: Machine, branch: str, *, degrees: Mapping[str, int] | None,
+                   offsets: bool, fourier: FourierChoice) -> list[Param]:
+    """The parameters the readings of one tool branch observe, in design order.
+
+    The layout depends on the machine alone, so it is read from the sensitivities at one
+    dummy position (their names and columns, not their values).
+    """
+    q = np.zeros((1, len(machine.axes)))
+    out: list[Param] = []
+    for s in sensitivities(machine, q, spindle=branch, tool_mm=np.zeros(1)):
+        if s.column is None:
+            out += [Param(name, name, -1, "urad" if name[1] in "ABC" else "um")
+                    for name in s.names]
+            continue
+        axis = machine.axes[s.column]
+        for j, name in enumerate(s.names):
+            direction = DIRECTIONS[j]
+            lo = min_degree(machine, axis, direction)
+            hi = max_degree(axis, direction, fourier)
+            if degrees is not None:
+                hi = min(hi, degrees.get(name, hi))
+            unit = "urad" if direction in "ABC" else "um"
+            kind = "fourier" if uses_fourier(axis, fourier) else "legendre"
+            out += [Param(f"{name}[{k}]", name, k, unit, kind) for k in range(lo, hi + 1)]
+    if offsets:
+        for c in "XYZ":
+            name = "OFFSET_" + c if len(machine.branches) == 1 else f"OFFSET_{c}_{branch}"
+            out.append(Param(name, "OFFSET", -1, "um"))
+    return out
+
+
+def design_params(
+    machine: Machine,
+    *,
+    degrees: Mapping[str, int] | None = None,
+    offsets: bool = True,
+    fourier: FourierChoice = True,
+    branches: Sequence[str] | None = None,
+) -> list[Param]:
+    """The columns of :func:`build_design`, in its order, for readings of ``branches``
+    (tool branch names; all of the machine's by default).
+
+    A parameter shared by several branches (a component of the common chain) appears once,
+    where its first branch puts it. Fixing the layout first lets a design be built block
+    by block (:func:`build_design` with ``params``) with the same columns in every block.
+    """
+    names = [b.name for b in machine.branches] if branches is None else list(branches)
+    seen: dict[str, Param] = {}
+    for b in names:
+        for p in _branch_params(machine, b, degrees=degrees, offsets=offsets, fourier=fourier):
+            seen.setdefault(p.name, p)
+    return list(seen.values())
+
+
 def build_design(
     machine: Machine,
     m: Measurements,
@@ -222,6 +276,7 @@ def build_design(
     degrees: Mapping[str, int] | None = None,
     offsets: bool = True,
     fourier: FourierChoice = True,
+    params: Sequence[Param] | None = None,
 ) -> Design:
     """Design matrix of the rigid model for the readings.
 
@@ -237,24 +292,37 @@ def build_design(
         Rotary axes of long travel in the Fourier basis (module docstring): all (True),
         none (False: polynomials everywhere, the smooth model the diagnosis extends) or
         those named.
+    params : sequence of Param, optional
+        The columns, as :func:`design_params` lists them for the same ``degrees``,
+        ``offsets`` and ``fourier``: every block of a file then gets the same columns.
+        A subset of them builds only those columns. By default, the columns of the tool
+        branches these readings belong to.
 
     Returns
     -------
     Design
+        ``matrix`` of shape (N, P), µm or µrad of the reading per unit of each parameter.
     """
     q = axis_positions(machine, m)
     n = len(m)
-    columns: dict[str, F64]
-    columns = {}
-    params: dict[str, Param] = {}
+    rows_of = branch_rows(machine, m)
+    if params is None:
+        params = design_params(machine, degrees=degrees, offsets=offsets, fourier=fourier,
+                               branches=[b for b, r in rows_of.items() if r.size])
+    index = {p.name: i for i, p in enumerate(params)}
+    # column-major: the design is filled and read a column at a time
+    matrix = np.zeros((n, len(params)), order="F")
 
-    def add(p: Param, rows: NDArray[np.intp], values: F64) -> None:
-        if p.name not in columns:
-            columns[p.name] = np.zeros(n)
-            params[p.name] = p
-        columns[p.name][rows] += values
+    def add(name: str, rows: NDArray[np.intp], values: F64) -> None:
+        j = index.get(name)
+        if j is None:
+            return  # a column left out of ``params`` on purpose
+        if rows.size == n:
+            matrix[:, j] += values
+        else:
+            matrix[rows, j] += values
 
-    for bname, rows in branch_rows(machine, m).items():
+    for bname, rows in rows_of.items():
         if rows.size == 0:
             continue
         ang = m.is_angle[rows]
@@ -269,8 +337,7 @@ def build_design(
             )
             if s.column is None:
                 for j, name in enumerate(s.names):
-                    unit = "urad" if name[1] in "ABC" else "um"
-                    add(Param(name, name, -1, unit), rows, proj[:, j])
+                    add(name, rows, proj[:, j])
                 continue
             axis = machine.axes[s.column]
             for j, name in enumerate(s.names):
@@ -282,18 +349,13 @@ def build_design(
                 if hi < lo:
                     continue
                 basis = _basis(q[rows, s.column], axis, range(lo, hi + 1), fourier)
-                unit = "urad" if direction in "ABC" else "um"
-                kind = "fourier" if uses_fourier(axis, fourier) else "legendre"
                 for k in range(lo, hi + 1):
-                    add(Param(f"{name}[{k}]", name, k, unit, kind), rows,
-                        proj[:, j] * basis[:, k - lo])
+                    add(f"{name}[{k}]", rows, proj[:, j] * basis[:, k - lo])
         if offsets:
             for i, c in enumerate("XYZ"):
                 name = "OFFSET_" + c if len(machine.branches) == 1 else f"OFFSET_{c}_{bname}"
-                add(Param(name, "OFFSET", -1, "um"), rows, np.where(ang, 0.0, u[:, i]))
-    names = list(columns)
-    matrix = np.column_stack([columns[k] for k in names]) if names else np.zeros((n, 0))
-    return Design(matrix, [params[k] for k in names])
+                add(name, rows, np.where(ang, 0.0, u[:, i]))
+    return Design(matrix, list(params))
 
 
 def component_polynomial(axis: Axis, coefficients: Mapping[int, float]) -> Polynomial:
@@ -333,6 +395,7 @@ __all__ = [
     "build_design",
     "component_fourier",
     "component_polynomial",
+    "design_params",
     "fourier_axis",
     "fourier_basis",
     "location_names",

@@ -20,8 +20,8 @@ A failed identification raises :class:`FitError` with a message naming the probl
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
+from collections.abc import Iterable, Iterator, Mapping
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -29,9 +29,11 @@ from numpy.typing import NDArray
 
 from volumetric.identify.design import (
     Param,
+    branch_rows,
     build_design,
     component_fourier,
     component_polynomial,
+    design_params,
 )
 from volumetric.measure.measurement import Measurements
 from volumetric.model.components import Component, GeometricErrors
@@ -106,35 +108,76 @@ def solve(a: F64, y: F64, w: F64) -> Solution:
     return Solution(x, std, r, sigma2)
 
 
-@dataclass(frozen=True)
+@dataclass
 class Normal:
-    """Normal equations of a weighted problem, kept per weight group.
+    """Normal equations of a weighted problem, accumulated block by block per weight group.
 
-    Weights are constant within a group (displacements, angles), so the normal matrix
-    for any group weights is a weighted sum of per-group matrices formed once: degree
-    selection, null-space analysis and re-weighting then never touch the (N, P) matrix.
+    Weights are constant within a group (0: displacements, 1: angles), so the normal
+    matrix for any group weights is a weighted sum of per-group matrices formed once:
+    degree selection, null-space analysis and re-weighting then never touch the (N, P)
+    design, and the design itself is never whole in memory (one block of rows at a time).
+
+    Attributes
+    ----------
+    g : ndarray, shape (2, P, P)
+        ``A_g^T A_g`` per group (units of the readings squared per parameter unit squared).
+    b : ndarray, shape (2, P)
+        ``A_g^T y_g`` per group.
+    yy : ndarray, shape (2,)
+        ``y_g^T y_g`` per group (µm², µrad²).
+    n : ndarray of int, shape (2,)
+        Readings per group.
     """
 
-    g: list[F64]  # per group, (P, P)
-    b: list[F64]  # per group, (P,)
-    yy: list[float]
-    n: int
+    g: F64
+    b: F64
+    yy: F64
+    n: NDArray[np.int64]
 
     @staticmethod
-    def build(a: F64, y: F64, groups: list[NDArray[np.bool_]]) -> Normal:
-        gs, bs, yys = [], [], []
-        for mask in groups:
-            ag = a[mask]
-            gs.append(ag.T @ ag)
-            bs.append(ag.T @ y[mask])
-            yys.append(float(y[mask] @ y[mask]))
-        return Normal(gs, bs, yys, len(y))
+    def empty(p: int) -> Normal:
+        return Normal(np.zeros((2, p, p)), np.zeros((2, p)), np.zeros(2),
+                      np.zeros(2, dtype=np.int64))
+
+    def add(self, a: F64, y: F64, is_angle: NDArray[np.bool_]) -> None:
+        """Add a block of design rows ``a`` (n, P) with their readings ``y`` (n,)."""
+        for k, mask in enumerate((~is_angle, is_angle)):
+            count = int(mask.sum())
+            if count == 0:
+                continue
+            ag = a if count == a.shape[0] else a[mask]
+            yg = y if count == a.shape[0] else y[mask]
+            self.g[k] += ag.T @ ag
+            self.b[k] += ag.T @ yg
+            self.yy[k] += float(yg @ yg)
+            self.n[k] += count
+
+    @property
+    def groups(self) -> list[int]:
+        """The groups that have readings."""
+        return [k for k in range(2) if self.n[k] > 0]
+
+    def restricted(self, cols: NDArray[np.intp]) -> Normal:
+        """The same sums for a subset of the parameters."""
+        return Normal(self.g[:, cols][:, :, cols], self.b[:, cols], self.yy.copy(),
+                      self.n.copy())
 
     def combined(self, weights: list[float]) -> tuple[F64, F64, float]:
-        g = sum((w * g for w, g in zip(weights, self.g, strict=True)), np.zeros_like(self.g[0]))
-        b = sum((w * b for w, b in zip(weights, self.b, strict=True)), np.zeros_like(self.b[0]))
-        yy = float(sum(w * v for w, v in zip(weights, self.yy, strict=True)))
+        """``(G, b, y^T W y)`` for the given weight of each group of :attr:`groups`."""
+        g = np.zeros_like(self.g[0])
+        b = np.zeros_like(self.b[0])
+        yy = 0.0
+        for k, w in zip(self.groups, weights, strict=True):
+            g += w * self.g[k]
+            b += w * self.b[k]
+            yy += w * float(self.yy[k])
         return g, b, yy
+
+    def rss(self, k: int, cols: NDArray[np.intp], x: F64) -> float:
+        """Unweighted residual sum of squares of group ``k`` at parameters ``x`` on
+        ``cols``: ``y^T y - 2 x^T A^T y + x^T A^T A x``, never below zero."""
+        g = self.g[k][np.ix_(cols, cols)]
+        return max(float(self.yy[k] - 2.0 * x @ self.b[k][cols] + x @ g @ x), 0.0)
 
 
 def _rss(g: F64, b: F64, yy: float, cols: NDArray[np.intp]) -> float:
@@ -185,9 +228,17 @@ class FitResult:
         ``{"parameter", "confounded_with"}`` for parameters fixed at zero.
     not_measured : list of str
         Components the readings do not observe at all.
-    residual : ndarray, shape (N,)
+    residual : ndarray, shape (N,), or None
+        Reading minus prediction (µm or µrad); None from :func:`fit_blocks`, which does
+        not keep the readings.
     rms : dict of str to float
         Residual RMS of displacements (µm) and angles (µrad).
+    weights : ndarray, shape (N,)
+        The final weight (1/σ² of its group) of every reading; empty from
+        :func:`fit_blocks`.
+    group_weights : dict of str to float
+        The final weight of each group that has readings: ``displacement`` (1/µm²),
+        ``angle`` (1/µrad²).
     """
 
     model: MachineModel
@@ -197,9 +248,10 @@ class FitResult:
     degrees: dict[str, int]
     unidentifiable: list[dict[str, Any]]
     not_measured: list[str]
-    residual: F64
+    residual: F64 | None
     rms: dict[str, float]
     weights: F64 = field(repr=False, default_factory=lambda: np.zeros(0))
+    group_weights: dict[str, float] = field(default_factory=dict)
 
 
 def select_degrees(
@@ -300,6 +352,11 @@ def _drop_priority(p: Param) -> tuple[int, int]:
     return (kind, p.degree)
 
 
+BLOCK_ROWS = 20_000
+"""Readings per block of design rows: about 16 MB of design for a 3-axis model's ~100
+parameters, large enough for the matrix products to run at full speed."""
+
+
 def fit(
     machine: Machine,
     m: Measurements,
@@ -309,6 +366,10 @@ def fit(
     fourier: bool | frozenset[str] = True,
 ) -> FitResult:
     """Identify the rigid model of a machine from readings.
+
+    The design is built and reduced to normal equations ``BLOCK_ROWS`` readings at a
+    time (:func:`fit_blocks`); the residual of every reading is then formed in a second
+    pass over the blocks.
 
     Parameters
     ----------
@@ -334,65 +395,165 @@ def fit(
     """
     if len(m) == 0:
         raise FitError("no readings")
-    try:
-        design = build_design(machine, m, degrees=degrees, fourier=fourier)
-    except ValueError as exc:
-        raise FitError(str(exc)) from None
-    y = m.value
-    norms = np.sqrt(np.sum(design.matrix**2, axis=0))
+    result = fit_blocks(machine, _blocks(m), degrees=degrees, select=select,
+                        fourier=fourier)
+    residual = np.empty(len(m))
+    for start, block in zip(range(0, len(m), BLOCK_ROWS), _blocks(m), strict=True):
+        a = build_design(machine, block, degrees=degrees, fourier=fourier,
+                         params=result.params).matrix
+        residual[start : start + len(block)] = block.value - a @ result.values
+    w = np.where(m.is_angle, result.group_weights.get("angle", 1.0),
+                 result.group_weights.get("displacement", 1.0))
+    return replace(result, residual=residual, weights=w)
+
+
+def _blocks(m: Measurements) -> Iterator[Measurements]:
+    for start in range(0, len(m), BLOCK_ROWS):
+        yield m.select(np.arange(start, min(start + BLOCK_ROWS, len(m))))
+
+
+def fit_blocks(
+    machine: Machine,
+    blocks: Iterable[Measurements],
+    *,
+    degrees: Mapping[str, int] | None = None,
+    select: bool = True,
+    fourier: bool | frozenset[str] = True,
+) -> FitResult:
+    """Identify the rigid model from readings that arrive block by block.
+
+    Each block's design rows are reduced at once to per-group normal equations
+    (:class:`Normal`), so memory holds one block and the (P, P) sums whatever the number
+    of readings; the blocks are read once. Every step of the fit works on the sums
+    (module docstring), and the residual statistics come from them too
+    (:meth:`Normal.rss`): the result has no per-reading residual.
+
+    Parameters
+    ----------
+    machine : Machine
+    blocks : iterable of Measurements
+        The readings, in any number of blocks (for example
+        :func:`volumetric.measure.measurement.read_measurement_blocks`).
+    degrees, select, fourier
+        As for :func:`fit`.
+
+    Returns
+    -------
+    FitResult
+        With ``residual`` None and ``weights`` empty.
+
+    Raises
+    ------
+    FitError
+        As :func:`fit`; a block that names an unknown spindle.
+    """
+    layout = design_params(machine, degrees=degrees, fourier=fourier)
+    normal = Normal.empty(len(layout))
+    present: set[str] = set()
+    for block in blocks:
+        if len(block) == 0:
+            continue
+        try:
+            rows = branch_rows(machine, block)
+            design = build_design(machine, block, degrees=degrees, fourier=fourier,
+                                  params=layout)
+        except ValueError as exc:
+            raise FitError(str(exc)) from None
+        present.update(b for b, r in rows.items() if r.size)
+        normal.add(design.matrix, block.value, block.is_angle)
+    n = int(normal.n.sum())
+    if n == 0:
+        raise FitError("no readings")
+    # the columns of the branches that have readings, in the order a design of exactly
+    # these readings has (what the degree selection's tie-breaks see)
+    branches = [b.name for b in machine.branches if b.name in present]
+    params = design_params(machine, degrees=degrees, fourier=fourier, branches=branches)
+    where = {p.name: i for i, p in enumerate(layout)}
+    normal = normal.restricted(np.array([where[p.name] for p in params], dtype=np.intp))
+    return _identify(machine, params, normal, select)
+
+
+def _identify(machine: Machine, all_params: list[Param], normal: Normal, select: bool
+              ) -> FitResult:
+    """Steps 1-5 of the module docstring on accumulated normal equations."""
+    n = int(normal.n.sum())
+    norms = np.sqrt(np.clip(np.diag(normal.g[0] + normal.g[1]), 0.0, None))
     observed = np.flatnonzero(norms > 1e-9 * max(float(norms.max(initial=0.0)), 1e-300))
-    comps_all = {p.component for p in design.params if p.component != "OFFSET"}
-    comps_seen = {design.params[i].component for i in observed}
+    comps_all = {p.component for p in all_params if p.component != "OFFSET"}
+    comps_seen = {all_params[i].component for i in observed}
     not_measured = sorted(comps_all - comps_seen)
     if observed.size == 0:
         raise FitError("the readings observe none of the model's parameters")
-    groups = [g for g in (~m.is_angle, m.is_angle) if g.any()]
-    normal = Normal.build(design.matrix, y, groups)
+    groups = normal.groups
     weights = [1.0] * len(groups)  # 1/σ² per group: 1 µm and 1 µrad to start with
     g, b, yy = normal.combined(weights)
-    cols, report = remove_confounded(design.params, g, observed)
+    cols, report = remove_confounded(all_params, g, observed)
     for _round in range(2):
         if select:
-            cols = select_degrees(design.params, g, b, yy, len(y), cols)
-        if len(y) <= cols.size:
-            raise FitError(
-                f"{len(y)} readings cannot identify {cols.size} parameters: measure more"
-            )
+            cols = select_degrees(all_params, g, b, yy, n, cols)
+        if n <= cols.size:
+            raise FitError(f"{n} readings cannot identify {cols.size} parameters: measure more")
         x = _solve_normal(g, b, cols)
-        r = y - design.matrix[:, cols] @ x
-        weights = [1.0 / max(float(np.mean(r[grp] ** 2)), 1e-12) for grp in groups]
+        weights = [1.0 / max(normal.rss(k, cols, x) / int(normal.n[k]), 1e-12)
+                   for k in groups]
         g, b, yy = normal.combined(weights)
-    w = np.zeros(len(y))
-    for grp, wt in zip(groups, weights, strict=True):
-        w[grp] = wt
-    sol = solve(design.matrix[:, cols], y, w)
-    params = [design.params[i] for i in cols]
-    model = model_from_parameters(machine, params, sol.values)
+    values, std = _solve_with_std(normal, weights, cols, n)
+    params = [all_params[i] for i in cols]
+    model = model_from_parameters(machine, params, values)
     deg: dict[str, int] = {}
     for p in params:
         if p.degree >= 0:
             deg[p.component] = max(deg.get(p.component, 0), p.degree)
-    rms = {}
-    for label, mask in (("displacement_um", ~m.is_angle), ("angle_urad", m.is_angle)):
-        if mask.any():
-            rms[label] = float(np.sqrt(np.mean(sol.residual[mask] ** 2)))
+    labels = ("displacement_um", "angle_urad")
+    rms = {labels[k]: math.sqrt(normal.rss(k, cols, values) / int(normal.n[k]))
+           for k in groups}
     info = {
-        "n_readings": len(m),
+        "n_readings": n,
         "degrees": deg,
         "parameters": [
             {"name": p.name, "value": float(v), "std": float(s), "unit": p.unit}
-            for p, v, s in zip(params, sol.values, sol.std, strict=True)
+            for p, v, s in zip(params, values, std, strict=True)
         ],
         "unidentifiable": report,
         "not_measured": not_measured,
         "rms": rms,
         # the readings' zero: a prediction applies it (volumetric.diagnose.predict)
-        "offsets_um": {p.name: float(v) for p, v in zip(params, sol.values, strict=True)
+        "offsets_um": {p.name: float(v) for p, v in zip(params, values, strict=True)
                        if p.component == "OFFSET"},
     }
     model = MachineModel(model.machine, model.geometry, (), info)
-    return FitResult(model, params, sol.values, sol.std, deg, report, not_measured,
-                     sol.residual, rms, w)
+    group_weights = {("displacement", "angle")[k]: w for k, w in zip(groups, weights,
+                                                                    strict=True)}
+    return FitResult(model, params, values, std, deg, report, not_measured, None, rms,
+                     np.zeros(0), group_weights)
+
+
+
+def _solve_with_std(normal: Normal, weights: list[float], cols: NDArray[np.intp], n: int
+                    ) -> tuple[F64, F64]:
+    """Parameters on ``cols`` and their standard uncertainties (covariance scaled by the
+    residual variance of unit weight, ``Σ w_k rss_k / (n - p)``), from the sums.
+
+    Raises
+    ------
+    FitError
+        When the columns are linearly dependent (callers remove such columns first).
+    """
+    g, b, _ = normal.combined(weights)
+    gs = g[np.ix_(cols, cols)]
+    d = np.sqrt(np.diag(gs))
+    d[d == 0] = 1.0
+    try:
+        chol = np.linalg.cholesky(gs / np.outer(d, d))
+    except np.linalg.LinAlgError:
+        raise FitError("the parameters are linearly dependent (remove confounded ones)") from None
+    xs = np.linalg.solve(chol.T, np.linalg.solve(chol, b[cols] / d))
+    x: F64 = xs / d
+    rss = sum(w * normal.rss(k, cols, x) for k, w in zip(normal.groups, weights, strict=True))
+    sigma2 = rss / max(n - cols.size, 1)
+    inv = np.linalg.inv(chol)
+    std: F64 = np.sqrt(np.clip(np.einsum("ij,ij->j", inv, inv), 0, None) * sigma2) / d
+    return x, std
 
 
 def model_from_parameters(machine: Machine, params: list[Param], values: F64) -> MachineModel:
