@@ -51,6 +51,16 @@ MIN_C: Final = -60.0
 MAX_C: Final = 200.0
 """Readings outside this are not a machine tool's temperatures: a unit or sensor fault."""
 
+READ_BATCH: Final = 1000
+"""MQTT packets read in one event-loop wake-up at most (2 s of a 500/s plant)."""
+
+PUBLISH_TIMEOUT_S: Final = 60.0
+"""How long a status or event publish may wait for the broker's PUBACK. aiomqtt's
+default (the client's 5 s) turned a broker or a center busy for 5 s into a lost
+connection, and with it the temperatures published meanwhile (the subscription is not
+persistent); a broker that is really gone is found by the keepalive and the receive loop,
+which ends the publishing with it."""
+
 EVENT_BACKLOG: Final = 1000
 """Events kept for publishing while the broker is away (oldest dropped first)."""
 
@@ -216,6 +226,7 @@ class MqttBridge:
                                           keepalive=15, timeout=5.0) as client:
                     attempt = 0
                     self.stats.connects += 1
+                    self._read_in_batches(client)
                     await client.subscribe(self.topic("+", "temperature", "+"))
                     self._dirty.update(self._status)  # the broker may have lost retained ones
                     self._wake.set()
@@ -240,9 +251,58 @@ class MqttBridge:
             await asyncio.sleep(delay)
 
     async def _receive(self, client: aiomqtt.Client) -> None:
+        # the messages come through _read_in_batches; this loop is what ends the
+        # connection when the broker goes (aiomqtt's iterator raises then), and takes any
+        # message aiomqtt queued itself
         async for message in client.messages:
             self.stats.received += 1
             self.handle(message.topic.value, message.payload)
+
+    def _read_in_batches(self, client: aiomqtt.Client) -> None:
+        """Take the broker's messages straight from paho, as many per wake-up as have
+        arrived.
+
+        aiomqtt's reader reads one MQTT packet per event-loop wake-up (paho's
+        ``loop_read`` stops after one QoS 0 packet) and hands each message to a queue and
+        a task: with a thousand machine sessions sharing the loop, one loop turn takes
+        milliseconds, so at 500 temperatures/s the messages queued up in the socket for
+        seconds (issue 13). Here one wake-up reads every packet the socket holds (up to
+        :data:`READ_BATCH`, so the sessions get their turn) and each message goes to
+        :meth:`handle` from paho's callback, without a queue. Reaches into aiomqtt 2.x's
+        paho client (``_client``), the one place that knows it; without it (another
+        aiomqtt) the bridge falls back to aiomqtt's own reading.
+        """
+        paho = getattr(client, "_client", None)
+        sock = paho.socket() if paho is not None else None
+        if paho is None or sock is None:
+            log.info("MQTT bridge: aiomqtt's reader kept (no paho socket to read from)")
+            return
+        disconnected = getattr(client, "_disconnected", None)
+        received = self.stats
+
+        def on_message(_client: Any, _userdata: Any, message: Any) -> None:
+            received.received += 1
+            try:
+                self.handle(message.topic, message.payload)
+            except Exception:  # a bug in one reading must not end the bridge
+                log.exception("MQTT message on %r not taken", message.topic)
+
+        def readable() -> None:
+            for _ in range(READ_BATCH):
+                before = received.received
+                try:
+                    rc = paho.loop_read()
+                except Exception as exc:  # as aiomqtt's reader: the connection is broken
+                    if disconnected is not None and not disconnected.done():
+                        disconnected.set_exception(exc)
+                    return
+                # a partial packet, no data or a packet that is no message (PUBACK, PINGRESP):
+                # wait for the socket to be readable again (epoll is level-triggered)
+                if rc != 0 or received.received == before:
+                    return
+
+        paho.on_message = on_message
+        asyncio.get_running_loop().add_reader(sock.fileno(), readable)
 
     def handle(self, topic: str, payload: Any) -> bool:
         """Take one temperature message; False (counted, logged) when it is refused."""
@@ -341,7 +401,8 @@ class MqttBridge:
                 self._dirty.update(n for n, s in self._status.items() if s.connected)
             while self._events:
                 body = self._events[0]
-                await client.publish(self.topic("events"), json.dumps(body), qos=1)
+                await client.publish(self.topic("events"), json.dumps(body), qos=1,
+                                     timeout=PUBLISH_TIMEOUT_S)
                 self._events.popleft()
                 self.stats.published += 1
             while self._dirty:
@@ -351,7 +412,8 @@ class MqttBridge:
                     await self._seed(name, status)
                 try:
                     await client.publish(self.topic(name, "status"),
-                                         json.dumps(self.status_of(name)), qos=1, retain=True)
+                                         json.dumps(self.status_of(name)), qos=1, retain=True,
+                                         timeout=PUBLISH_TIMEOUT_S)
                 except aiomqtt.MqttError:
                     self._dirty.add(name)
                     raise

@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import asyncio
 import json
+import time
 import uuid
 from pathlib import Path
 from typing import Any
 
+import paho.mqtt.client as paho
 import pytest
 
 from protocol.backoff import Backoff
@@ -124,6 +126,55 @@ async def test_bad_payloads_are_counted_and_the_bridge_goes_on(
         assert r.center.metrics.registry.get_sample_value(
             "ednc_mqtt_bad_payloads_total") == 5
         assert any("bad-name!" in e for e in bridge.stats.bad_examples)
+
+
+async def test_a_burst_is_taken_in_one_wake_up_and_nothing_is_lost(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    """Messages waiting in the bridge's socket are all taken in one event-loop turn (not
+    one per turn: with a thousand sessions on the loop that queued them for seconds),
+    every one of them, in order."""
+    top = prefix()
+    topic = f"{top}/vmc-01/temperature/spindle"
+    async with asyncio.timeout(DEADLINE_S), \
+            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
+            publisher(mqtt_broker) as pub:
+        await r.register(model=model_body(thermal_sensor="T_spindle_C"))
+        bridge = r.services.mqtt
+        assert bridge is not None
+        await bridge.connected.wait()
+        await pub.publish(topic, b"20")
+        await until(lambda: "T_spindle_C" in r.services.temperatures.readings("vmc-01"))
+        seen: list[float] = []
+        r.services.temperatures.subscribe(lambda m, c, celsius: seen.append(celsius))
+        values = [20.0 + 0.01 * k for k in range(1, 201)]
+
+        def burst() -> None:
+            """Publish from another client and thread while this loop is blocked, so that
+            all of it waits in the bridge's socket."""
+            client = paho.Client(paho.CallbackAPIVersion.VERSION2)
+            client.connect(*mqtt_broker)
+            client.loop_start()
+            infos = [client.publish(topic, f"{v:.2f}", qos=1) for v in values]
+            for info in infos:
+                info.wait_for_publish(5.0)
+            client.loop_stop()
+            client.disconnect()
+            time.sleep(0.3)  # the broker passes them on to the bridge meanwhile
+
+        burst()  # blocks the loop on purpose
+        loop = asyncio.get_running_loop()
+        turns = 0
+
+        def tick() -> None:
+            nonlocal turns
+            turns += 1
+            if bridge.stats.received < 1 + len(values):
+                loop.call_soon(tick)
+
+        loop.call_soon(tick)
+        await until(lambda: bridge.stats.received == 1 + len(values))
+        assert seen == pytest.approx(values)
+        assert turns <= 5, f"{turns} event-loop turns to take 200 waiting messages"
 
 
 async def test_status_and_events_are_published(
