@@ -82,7 +82,8 @@ class MachineRuntime:
         Controller settings for the machine's controller family.
     thermal_speedup : float
         Machine-temperature seconds per second of run time: a demo shows an hour of
-        warm-up in a minute with 60; motion and controller keep real time.
+        warm-up in a minute with 60; motion and controller keep real time (the
+        controller's plausible temperature rate is scaled by it).
     own_sensors : bool, optional
         The controller reads the machine's sensors itself (stored in
         ``controller.temperatures`` every ``sensor_period_s``); by default a Siemens-style
@@ -117,6 +118,8 @@ class MachineRuntime:
         else:
             self.controller = FanucPMC(machine.name, machine.axis_names, fanuc)
             self.cycle_s = self.controller.config.scan_s
+        # the temperatures' plausible rate of change is in machine-temperature time
+        self.controller.temperatures.max_rate_K_per_s *= self.thermal_speedup
         self.positions, self.directions = self.motion.at(0.0)
         self.own_sensors = (machine.controller == "siemens" if own_sensors is None
                             else bool(own_sensors))

@@ -20,11 +20,32 @@ NC part runs every interpolation cycle (:meth:`SiemensNC.ipo_cycle`). The machin
 grid maps and tables maps (Hello: float32 mm and tables); a tables map is evaluated
 through the chain every PLC cycle (:mod:`machine_sim.chaineval`).
 
-Thermal terms can go in as the NC's own temperature compensation (:meth:`SiemensNC.
-write_temp_comp`, data from :mod:`machine_sim.siemens_thermal`): the slope in
-SD43910/SD43920 where MD32750 bit 1 is on (the NC evaluates it at the axis's position every
-IPO cycle, without lookup latency), else evaluated by the PLC; the offset added to the
-PLC's SD43900 writes. Bit 2 (compensation in tool direction, SD42960) is not simulated.
+Thermal terms a map carries (tables, or a grid of format version 3) go in as the NC's own
+temperature compensation where the NC can express them (:meth:`SiemensNC.sync_thermal`,
+every PLC cycle in which the map or the temperatures changed): per axis the records at the
+latest temperatures are an offset and a slope about a reference position
+(:func:`~machine_sim.siemens_thermal.record_setting_data`); where MD32750 bit 1 is on the
+slope goes to SD43910 and the reference to SD43920, and the NC evaluates it at the axis's
+position every IPO cycle, without the PLC's latency. The PLC's SD43900 then carries the
+rest: the map's whole correction at the position it read (geometry, the thermal offset,
+whatever of the thermal part is not linear in the axis's own position, e.g. through the
+chain of a 5-axis machine) minus the NC's slope term there, so the applied total is the
+map's. With bit 1 off the PLC carries all of it, as before. MD32760 limits how fast the
+applied total follows, thermal steps included.
+
+Temperatures (:attr:`SiemensNC.temperatures`) pass the machine's screen
+(:mod:`machine_sim.temperatures`: not a number, outside -20..100 °C, a jump faster than
+``SiemensConfig.max_temp_rate_K_per_s``: refused, the last good value kept). When a
+sensor the map's records use sends nothing for longer than ``SiemensConfig.stale_after_s``
+it is listed in :attr:`SiemensNC.thermal_stale`; the thermal part stays at the value of
+its last good readings (no extrapolation, never dropped to zero), reached from wherever
+the applied value was at MD32760's rate.
+
+Without records in the map, thermal terms can still be written by hand
+(:meth:`SiemensNC.write_temp_comp`, data from :func:`~machine_sim.siemens_thermal.
+temp_comp_data`): the slope in SD43910/SD43920 where MD32750 bit 1 is on, else evaluated by
+the PLC; the offset added to the PLC's SD43900 writes. A map with records replaces them.
+Bit 2 (compensation in tool direction, SD42960) is not simulated.
 """
 
 from __future__ import annotations
@@ -36,10 +57,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
+from protocol.mapformat import ThermalRecord
 
+from .chaineval import sensor_key
 from .controller import Compensator
+from .lookup import ActiveMap, TablesMap
 from .mapstore import MapStore
-from .siemens_thermal import TempCompData
+from .siemens_thermal import TempCompData, record_setting_data
+from .temperatures import JUMP_ALLOWANCE_K, MAX_RATE_K_PER_S, PLAUSIBLE_C, TemperatureStore
 
 __all__ = [
     "MD_MAX_AX_VELO",
@@ -87,8 +112,16 @@ class SiemensConfig:
     max_ax_velo_mm_min, velo_factor : float
         Initial MD32000 and MD32760.
     temp_comp_type : int
-        Initial MD32750 of every axis.
+        Initial MD32750 of every axis: 3 (offset and slope) by default, a machine whose
+        temperature compensation is commissioned.
     expiry_ramp_s : float
+    stale_after_s : float
+        A temperature older than this is stale, s (machine time).
+    plausible_C : (float, float)
+        Temperatures outside are refused, °C.
+    max_temp_rate_K_per_s, temp_jump_allowance_K : float
+        A temperature further from its sensor's last good one than the rate times the
+        time between them plus the allowance is refused.
     """
 
     ipo_s: float = 0.004
@@ -96,12 +129,19 @@ class SiemensConfig:
     limit_mm: float = 0.5
     max_ax_velo_mm_min: float = 10000.0
     velo_factor: float = 0.01
-    temp_comp_type: int = 1
+    temp_comp_type: int = 3
     expiry_ramp_s: float = 2.0
+    stale_after_s: float = 60.0
+    plausible_C: tuple[float, float] = PLAUSIBLE_C
+    max_temp_rate_K_per_s: float = MAX_RATE_K_PER_S
+    temp_jump_allowance_K: float = JUMP_ALLOWANCE_K
 
     def __post_init__(self) -> None:
         if not (self.ipo_s > 0 and self.plc_every >= 1 and self.limit_mm > 0):
             raise ValueError("ipo_s and limit_mm must be > 0, plc_every >= 1")
+        if not 0 <= self.temp_comp_type <= 7:
+            raise ValueError(f"temp_comp_type (MD32750) must be 0..7, got "
+                             f"{self.temp_comp_type!r}")
 
 
 class SiemensNC(Compensator):
@@ -121,6 +161,9 @@ class SiemensNC(Compensator):
         store = MapStore(machine, axes, accepted=MapEncoding.FLOAT32_MM | MapEncoding.TABLES,
                          limit_mm=c.limit_mm)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)
+        self.temperatures = TemperatureStore(
+            c.stale_after_s, plausible_C=c.plausible_C,
+            max_rate_K_per_s=c.max_temp_rate_K_per_s, jump_allowance_K=c.temp_jump_allowance_K)
         n = len(self.axes)
         self.md: dict[int, F64] = {
             MD_MAX_AX_VELO: np.full(n, c.max_ax_velo_mm_min),
@@ -135,6 +178,13 @@ class SiemensNC(Compensator):
         self.thermal_offset_mm = np.zeros(n)
         self._plc_slope = np.zeros(n)
         self._plc_ref_mm = np.zeros(n)
+        self._hand: dict[str, TempCompData] = {}  # write_temp_comp's, for bit-1 axes
+        # the map's thermal records as setting data (sync_thermal): what they are at the
+        # latest temperatures, and the slope the NC itself applies (bit-1 axes)
+        self.map_thermal: dict[str, TempCompData] = {}
+        self._native_slope = np.zeros(n)
+        self._native_ref_mm = np.zeros(n)
+        self._synced: tuple[object, ...] | None = None
         self.cycles = 0
         self.alarms: list[str] = []
 
@@ -206,8 +256,12 @@ class SiemensNC(Compensator):
         compensation applied per axis, mm."""
         pos = self._vector(positions, float)
         if self.cycles % self.config.plc_every == 0:
-            wanted = (self.wanted_mm(now_s, pos, directions) + self.thermal_offset_mm
-                      + self._plc_slope * (pos - self._plc_ref_mm))
+            wanted = self.wanted_mm(now_s, pos, directions)
+            if self.sync_thermal():  # the map's records: the NC adds its slope term itself
+                wanted = wanted - self._native_slope * (pos - self._native_ref_mm)
+            else:
+                wanted = (wanted + self.thermal_offset_mm
+                          + self._plc_slope * (pos - self._plc_ref_mm))
             for j, axis in enumerate(self.axes):
                 if wanted[j] == self.sd[SD_ABS_VALUE][j]:
                     continue
@@ -249,6 +303,59 @@ class SiemensNC(Compensator):
             else:
                 self._plc_slope[j], self._plc_ref_mm[j] = d.slope, d.ref_mm
             self.thermal_offset_mm[j] = d.offset_mm
+            self._hand[self.axes[j]] = d
+        self._synced = None  # a map with records writes its own again
+
+    @staticmethod
+    def _records(m: ActiveMap | None) -> tuple[ThermalRecord, ...]:
+        if m is None:
+            return ()
+        return m.payload.thermal if isinstance(m, TablesMap) else m.thermal
+
+    def sync_thermal(self) -> bool:
+        """Write the active map's thermal records at the latest temperatures as setting
+        data (module docstring) if the map, the temperatures or MD32750 changed since the
+        last call; True while the map carries records (the PLC then subtracts the NC's
+        own slope term from its SD43900 writes), False without (the setting data written
+        by :meth:`write_temp_comp`, if any, are back in SD43910/SD43920)."""
+        m = self.store.active
+        records = self._records(m)
+        comp_type = self.md[MD_TEMP_COMP_TYPE].astype(np.int64)
+        key = (id(m), self.store.version, self.temperatures.updated_s,
+               tuple(comp_type.tolist()))
+        if key == self._synced:
+            return bool(records)
+        self._synced = key
+        if records:
+            self.map_thermal = record_setting_data(records, self.temperatures.values(),
+                                                   self.axes)
+            source = self.map_thermal
+        elif self.map_thermal:  # the records are gone: back to the hand-written data
+            self.map_thermal = {}
+            source = self._hand
+        else:  # nothing of ours in SD43910/SD43920
+            self._native_slope[:] = 0.0
+            return False
+        self._native_slope[:] = 0.0
+        self._native_ref_mm[:] = 0.0
+        for j, axis in enumerate(self.axes):
+            if not comp_type[j] & 2:
+                continue
+            d = source.get(axis, TempCompData())
+            self.sd[SD_SLOPE][j] = d.slope  # checked data: finite, bit 1 on
+            self.sd[SD_REF_POSITION][j] = d.ref_mm
+            if records:
+                self._native_slope[j], self._native_ref_mm[j] = d.slope, d.ref_mm
+        return bool(records)
+
+    @property
+    def thermal_stale(self) -> frozenset[str]:
+        """Sensors of the active map's thermal records whose latest reading is older than
+        ``stale_after_s`` (the thermal part holds their last good value), by sensor name
+        as the store keys them."""
+        used = {sensor_key(r.sensor) for r in self._records(self.store.active)}
+        return frozenset(s for s in self.temperatures.stale(self.now_s)
+                         if sensor_key(s) in used)
 
     def reset_alarms(self) -> None:
         """Operator reset."""

@@ -24,12 +24,16 @@ how fast the applied value may follow a new setting.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 
+from protocol.mapformat import THERMAL_DRIFT, ThermalRecord
 from volumetric.model.model import ThermalTerm
 
-__all__ = ["TempCompData", "temp_comp_data"]
+from .chaineval import sensor_key
+
+__all__ = ["TempCompData", "record_setting_data", "temp_comp_data"]
 
 
 @dataclass(frozen=True)
@@ -105,4 +109,50 @@ def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, floa
             ref[axis] = r = t.q_min
         slope[axis] += s
         offset[axis] += s * (r - t.q_min)  # a slope about another reference (docstring)
+    return {a: TempCompData(offset[a], slope[a], ref[a] or 0.0) for a in names}
+
+
+def record_setting_data(records: Iterable[ThermalRecord], temperatures: Mapping[str, float],
+                        axes: Sequence[str]) -> dict[str, TempCompData]:
+    """The setting data of each axis that cancel a map's thermal records at ``temperatures``.
+
+    The machine side of :func:`temp_comp_data`: from the records a map carries (protocol
+    README section 6), as the machine's cycle evaluates them (:mod:`machine_sim.chaineval`):
+    a sensor without a (finite) temperature counts as at its reference, a record on an
+    axis the NC does not have is left to the cycle.
+
+    Parameters
+    ----------
+    records : iterable of ThermalRecord
+        Drift (µm/K) and expansion (µm/(m·K) about ``q_min``) records.
+    temperatures : mapping of str to float
+        °C by sensor label or column (``spindle`` or ``T_spindle_C``).
+    axes : sequence of str
+        The NC's axes.
+
+    Returns
+    -------
+    dict of str to TempCompData
+        By upper-case axis name, for every axis of ``axes`` (zero where no record acts).
+    """
+    temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
+    names = [a.upper() for a in axes]
+    offset = dict.fromkeys(names, 0.0)
+    slope = dict.fromkeys(names, 0.0)
+    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    for rec in records:
+        axis = rec.axis.upper()
+        t = temps.get(sensor_key(rec.sensor))
+        if axis not in offset or t is None or not math.isfinite(t):
+            continue
+        dt_K = t - rec.t_ref_C
+        if rec.kind == THERMAL_DRIFT:
+            offset[axis] -= rec.coefficient * dt_K * 1e-3  # µm → mm, cancelling the error
+            continue
+        s = -rec.coefficient * dt_K * 1e-6  # µm/(m·K) · K → mm/mm, cancelling the error
+        r = ref[axis]
+        if r is None:
+            ref[axis] = r = rec.q_min
+        slope[axis] += s
+        offset[axis] += s * (r - rec.q_min)  # a slope about another reference (docstring)
     return {a: TempCompData(offset[a], slope[a], ref[a] or 0.0) for a in names}
