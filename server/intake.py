@@ -28,7 +28,9 @@ An accepted reading is
   MQTT status and the push scheduler read it);
 * appended to the ``temperature_readings`` time series, written in batches every
   ``flush_s`` (bounded buffer: when the database is away the oldest unwritten readings
-  are dropped and counted); rows older than ``retention_days`` are pruned hourly;
+  are dropped and counted); rows older than ``retention_days``, and the oldest beyond
+  ``max_rows``, are pruned hourly, in batches of :data:`PRUNE_BATCH` rows (one
+  transaction each, so that the writes of the intake and the push are not held up);
 * forwarded to the machine in a Temperatures message by the
   :class:`~server.forward.TemperatureForwarder` unless it came from the machine itself
   (coalesced: at most one message per machine per ``forward_interval_s``). A machine
@@ -87,6 +89,18 @@ tens of K) or a broken sensor (open circuit, -273 or +850 °C) jumps further."""
 
 RETENTION_DAYS: Final = 30.0
 """Readings kept this long (re-identification wants weeks of warm-ups)."""
+
+MAX_ROWS: Final = 100_000_000
+"""Readings kept at most, whatever their age (the oldest go first): 30 days at a plant's
+500/s would be 1.3 billion rows; 100 million are 2.3 days of that, or 30 days of 40/s, a
+few GB. A center with the disk for more raises it."""
+
+PRUNE_BATCH: Final = 50_000
+"""Rows deleted per transaction when pruning (each holds the database's write lock)."""
+
+PRUNE_EVERY_S: Final = 3600.0
+RETRY_PRUNE_S: Final = 60.0
+"""After a failed pruning (e.g. the database locked by a long write at start-up)."""
 
 MAX_BUFFER: Final = 200_000
 """Readings waiting for the database at most (~7 min at 500/s) before the oldest go."""
@@ -181,6 +195,8 @@ class TemperatureIntake:
     flush_s : float
         How often accepted readings are written to the database, s.
     retention_days : float
+    max_rows : int
+        Readings kept at most (:data:`MAX_ROWS`).
     refresh_s : float
         Full reload of the known machines and sensors, s.
     """
@@ -191,14 +207,15 @@ class TemperatureIntake:
                  max_rate_K_per_s: float = MAX_RATE_K_PER_S,
                  jump_allowance_K: float = JUMP_ALLOWANCE_K,
                  forward_interval_s: float = INTERVAL_S, flush_s: float = 0.5,
-                 retention_days: float = RETENTION_DAYS, refresh_s: float = 600.0) -> None:
+                 retention_days: float = RETENTION_DAYS, max_rows: int = MAX_ROWS,
+                 refresh_s: float = 600.0) -> None:
         lo, hi = plausible_C
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(f"plausible_C must be a finite (low, high), got {plausible_C!r}")
         if not (max_rate_K_per_s > 0 and jump_allowance_K >= 0 and flush_s > 0
-                and retention_days > 0 and refresh_s > 0):
-            raise ValueError("max_rate_K_per_s, flush_s, retention_days and refresh_s must "
-                             "be > 0, jump_allowance_K >= 0")
+                and retention_days > 0 and refresh_s > 0 and max_rows > 0):
+            raise ValueError("max_rate_K_per_s, flush_s, retention_days, max_rows and "
+                             "refresh_s must be > 0, jump_allowance_K >= 0")
         self.center = center
         self.board = board
         self.feed = feed
@@ -207,6 +224,7 @@ class TemperatureIntake:
         self.jump_allowance_K = float(jump_allowance_K)
         self.flush_s = float(flush_s)
         self.retention_days = float(retention_days)
+        self.max_rows = int(max_rows)
         self.refresh_s = float(refresh_s)
         self.forwarder = TemperatureForwarder(sessions if sessions is not None else {},
                                               interval_s=forward_interval_s)
@@ -483,22 +501,34 @@ class TemperatureIntake:
                 log.warning("temperature readings not stored yet: %s",
                             str(exc).splitlines()[0])
 
-    async def prune_once(self) -> int:
-        """Delete readings older than the retention period; returns how many."""
+    async def prune_once(self, *, batch: int = PRUNE_BATCH) -> int:
+        """Delete the readings older than the retention period and the oldest beyond
+        ``max_rows``, ``batch`` rows per transaction; returns how many."""
         cutoff = dt.datetime.now(dt.UTC) - dt.timedelta(days=self.retention_days)
-        return await self.center.db.run(reading_repo.delete_readings_before, cutoff)
+        total = 0
+        while n := await self.center.db.run(reading_repo.delete_readings_before, cutoff,
+                                            limit=batch):
+            total += n
+        while n := await self.center.db.run(reading_repo.delete_readings_beyond,
+                                            self.max_rows, limit=batch):
+            total += n
+        return total
 
     async def _retention_loop(self) -> None:
         while True:
+            pause = PRUNE_EVERY_S
             try:
                 deleted = await self.prune_once()
                 if deleted:
-                    log.info("deleted %d temperature readings older than %g days", deleted,
-                             self.retention_days)
+                    log.info("deleted %d temperature readings (older than %g days or "
+                             "beyond %d)", deleted, self.retention_days, self.max_rows)
             except SQLAlchemyError as exc:
-                log.warning("temperature retention failed: %s", exc)
-            await asyncio.sleep(3600.0)
+                log.warning("temperature retention failed, again in %g s: %s",
+                            RETRY_PRUNE_S, str(exc).splitlines()[0])
+                pause = RETRY_PRUNE_S
+            await asyncio.sleep(pause)
 
 
-__all__ = ["JUMP_ALLOWANCE_K", "MAX_RATE_K_PER_S", "PLAUSIBLE_C", "RETENTION_DAYS", "Refusal",
+__all__ = ["JUMP_ALLOWANCE_K", "MAX_RATE_K_PER_S", "MAX_ROWS", "PLAUSIBLE_C", "RETENTION_DAYS",
+           "Refusal",
            "TemperatureIntake", "description_columns", "load_known", "model_columns"]

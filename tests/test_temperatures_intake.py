@@ -142,6 +142,27 @@ async def test_readings_are_stored_listed_and_pruned(tmp_path: Path) -> None:
         assert await r.db.run(reading_repo.list_readings, mid) == []
 
 
+async def test_pruning_bounds_the_table_by_age_and_by_count_in_batches(
+        tmp_path: Path) -> None:
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=model_body(thermal_sensor="T_spindle_C"))
+        intake = intake_of(r.center)
+        now = dt.datetime.now(dt.UTC)
+        old = now - dt.timedelta(days=intake.retention_days + 1)
+        rows = [NewReading(mid, "T_spindle_C", 10.0 + k, old, "rest") for k in range(7)]
+        rows += [NewReading(mid, "T_spindle_C", 20.0 + k, now - dt.timedelta(seconds=30 - k),
+                            "mqtt") for k in range(25)]
+        await r.db.run(reading_repo.add_readings, rows)
+        intake.max_rows = 10
+        # 7 too old, then 15 beyond the newest 10, three rows per transaction
+        assert await intake.prune_once(batch=3) == 22
+        kept = await r.db.run(reading_repo.list_readings, mid)
+        assert [x.celsius for x in kept] == [20.0 + k for k in range(24, 14, -1)]
+        assert await intake.prune_once(batch=3) == 0
+        with pytest.raises(ValueError, match="max_rows"):
+            TemperatureIntake(r.center, r.services.temperatures, max_rows=0)
+
+
 class FakeSession:
     """Collects what the forwarder sends (the sans-I/O message, not bytes)."""
 
