@@ -4,16 +4,24 @@
 from __future__ import annotations
 
 import json
+from collections.abc import Iterator
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ednc.cli import UserError
-from ednc.inputs import read_data, read_machine, read_model
+from ednc.inputs import read_machine, read_model
+from ednc.progress import CommandProgress, wanted
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.identify.fit import FitError, FitResult, fit
+from volumetric.identify.fit import FitError, FitResult, fit_blocks
+from volumetric.measure.measurement import (
+    MeasurementFormatError,
+    Measurements,
+    read_measurement_blocks,
+)
 from volumetric.measure.tables import export_tables, import_tables, read_table_files, write_tables
+from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel
 
 
@@ -27,6 +35,31 @@ def summary(result: FitResult) -> str:
     if result.not_measured:
         lines.append("not measured: " + ", ".join(result.not_measured))
     return "\n".join(lines)
+
+
+def _fit_file(machine: Machine, data: Path, as_json: bool) -> FitResult:
+    """Identify from the file block by block (memory follows a block, not the file), with
+    a progress bar on a terminal (:mod:`ednc.progress`)."""
+    try:
+        size = data.stat().st_size
+    except OSError as exc:
+        raise UserError(f"cannot read {data}: {exc.strerror or exc}") from exc
+    with CommandProgress(wanted(as_json)) as progress:
+        advance = progress.reading(f"reading {data.name}", size)
+        blocks = read_measurement_blocks(data, progress=advance)
+
+        def staged() -> Iterator[Measurements]:
+            yield from blocks
+            progress.stage("identifying: degrees, null space, uncertainties")
+
+        try:
+            return fit_blocks(machine, staged())
+        except (MeasurementFormatError, UnicodeDecodeError) as exc:
+            raise UserError(str(exc)) from exc
+        except FitError as exc:
+            raise UserError(f"{data}: {exc}") from exc
+        except OSError as exc:
+            raise UserError(f"cannot read {data}: {exc.strerror or exc}") from exc
 
 
 def register(app: typer.Typer) -> None:
@@ -43,11 +76,7 @@ def register(app: typer.Typer) -> None:
         fixed at zero; uncertainties are in the model's info.
         """
         m = read_machine(machine)
-        readings = read_data(data)
-        try:
-            result = fit(m, readings)
-        except FitError as exc:
-            raise UserError(f"{data}: {exc}") from exc
+        result = _fit_file(m, data, as_json)
         text = json.dumps(result.model.to_json(), indent=1)
         if out is not None:
             out.write_text(text)

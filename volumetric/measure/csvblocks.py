@@ -61,13 +61,15 @@ class TextBlock:
     consumed: int
 
 
-def text_blocks(fh: BinaryIO, block_bytes: int = BLOCK_BYTES) -> Iterator[TextBlock]:
-    """The file as consecutive blocks of whole lines.
+def text_blocks(fh: BinaryIO, block_bytes: int | None = None) -> Iterator[TextBlock]:
+    """The file as consecutive blocks of whole lines, about ``block_bytes`` each
+    (:data:`BLOCK_BYTES` by default, read when called).
 
     A block ends at a line break outside quotes (an even count of ``"`` before it), so a
     quoted cell with a line break in it stays in one block. A UTF-8 byte-order mark at the
     start is dropped.
     """
+    block_bytes = BLOCK_BYTES if block_bytes is None else block_bytes
     carry = b""
     line = 1
     consumed = 0
@@ -205,8 +207,9 @@ def parse_block(data: bytes, header: Sequence[str], numeric: frozenset[str]
     try:
         table = pacsv.read_csv(
             io.BytesIO(data),
+            # 1 MB chunks: pyarrow parses them on every core
             read_options=pacsv.ReadOptions(column_names=list(header), use_threads=True,
-                                           block_size=max(len(data) + 1, 1 << 20)),
+                                           block_size=1 << 20),
             parse_options=pacsv.ParseOptions(delimiter=",", newlines_in_values=False,
                                              ignore_empty_lines=True),
             convert_options=pacsv.ConvertOptions(
@@ -223,7 +226,7 @@ def parse_block(data: bytes, header: Sequence[str], numeric: frozenset[str]
     for name in header:
         col = table.column(name)
         if name in numeric:
-            numbers[name] = np.asarray(col.to_numpy(), dtype=np.float64)
+            numbers[name] = np.asarray(col.combine_chunks().to_numpy(), dtype=np.float64)
         else:
             texts[name] = RawText(col.combine_chunks())
     return numbers, texts

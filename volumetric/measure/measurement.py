@@ -33,14 +33,17 @@ file); :func:`read_measurements` joins them.
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import io
 import itertools
+import queue
 import re
+import threading
 from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field, replace
 from pathlib import Path
-from typing import Any, BinaryIO, TextIO
+from typing import Any, BinaryIO, TextIO, TypeVar
 
 import numpy as np
 from numpy.typing import NDArray
@@ -306,8 +309,8 @@ def read_measurements(source: str | Path | TextIO, *, progress: Progress | None 
     return replace(whole, extra=_extra_kinds(extra))
 
 
-def read_measurement_blocks(source: str | Path | TextIO, *, progress: Progress | None = None
-                            ) -> Iterator[Measurements]:
+def read_measurement_blocks(source: str | Path | TextIO, *, progress: Progress | None = None,
+                            read_ahead: int = 2) -> Iterator[Measurements]:
     """Read a measurement CSV block by block: memory follows the block, not the file.
 
     Every block is validated as :func:`read_measurements` validates the file, and an
@@ -318,6 +321,9 @@ def read_measurement_blocks(source: str | Path | TextIO, *, progress: Progress |
     ----------
     source, progress
         As for :func:`read_measurements`.
+    read_ahead : int
+        Blocks read and parsed in a background thread ahead of the one handed out (0:
+        none, everything in the caller's thread).
 
     Yields
     ------
@@ -331,11 +337,65 @@ def read_measurement_blocks(source: str | Path | TextIO, *, progress: Progress |
     """
     name = _name(source)
     empty = True
-    for m, extras in _parsed_blocks(name, source, progress):
+    parsed = _parsed_blocks(name, source, progress)
+    for m, extras in _read_ahead(parsed, read_ahead) if read_ahead > 0 else parsed:
         empty = False
         yield replace(m, extra=_extra_kinds({c: r.numbers_or_text() for c, r in extras.items()}))
     if empty:
         raise MeasurementFormatError(name, "the file has a header but no readings", line=2)
+
+
+_T = TypeVar("_T")
+
+
+def _read_ahead(items: Iterator[_T], depth: int) -> Iterator[_T]:
+    """``items`` produced by a worker thread up to ``depth`` ahead of the consumer.
+
+    Parsing (pyarrow, numpy) releases the GIL, so the next blocks are read while the
+    caller works on this one: on two cores reading and identification overlap. An
+    exception in the worker is raised here, in order; a consumer that stops early stops
+    the worker (which closes the file).
+    """
+    box: queue.Queue[tuple[bool, Any]] = queue.Queue(maxsize=depth)
+    stop = threading.Event()
+    done = object()
+
+    def work() -> None:
+        try:
+            for item in items:
+                while not stop.is_set():
+                    try:
+                        box.put((True, item), timeout=0.1)
+                        break
+                    except queue.Full:
+                        continue
+                if stop.is_set():
+                    return
+            box.put((True, done))
+        except BaseException as exc:  # handed to the consumer, raised there
+            box.put((False, exc))
+        finally:
+            if stop.is_set():
+                closer = getattr(items, "close", None)
+                if closer is not None:
+                    closer()
+
+    worker = threading.Thread(target=work, name="measurement-read-ahead", daemon=True)
+    worker.start()
+    try:
+        while True:
+            ok, item = box.get()
+            if not ok:
+                raise item
+            if item is done:
+                return
+            yield item
+    finally:
+        stop.set()
+        while worker.is_alive():  # unblock a worker waiting to put
+            with contextlib.suppress(queue.Empty):
+                box.get(timeout=0.1)
+        worker.join()
 
 
 def _extra_kinds(extra: dict[str, NDArray[Any]]) -> dict[str, NDArray[Any]]:
