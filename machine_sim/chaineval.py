@@ -23,6 +23,17 @@ Everything is vectorised over rows of (machine, point): :class:`ChainBatch` hold
 machines whose maps share one chain structure (same axes, sides, branches, outputs) and
 evaluates any number of rows, each with its machine index, in one call; a whole fleet's
 PLC cycle is one call per chain structure (``benchmarks/fleet_scan.py``).
+
+Two evaluations of the same steps: :meth:`ChainBatch.corrections` keeps the rows as the
+last axis of every array (the fleet cycle: per link a handful of numpy calls over all
+rows, the per-machine constants gathered once per row set, only the table intervals that
+changed since the last call gathered again), and :meth:`ChainBatch.corrections_reference`
+writes the steps as above with the rows first (stacked 3x3 products), the check of the
+first (``tests/test_chaineval_fast.py``: equal within 1e-9 mm). In pure numpy the fleet
+cycle has a floor that does not shrink with fewer machines: its hundreds of numpy calls
+(per link, the 5x5 Cholesky of the pseudo-inverse, the orientation products), each a few
+µs of dispatch; a cycle of 10 5-axis machines costs half of one of 1,000. A compiled loop
+over the rows (numba) would remove that floor.
 """
 
 from __future__ import annotations
