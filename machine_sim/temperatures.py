@@ -143,7 +143,9 @@ class TemperatureStore:
         self.messages = 0
         """Temperatures messages applied."""
         self.updated_s = float("-inf")
-        """Machine time of the last change (a cycle can tell new values cheaply)."""
+        """Machine time of the last change (a cycle can tell new values cheaply): the
+        newest reading's time, and at least one step up on every stored reading, so a
+        reading dated before the newest (a forwarded one, by its age) is still a change."""
 
     def update(self, sensor: str, celsius: float, taken_s: float, source: Source) -> bool:
         """Store a reading; True if stored.
@@ -164,7 +166,7 @@ class TemperatureStore:
             return False
         self._readings[sensor] = Reading(float(celsius), float(taken_s), source)
         self._values[column_of(sensor)] = float(celsius)
-        self.updated_s = max(self.updated_s, float(taken_s))
+        self.updated_s = max(math.nextafter(self.updated_s, math.inf), float(taken_s))
         return True
 
     def _screen(self, sensor: str, celsius: float, taken_s: float, last: Reading | None

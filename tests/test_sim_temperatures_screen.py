@@ -113,3 +113,16 @@ def test_the_siemens_nc_and_the_runtime_configure_their_screen() -> None:
     slow = MachineRuntime(m).controller.temperatures.max_rate_K_per_s
     fast = MachineRuntime(m, thermal_speedup=60.0).controller.temperatures.max_rate_K_per_s
     assert fast == pytest.approx(60.0 * slow)
+
+
+def test_a_reading_dated_before_the_newest_still_counts_as_a_change() -> None:
+    # the cycle refolds the map's thermal records when updated_s moves: a forwarded
+    # reading dated by its age before the machine's own newest one must move it too
+    store = TemperatureStore()
+    store.update("spindle", 24.0, 10.0, "sensor")
+    before = store.updated_s
+    assert store.update("bed", 21.0, 8.0, "center")
+    assert store.updated_s > before and store.updated_s < 10.0 + 1e-9
+    same = store.updated_s
+    assert not store.update("bed", float("nan"), 11.0, "center")  # refused: no change
+    assert store.updated_s == same
