@@ -54,6 +54,8 @@ class ForwardStats:
     no_session: int = 0
     unsendable: int = 0
     """Readings whose name does not fit the wire (over 16 bytes)."""
+    coalesced: int = 0
+    """Readings replaced by a newer one of the same sensor before their message left."""
 
 
 @dataclass
@@ -104,6 +106,8 @@ class TemperatureForwarder:
         p = self._pending.get(machine)
         if p is None:
             p = self._pending[machine] = _Pending()
+        if name in p.readings:
+            self.stats.coalesced += 1
         p.readings[name] = (celsius, taken)
         if p.timer is not None:
             return  # a message is already due: it will carry this value

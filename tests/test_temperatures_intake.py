@@ -69,6 +69,11 @@ async def test_every_refusal_keeps_the_last_good_value(tmp_path: Path) -> None:
                                     "sensors": ["air"]})
         intake = intake_of(r.center)
         board = r.services.temperatures
+        registry = r.center.metrics.registry
+        for reason in ("not_finite", "out_of_range", "unknown_sensor", "too_fast",
+                       "unknown_machine"):  # on the metrics endpoint from the start, at 0
+            assert registry.get_sample_value("ednc_temperatures_refused_total",
+                                              {"reason": reason}) == 0, reason
         assert await intake.lookup("vmc-01") == frozenset({"T_air_C"})
         assert intake.take("vmc-01", "air", 20.0) is None
         cases = [("air", math.nan, "not_finite"), ("air", 150.0, "out_of_range"),
@@ -84,7 +89,6 @@ async def test_every_refusal_keeps_the_last_good_value(tmp_path: Path) -> None:
         assert intake.refusals[-1].reason == "unknown_machine"  # ... and then refused
         assert not board.readings("nobody")
         assert intake.take("vmc-01", "air", 21.5) is None  # within the allowance
-        registry = r.center.metrics.registry
         for reason in ("not_finite", "out_of_range", "unknown_sensor", "too_fast",
                        "unknown_machine"):
             assert registry.get_sample_value("ednc_temperatures_refused_total",
@@ -190,6 +194,7 @@ async def test_forwarding_coalesces_per_machine_last_value_wins() -> None:
     await until(lambda: len(a.sent) == 2)
     second = {x.name: x.celsius for x in a.sent[1].readings}
     assert second == {"spindle": 25.0, "air": 19.0}
+    assert fwd.stats.coalesced == 3  # 22, 23 and 24 °C were overtaken before they left
     assert a.sent[1].timestamp_ms == 1_000_000
     fwd.note("a", "T_" + "n" * 17 + "_C", 20.0, 1000.0)  # too long for the wire
     assert fwd.stats.unsendable == 1
