@@ -61,7 +61,7 @@ from protocol.mapformat import ThermalRecord
 
 from .chaineval import sensor_key
 from .controller import Compensator
-from .lookup import ActiveMap, TablesMap
+from .lookup import ActiveMap, GridMap, TablesMap
 from .mapstore import MapStore
 from .siemens_thermal import TempCompData, record_setting_data
 from .temperatures import JUMP_ALLOWANCE_K, MAX_RATE_K_PER_S, PLAUSIBLE_C, TemperatureStore
@@ -308,9 +308,11 @@ class SiemensNC(Compensator):
 
     @staticmethod
     def _records(m: ActiveMap | None) -> tuple[ThermalRecord, ...]:
-        if m is None:
-            return ()
-        return m.payload.thermal if isinstance(m, TablesMap) else m.thermal
+        if isinstance(m, TablesMap):
+            return m.payload.thermal
+        if isinstance(m, GridMap):
+            return m.thermal
+        return ()  # none, or a kind this NC does not take
 
     def sync_thermal(self) -> bool:
         """Write the active map's thermal records at the latest temperatures as setting
