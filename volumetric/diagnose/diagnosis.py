@@ -67,6 +67,21 @@ Procedure (``ednc diagnose``):
    ``rms_after_um`` is the last one's. A rotary axis's harmonics replace the base
    columns, so at most one ``rotary_periodic`` is named (the saved model still takes the
    Fourier basis on every rotary axis whose harmonics are significant on their own).
+   When two or more effects are named, each thermal or time effect is chosen again among
+   the thermal and time candidates of its axis with every other effect in the model
+   (:func:`_refine`): forward selection picked it while another effect on that axis still
+   distorted the comparison of sensors that move alike. A time drift gives way to a
+   thermal candidate of its axis within ``TIME_TIE`` (:func:`_prefer_physical`).
+7. **Unexplained structure** (:mod:`volumetric.diagnose.unexplained`): the final held-out
+   residuals are searched for what they still follow (position, a period along an axis,
+   approach direction, time, a temperature). Structure there is reported as an
+   ``unexplained`` entry of ``effects`` (``estimate``: ``correlates_with``, the strongest
+   correlate, ``structure_um``, every ``correlates`` with its F-test figures). A named
+   effect whose own correlate (its sensor; its axis's position for a periodic error or an
+   expansion; its axis's direction for a backlash) still carries structure was the nearest
+   candidate, not the cause: it moves into the entry's ``nearest`` list and the
+   ``unexplained`` entry takes its place (the top-level ``effect`` when it was the first).
+   The saved model keeps every term selected (each made a held-out gain).
 
 Candidates that the data cannot support are not guessed at: they are listed in
 ``not_assessed`` with the reason (no temperature columns, one approach direction only,
@@ -83,6 +98,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from volumetric.diagnose.unexplained import (
+    Structure,
+    correlate_key,
+    own_correlates,
+    residual_structure,
+)
 from volumetric.identify.design import Param, axis_positions, build_design, fourier_axis
 from volumetric.identify.fit import FitError, fit, model_from_parameters
 from volumetric.identify.thermal import ThermalTerm as ThermalColumn
@@ -658,7 +679,8 @@ def diagnose(
     details: dict[str, Any] = {"n_readings": len(m), "folds": len(fold_ids), "split": split}
     if split == "forward":
         details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids)
-    best = scored[0] if scored and scored[0].z >= Z_MIN and scored[0].gain >= MIN_GAIN else None
+    pick = _prefer_physical(scored) if scored else None
+    best = pick if pick is not None and pick.z >= Z_MIN and pick.gain >= MIN_GAIN else None
     if best is not None:
         static = best.candidate
         if "lagged" in static.extra:
@@ -674,6 +696,14 @@ def diagnose(
                                   {**base_fit.model.info,
                                    "offsets_um": _offsets(base_fit.params, base_fit.values)})
         details["effects"] = []
+        left = residual_structure(machine, m, base_heldout, judge)
+        if left:
+            # structure no candidate explains: say so rather than "none"
+            entry = _unexplained_entry(left, [], rms_before)
+            details["effects"] = [entry]
+            return Diagnosis("unexplained", entry["axis"], entry["sensor"], entry["estimate"],
+                             rms_before, rms_before, table, missing, none_model, details,
+                             base_heldout, base_heldout, judge)
         return Diagnosis("none", None, None, {}, rms_before, rms_before, table, missing,
                          none_model, details, base_heldout, base_heldout, judge)
     c = best.candidate
@@ -743,6 +773,18 @@ def diagnose(
             periodic = fit(machine, m.select(train), fourier=frozenset({rotary_axis}))
             model = MachineModel(machine.name, periodic.model.geometry, model.terms,
                                  {**model.info, "fourier_axes": [rotary_axis]})
+    if len(chosen) > 1 and not any("lagged" in c.extra for c in chosen):
+        swapped = _refine(chosen, scored, a0, judge, heldout)
+        if swapped != chosen:
+            # a sensor (or time) chosen before another effect on its axis was in the model
+            # gives way to the alias that explains more with all the effects in
+            chosen = swapped
+            for i, c_i in enumerate(chosen):
+                r_i = heldout(_combined(a0, chosen[: i + 1]))
+                effects[i].update(effect=c_i.effect, axis=c_i.axis, sensor=c_i.sensor,
+                                  rms_after_um=round(_rms(r_i[judge]), 4))
+            current = Scored(chosen[-1], r_i, _rms(r_i[judge]), current.z, current.gain)
+            effect, axis, sensor = chosen[0].effect, chosen[0].axis, chosen[0].sensor
     if len(chosen) > 1:
         # each estimate again with every other effect in the model: effects on one axis
         # (a drift and an expansion) share variance that the first fit gave to one alone
@@ -757,11 +799,92 @@ def diagnose(
         model = MachineModel(model.machine, model.geometry,
                              tuple(t for t in effect_terms if t is not None), model.info)
         estimate = effects[0]["estimate"]
+    left = residual_structure(machine, m, current.heldout, judge)
+    if left:
+        # structure left that the named effects do not explain; an effect whose own
+        # correlate (its sensor, its axis's position or direction) still carries it was
+        # the nearest candidate, not the cause: it gives way to "unexplained"
+        keys = {correlate_key(s) for s in left}
+        nearest = [e for e in effects if own_correlates(e["effect"], e["axis"], e["sensor"])
+                   & keys]
+        kept = [e for e in effects if e not in nearest]
+        entry = _unexplained_entry(left, nearest, current.rms_after_um)
+        effects = [entry, *kept] if nearest and nearest[0] is effects[0] else [*kept, entry]
+        first = effects[0]
+        effect, axis, sensor, estimate = (first["effect"], first["axis"], first["sensor"],
+                                          first["estimate"])
     details["effects"] = effects
     if split == "forward":
         details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids, current.heldout)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, model, details, base_heldout, current.heldout, judge)
+
+
+def _unexplained_entry(left: list[Structure], nearest: list[dict[str, Any]],
+                       rms_after: float) -> dict[str, Any]:
+    """The ``effects`` entry of structure no candidate explains: the strongest correlate
+    names it (axis or sensor when it has one), every correlate found is listed, and the
+    named effects it displaced (``nearest``) keep their estimates there."""
+    top = left[0]
+    estimate: dict[str, Any] = {"correlates_with": top.label, "structure_um": round(top.rms_um, 4),
+                                "correlates": [s.to_json() for s in left]}
+    if nearest:
+        estimate["nearest"] = [{k: e[k] for k in ("effect", "axis", "sensor", "estimate")}
+                               for e in nearest]
+    return {"effect": "unexplained", "axis": top.axis, "sensor": top.sensor,
+            "estimate": estimate, "rms_after_um": round(rms_after, 4)}
+
+
+THERMAL_FAMILY = ("thermal_drift", "thermal_expansion", "time_drift")
+"""Effects that follow a slow signal (a sensor or the clock): over one campaign several of
+them can look alike, so which one is named is settled with every other effect in."""
+TIME_TIE = 0.02
+"""A time drift is named over a thermal candidate of its axis only when it explains the
+held-out readings more than this much better: a slowly warming structure and the clock
+are aliases over one campaign, and the sensor is the physical cause that can be
+compensated."""
+
+
+def _prefer_physical(ranked: list[Scored]) -> Scored:
+    """The first of ``ranked`` (sorted by held-out RMS), unless it is a time drift and a
+    thermal candidate of the same axis is within ``TIME_TIE`` of it."""
+    top = ranked[0]
+    if top.candidate.effect != "time_drift":
+        return top
+    for s in ranked[1:]:
+        if s.rms_after_um > top.rms_after_um * (1 + TIME_TIE):
+            break
+        c = s.candidate
+        if (c.effect in THERMAL_FAMILY[:2] and c.axis == top.candidate.axis
+                and "lagged" not in c.extra):
+            return s
+    return top
+
+
+def _refine(chosen: list[Candidate], scored: list[Scored], a0: F64, judge: NDArray[np.bool_],
+            heldout: Callable[[F64], F64]) -> list[Candidate]:
+    """Each thermal or time effect of ``chosen`` chosen again among the thermal and time
+    candidates of its axis, with every other chosen effect in the model (forward selection
+    picked it before the others were in, when a backlash or a drift on the same axis
+    still distorted the comparison of sensors that move alike)."""
+    out = list(chosen)
+    for i, c_i in enumerate(out):
+        if c_i.effect not in THERMAL_FAMILY or c_i.drop:
+            continue
+        others = [c for j, c in enumerate(out) if j != i]
+        taken = {(c.effect, c.axis) for c in others}
+        base = _combined(a0, others)
+        tried = []
+        for s in scored:
+            c = s.candidate
+            if (c.effect in THERMAL_FAMILY and c.axis == c_i.axis and not c.drop
+                    and "lagged" not in c.extra and (c.effect, c.axis) not in taken):
+                r = heldout(c.design(base))
+                tried.append(Scored(c, r, _rms(r[judge]), 0.0, 0.0))
+        if tried:
+            tried.sort(key=lambda t: t.rms_after_um)
+            out[i] = _prefer_physical(tried).candidate
+    return out
 
 
 def _combined(a0: F64, cands: list[Candidate]) -> F64:
@@ -789,7 +912,7 @@ def _next_effect(
     replacing = any(c.drop for c in chosen)
     rms0 = _rms(current.heldout[judge])
     base = _combined(a0, chosen)
-    best: Scored | None = None
+    tried: list[Scored] = []
     for s in scored:
         c = s.candidate
         if (c.effect, c.axis) in taken or "lagged" in c.extra or (c.drop and replacing):
@@ -797,10 +920,15 @@ def _next_effect(
         # a replacing candidate drops the base model's columns, which lead ``base``
         r = heldout(c.design(base))
         rms = _rms(r[judge])
-        if best is None or rms < best.rms_after_um:
-            z = _significance(current.heldout, r, order_judge, np.any(c.columns != 0, axis=1))
-            best = Scored(c, r, rms, z, (rms0 - rms) / rms0)
-    if best is None or best.z < Z_MIN or best.gain < MIN_GAIN:
+        tried.append(Scored(c, r, rms, 0.0, (rms0 - rms) / rms0))
+    if not tried:
+        return None
+    tried.sort(key=lambda t: t.rms_after_um)
+    pick = _prefer_physical(tried)
+    z = _significance(current.heldout, pick.heldout, order_judge,
+                      np.any(pick.candidate.columns != 0, axis=1))
+    best = Scored(pick.candidate, pick.heldout, pick.rms_after_um, z, pick.gain)
+    if best.z < Z_MIN or best.gain < MIN_GAIN:
         return None
     est, term, _ = _estimate(machine, m, base, w, y, train, best.candidate)
     if est.pop("_t") < T_MIN:

@@ -19,10 +19,8 @@ from __future__ import annotations
 import base64
 import datetime as dt
 import html
-import json
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
 
 import matplotlib
 
@@ -31,9 +29,12 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from volumetric.diagnose.diagnosis import Z_MIN, Diagnosis
+from volumetric.diagnose.text import estimate_rows
 from volumetric.identify.design import axis_positions
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
+
+__all__ = ["estimate_rows", "relevant_sensors", "write_report"]
 
 STYLE = """
 body { font-family: system-ui, sans-serif; max-width: 60rem; margin: 2rem auto;
@@ -50,10 +51,6 @@ figure { margin: 1rem 0; }
 figure img { max-width: 100%; border: 1px solid #e5e8e8; }
 figcaption { color: #566573; font-size: 0.9rem; }
 """
-
-# Units of the estimate's keys, by suffix (diagnosis.py's naming), longest first.
-UNITS = (("_um_per_m_K", "µm/(m·K)"), ("_um_per_K", "µm/K"), ("_um_per_h", "µm/h"),
-         ("_um", "µm"), ("_mm", "mm"), ("_deg", "°"), ("_s", "s"))
 
 SIGN_NOTES = {
     "backlash": (
@@ -106,24 +103,6 @@ def relevant_sensors(d: Diagnosis, columns: Mapping[str, str]) -> tuple[list[str
     return keep, (f"Residuals against {', '.join(left)} are left out: no thermal candidate "
                   f"with {'it' if len(left) == 1 else 'them'} passed the significance test "
                   f"(z ≥ {Z_MIN:g}){best}.")
-
-
-def estimate_rows(estimate: Mapping[str, Any]) -> list[tuple[str, str]]:
-    """(name, value ± uncertainty with unit) for each estimate; ``<k>_std`` joins ``<k>``."""
-    rows = []
-    for key, value in estimate.items():
-        if key.endswith("_std") and key[:-4] in estimate:
-            continue
-        if isinstance(value, bool) or not isinstance(value, (int, float)):
-            text = value if isinstance(value, str) else json.dumps(value)
-            rows.append((key, text))
-            continue
-        # "um_per_K" is a whole key, "amplitude_um" a name with a unit suffix
-        unit = next((u for suffix, u in UNITS if f"_{key}".endswith(suffix)), "")
-        std = estimate.get(f"{key}_std")
-        pm = f" ± {float(std):.2g}" if isinstance(std, (int, float)) else ""
-        rows.append((key, f"{float(value):.4g}{pm} {unit}".rstrip()))
-    return rows
 
 
 def _image(path: Path, caption: str) -> str:
