@@ -199,10 +199,17 @@ class ThermalMachine:
         def send(msg: Message) -> None:
             writer.write(conn.send(msg))
 
+        looked_up = 0.0  # the grid's value where the machine stands (the scan's lookup)
+
         def correction(at: dict[str, float]) -> float:
+            """The ladder on a new temperature: its thermal constant and slope per output
+            (``set_temperatures``); each scan then adds constant + slope · position to
+            the looked-up value."""
             assert grid is not None
             grid.set_temperatures(at)
-            return float(grid.lookup(q)[0, z])
+            col = int(grid.slope_cols[z])
+            position = float(q[0, col]) if col >= 0 else 0.0
+            return looked_up + float(grid.thermal_mm[0, z] + grid.thermal_mm[1, z] * position)
 
         send(Hello(self.name, self.ip, Controller.FANUC, formats, "bench-thermal-1",
                    "w X Y b Z t"))
@@ -229,6 +236,8 @@ class ThermalMachine:
                             grid = GridMap.from_payload(verdict.payload)
                             q = np.array([[AT[a] for a in grid.inputs]])
                             z = grid.outputs.index("Z")
+                            grid.set_temperatures({})
+                            looked_up = float(grid.lookup(q)[0, z])
                             base = correction({"spindle": 20.0})
                             correction(temps)
                             assembler.applied_version = verdict.version

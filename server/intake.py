@@ -100,7 +100,8 @@ PRUNE_BATCH: Final = 50_000
 
 PRUNE_EVERY_S: Final = 3600.0
 RETRY_PRUNE_S: Final = 60.0
-"""After a failed pruning (e.g. the database locked by a long write at start-up)."""
+"""The first pruning this long after start, and again this long after a failed one (the
+database locked by a long write)."""
 
 MAX_BUFFER: Final = 200_000
 """Readings waiting for the database at most (~7 min at 500/s) before the oldest go."""
@@ -532,6 +533,9 @@ class TemperatureIntake:
         return total
 
     async def _retention_loop(self) -> None:
+        # not at once: start-up is when the machines are loaded, registered and connect,
+        # and a pruning then only waits for (and holds up) their writes
+        await asyncio.sleep(RETRY_PRUNE_S)
         while True:
             pause = PRUNE_EVERY_S
             try:
