@@ -9,6 +9,7 @@ JSON, a pipe or a log file gets nothing extra).
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 from types import TracebackType
 
 from rich.console import Console
@@ -23,7 +24,14 @@ from rich.progress import (
     TimeRemainingColumn,
 )
 
-__all__ = ["CommandProgress", "wanted"]
+from ednc.cli import UserError
+from volumetric.measure.measurement import (
+    MeasurementFormatError,
+    Measurements,
+    read_measurements,
+)
+
+__all__ = ["CommandProgress", "read_shown", "wanted"]
 
 
 def wanted(as_json: bool) -> bool:
@@ -99,3 +107,18 @@ class _Advance:
     def __call__(self, done: int) -> None:
         if self._progress is not None and self._task is not None:
             self._progress.update(self._task, completed=done)
+
+
+def read_shown(path: Path, progress: CommandProgress) -> Measurements:
+    """A measurement CSV read whole with a bar of its bytes; errors as one-line
+    :class:`~ednc.cli.UserError` (as :func:`ednc.inputs.read_data`)."""
+    try:
+        size = path.stat().st_size
+    except OSError:
+        size = 0  # the read below says why
+    try:
+        return read_measurements(path, progress=progress.reading(f"reading {path.name}", size))
+    except (MeasurementFormatError, UnicodeDecodeError) as exc:
+        raise UserError(str(exc)) from exc
+    except OSError as exc:
+        raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc

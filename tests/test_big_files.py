@@ -6,6 +6,7 @@ file of a few hundred readings spans many of them."""
 from __future__ import annotations
 
 import csv
+import dataclasses
 import io
 import os
 import re
@@ -25,6 +26,7 @@ from volumetric.measure.measurement import (
     Measurements,
     read_measurement_blocks,
     read_measurements,
+    subsample,
     write_measurements,
 )
 from volumetric.model.components import GeometricErrors, Polynomial, component_names
@@ -268,3 +270,25 @@ def test_cli_fit_reads_in_blocks_and_keeps_one_line_errors(tmp_path: Path) -> No
                           "--json"], capture_output=True, text=True, env=env, timeout=300)
     assert bad.returncode == 2 and bad.stdout == ""
     assert bad.stderr.count("\n") == 1 and "line 2901, column 'quantity'" in bad.stderr
+
+
+def test_subsample_keeps_every_test_its_share_and_is_repeatable() -> None:
+    _, meas = campaign(3000)
+    # two long tests and a short one of 100 readings
+    labels = np.where(np.arange(3000) < 1500, "long-a", "long-b")
+    labels[2900:] = "short"
+    many = dataclasses.replace(meas, test=labels)
+    sub = subsample(many, 600, per_test=50)
+    assert sub is not many and 550 <= len(sub) <= 700
+    assert np.all(np.diff(sub.time_s) > 0)  # file order kept
+    labels, counts = np.unique(sub.test, return_counts=True)
+    assert set(labels.tolist()) == set(np.unique(many.test).tolist())
+    assert counts[labels.tolist().index("short")] == 50  # a short test keeps per_test
+    assert abs(counts[labels.tolist().index("long-a")] - 300) <= 1  # the others their share
+    again = subsample(many, 600, per_test=50)
+    np.testing.assert_array_equal(sub.time_s, again.time_s)
+    # each kept reading is the file's own, with its temperature and run
+    idx = np.searchsorted(many.time_s, sub.time_s)
+    np.testing.assert_array_equal(many.value[idx], sub.value)
+    np.testing.assert_array_equal(many.temperatures["t1"][idx], sub.temperatures["t1"])
+    assert subsample(many, len(many)) is many and subsample(many, 0) is many

@@ -59,6 +59,7 @@ __all__ = [
     "Progress",
     "read_measurement_blocks",
     "read_measurements",
+    "subsample",
     "write_measurements",
 ]
 
@@ -634,6 +635,42 @@ def _build(name: str, header: list[str], columns: dict[str, NDArray[Any]],
         temperature_columns=temperature_columns,
         spindle=columns["spindle"].astype(str) if "spindle" in columns else None,
     )
+
+
+def subsample(m: Measurements, limit: int, *, per_test: int = 2000, seed: int = 0
+              ) -> Measurements:
+    """About ``limit`` of the readings, drawn at random (seeded) within each test, in file
+    order; ``m`` itself when it has no more than ``limit``.
+
+    Every test keeps the same share of its readings, and at least ``per_test`` of them (or
+    all it has): a short fine test among millions of readings keeps what makes it useful
+    (the positions that resolve a ballscrew's period, a reversal). A random draw, not a
+    stride, so no pattern in the order of the readings (targets visited in turn) is
+    aliased. Runs, times and temperatures stay with their readings, so folds of runs and
+    blocks of time are formed from the draw as from the file.
+
+    Parameters
+    ----------
+    m : Measurements
+    limit : int
+        Readings wanted (0 or less: all).
+    per_test : int
+        Fewest readings a test keeps.
+    seed : int
+        Seed of the draw: the same file gives the same readings every time.
+    """
+    n = len(m)
+    if limit <= 0 or n <= limit:
+        return m
+    rng = np.random.default_rng(seed)
+    share = limit / n
+    _, inverse, counts = np.unique(m.test, return_inverse=True, return_counts=True)
+    by_test = np.split(np.argsort(inverse, kind="stable"), np.cumsum(counts)[:-1])
+    keep = np.zeros(n, dtype=bool)
+    for rows in by_test:
+        take = min(rows.size, max(round(share * rows.size), per_test))
+        keep[rng.choice(rows, take, replace=False)] = True
+    return m.select(keep)
 
 
 # --------------------------------------------------------------------------- writing
