@@ -8,6 +8,11 @@ addresses the EMZPS function reads. A change larger than ``max_step_counts`` in 
 is split over several scans (``on_jump="ramp"``), or latches an alarm and holds the shift
 (``on_jump="alarm"``) until :meth:`FanucPMC.reset_alarm`.
 
+Factored maps (format version 4, protocol/README.md §6.6): the ladder looks its 1-D
+tables up, multiplies and adds them into the correction and sensitivity fields, and rounds
+the rotary corrections first, letting the linear axes absorb what that rounding leaves
+(:class:`machine_sim.lookup.FactoredLadder`); it declares ``MapEncoding.FACTORED``.
+
 Thermal records (grid maps of format version 3, protocol/README.md §6.4): the ladder keeps
 per output a constant and a slope, recomputed when a temperature arrives (the center's
 Temperatures messages), and adds ``constant + slope · position`` to the looked-up value
@@ -90,6 +95,8 @@ class FanucConfig:
     thermal_records : bool
         The ladder applies the thermal records of grid maps (declares
         ``MapEncoding.THERMAL``); False: a ladder that takes version-1 grids only.
+    factored : bool
+        The ladder evaluates factored maps (declares ``MapEncoding.FACTORED``).
     """
 
     scan_s: float = 0.008
@@ -101,6 +108,7 @@ class FanucConfig:
     layout: RLayout = RLayout()
     expiry_ramp_s: float = 2.0
     thermal_records: bool = True
+    factored: bool = False
 
     def __post_init__(self) -> None:
         if self.on_jump not in ("ramp", "alarm"):
@@ -133,11 +141,13 @@ class FanucPMC(Compensator):
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"a Fanuc path has 1 to {MAX_AXES} axes here, got {len(axes)}")
         c = self.config
-        # a ladder has no trigonometry: grid maps only, never tables; thermal records
-        # need only a multiply-add per output
+        # a ladder has no trigonometry: grid and factored maps (lookups, multiplies and
+        # adds), never tables; thermal records need only a multiply-add per output
         accepted = MapEncoding.INT32_INCREMENTS
         if c.thermal_records:
             accepted |= MapEncoding.THERMAL
+        if c.factored:
+            accepted |= MapEncoding.FACTORED
         store = MapStore(machine, axes, accepted=accepted,
                          limit_mm=c.limit_counts * c.increment_mm)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)

@@ -33,13 +33,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
+from protocol.mapfactored import FactoredPayload
 from protocol.mapformat import THERMAL_DRIFT, ErrorMapPayload, ThermalRecord
 from protocol.maptables import TablesPayload
 
 from .chaineval import ChainBatch, sensor_key
 
-__all__ = ["ActiveMap", "FleetLadder", "FleetLookup", "GridMap", "TablesMap", "active_map",
-           "interpolate"]
+__all__ = ["ActiveMap", "FactoredLadder", "FleetLadder", "FleetLookup", "GridMap", "TablesMap",
+           "active_map", "interpolate"]
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
@@ -280,15 +281,150 @@ class TablesMap:
         return self.batch.corrections(None, np.atleast_2d(np.asarray(q, dtype=float)))
 
 
-ActiveMap = GridMap | TablesMap
-"""The map a machine has in use, of either kind."""
+class FactoredLadder:
+    """A factored map (format version 4) as a PMC ladder evaluates it, written from
+    protocol/README.md §6.6 alone.
+
+    Per scan: every basis table is looked up once at its axis's position (linear
+    interpolation between the two nodes around it, held at the ends); every term looks its
+    own table up and multiplies it by its basis values; the products add into the fields.
+    Then the rotary corrections are rounded to counts, each down or up; for each of those
+    choices the linear corrections get ``sensitivity × (rounded - field)`` of every rotary
+    axis and are rounded to counts; the choice with the smallest sum of squared linear
+    rounding residuals wins (the first one on a tie, down before up, the first rotary axis
+    changing slowest); each count is clamped to its axis's limit. Values are int32 times
+    ``2^exponent``; the simulation multiplies them out in float64, which is exact for
+    products a PLC forms in 64-bit fixed point.
+
+    Thermal records fold, per new temperature, into a constant and a slope per axis (as
+    for grids, :meth:`GridMap.set_temperatures`), added to the correction fields before
+    rounding.
+    """
+
+    def __init__(self, p: FactoredPayload,
+                 temperatures: Mapping[str, float] | None = None) -> None:
+        self.payload = p
+        self.machine, self.version, self.valid_s = p.machine, p.version, p.valid_s
+        self.grid = tuple(a.name.upper() for a in p.axes)
+        self.outputs = self.grid
+        self.inc = p.increment_mm
+        self.reversal = np.array([0.0 if a.reversal is None else a.reversal * self.inc
+                                  for a in p.axes])
+        self.limit_counts = np.array([a.limit for a in p.axes], dtype=np.int64)
+        self.rot = [i for i, a in enumerate(p.axes) if a.rotary]
+        self.lin = [i for i, a in enumerate(p.axes) if not a.rotary]
+        self.thermal_mm = np.zeros((2, len(p.axes)))
+        if temperatures:
+            self.set_temperatures(temperatures)
+
+    @property
+    def inputs(self) -> tuple[str, ...]:
+        """The axes whose positions :meth:`lookup` takes: all of the map's, in order."""
+        return self.grid
+
+    def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """Fold the latest temperatures (°C by sensor label) into constants and slopes."""
+        self.thermal_mm = thermal_constants(self.payload.thermal, self.outputs, temperatures)
+
+    @staticmethod
+    def _table(values: F64, start: float, step: float, x: F64) -> F64:
+        n = values.shape[0]
+        if n == 1:
+            return np.full(x.shape[0], values[0])
+        u = np.clip((x - start) / step, 0.0, n - 1)
+        i = np.minimum(u.astype(np.int64), n - 2)
+        f = u - i
+        out: F64 = values[i] + (values[i + 1] - values[i]) * f
+        return out
+
+    def fields(self, q: F64) -> F64:
+        """Every field at positions q (N, D) → (N, n_fields), mm, degrees, mm/degree."""
+        p = self.payload
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        if qa.shape[1] != len(p.axes):
+            raise ValueError(f"factored map needs positions of axes {' '.join(self.grid)}: "
+                             f"shape (N, {len(p.axes)}), got {qa.shape}")
+        basis = [self._table(np.ldexp(np.array(b.values, dtype=float), b.exponent), b.start,
+                             b.step, qa[:, b.axis]) for b in p.bases]
+        out = np.zeros((qa.shape[0], p.n_fields))
+        for t in p.terms:
+            a = p.axes[t.axis]
+            v = self._table(np.ldexp(np.array(t.values, dtype=float), t.exponent), a.start,
+                            a.step, qa[:, t.axis])
+            for b in t.factors:
+                v = v * basis[b]
+            out[:, t.field] += v
+        return out
+
+    def counts(self, q: F64) -> NDArray[np.int64]:
+        """What the ladder writes, counts (N, D), for a positive approach."""
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        f = self.fields(qa)
+        d = len(self.grid)
+        c = f[:, :d] + self.thermal_mm[0] + self.thermal_mm[1] * qa
+        c = np.clip(c / self.inc, -self.limit_counts, self.limit_counts)  # counts from here
+        lim = self.limit_counts
+        n = c.shape[0]
+        if not self.rot or not self.lin:
+            rounded: NDArray[np.int64] = np.clip(np.rint(c), -lim, lim).astype(np.int64)
+            return rounded
+        s = f[:, d:].reshape(n, len(self.lin), len(self.rot))
+        down = np.floor(c[:, self.rot])
+        best = np.zeros((n, d), dtype=np.int64)
+        best_cost = np.full(n, np.inf)
+        for choice in range(1 << len(self.rot)):
+            up = np.array([(choice >> (len(self.rot) - 1 - j)) & 1
+                           for j in range(len(self.rot))], dtype=float)
+            r = down + up
+            lin = c[:, self.lin] + np.einsum("nlr,nr->nl", s, r - c[:, self.rot])
+            lr = np.rint(lin)
+            cost = ((lin - lr) ** 2).sum(axis=1)
+            win = cost < best_cost
+            best_cost[win] = cost[win]
+            best[np.ix_(win, self.rot)] = r[win].astype(np.int64)
+            best[np.ix_(win, self.lin)] = lr[win].astype(np.int64)
+        clamped: NDArray[np.int64] = np.clip(best, -lim, lim)
+        return clamped
+
+    def lookup(self, q: F64) -> F64:
+        """Applied corrections for a positive approach at positions q (N, D) → (N, D),
+        mm or degrees (whole increments)."""
+        out: F64 = self.counts(q).astype(np.float64) * self.inc
+        return out
 
 
-def active_map(p: ErrorMapPayload | TablesPayload,
+def thermal_constants(records: Sequence[ThermalRecord], outputs: Sequence[str],
+                      temperatures: Mapping[str, float]) -> F64:
+    """Per output, the thermal records' correction as a constant (mm) and a slope (mm per
+    mm of that output's position), (2, K): what a ladder computes once per temperature."""
+    temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
+    out = np.zeros((2, len(outputs)))
+    for rec in records:
+        t = temps.get(sensor_key(rec.sensor))
+        if t is None or not np.isfinite(t):
+            continue
+        k = list(outputs).index(rec.axis.upper())
+        dt = t - rec.t_ref_C
+        if rec.kind == THERMAL_DRIFT:  # -ΔE = -k·ΔT µm
+            out[0, k] -= rec.coefficient * dt * 1e-3
+        else:  # -ΔE = -k·ΔT·(q - q_min)·1e-3 µm, q in mm
+            slope = rec.coefficient * dt * 1e-6
+            out[0, k] += slope * rec.q_min
+            out[1, k] -= slope
+    return out
+
+
+ActiveMap = GridMap | TablesMap | FactoredLadder
+"""The map a machine has in use, of any kind."""
+
+
+def active_map(p: ErrorMapPayload | TablesPayload | FactoredPayload,
                temperatures: Mapping[str, float] | None = None) -> ActiveMap:
-    """The evaluable form of a decoded payload of either kind."""
+    """The evaluable form of a decoded payload of any kind."""
     if isinstance(p, TablesPayload):
         return TablesMap.from_payload(p, temperatures)
+    if isinstance(p, FactoredPayload):
+        return FactoredLadder(p, temperatures)
     return GridMap.from_payload(p, temperatures)
 
 

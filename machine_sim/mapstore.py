@@ -33,13 +33,14 @@ import numpy as np
 
 from protocol.codes import MapEncoding, MapRejectReason
 from protocol.limits import MAX_MAP_BYTES
+from protocol.mapfactored import FactoredPayload
 from protocol.mapformat import ErrorMapPayload
 from protocol.maptables import TablesPayload
 from protocol.maptransfer import MapAccepted, MapAssembler, MapRejected
 from protocol.messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject
 
 from .chaineval import StructureError
-from .lookup import ActiveMap, GridMap, TablesMap
+from .lookup import ActiveMap, FactoredLadder, GridMap, TablesMap
 
 __all__ = ["MapStore", "StoreEvent"]
 
@@ -102,11 +103,21 @@ class MapStore:
             return None
         if isinstance(verdict, MapAccepted):
             p = verdict.payload
-            problem = self.check(p) if isinstance(p, ErrorMapPayload) else self.check_tables(p)
+            built: ActiveMap
+            if isinstance(p, ErrorMapPayload):
+                problem = self.check(p)
+            elif isinstance(p, FactoredPayload):
+                p = self._clamped_factored(p)
+                problem = self.check_factored(p)
+            else:
+                problem = self.check_tables(p)
             if problem is None:
-                built = (GridMap.from_payload(p, self.temperatures)
-                         if isinstance(p, ErrorMapPayload)
-                         else TablesMap.from_payload(self._clamped(p), self.temperatures))
+                if isinstance(p, ErrorMapPayload):
+                    built = GridMap.from_payload(p, self.temperatures)
+                elif isinstance(p, FactoredPayload):
+                    built = FactoredLadder(p, self.temperatures)
+                else:
+                    built = TablesMap.from_payload(self._clamped(p), self.temperatures)
                 self.active = built  # the one-step swap, after everything is built
                 self.applied_at_s = now_s
                 self.assembler.applied_version = verdict.version
@@ -165,6 +176,35 @@ class MapStore:
         except (StructureError, ValueError, FloatingPointError) as exc:
             return f"map does not evaluate: {exc}"
         if not np.all(np.isfinite(dq)):
+            return "map evaluates to non-finite corrections within the travel"
+        return None
+
+    def _clamped_factored(self, p: FactoredPayload) -> FactoredPayload:
+        """Each axis's limit at most what this controller's channel holds."""
+        cap = max(1, int(self.limit_mm / p.increment_mm + 1e-9))
+        return dataclasses.replace(p, axes=tuple(
+            dataclasses.replace(a, limit=min(a.limit, cap)) for a in p.axes))
+
+    def check_factored(self, p: FactoredPayload) -> str | None:
+        """Why this controller refuses an otherwise valid factored map, or None: an axis
+        that is not this machine's (or out of its order), a reversal over the limit, or
+        tables that do not evaluate to finite corrections at the centre and corners of
+        the tables' span."""
+        names = tuple(a.name.upper() for a in p.axes)
+        if names != self.axes:
+            return (f"map axes {' '.join(names)} are not the axes of {self.machine} in its "
+                    f"order ({' '.join(self.axes)})")
+        for a in p.axes:
+            if a.reversal is not None and abs(a.reversal * p.increment_mm) > self.limit_mm:
+                return (f"map reversal {a.reversal * p.increment_mm:.6g} for axis {a.name} "
+                        f"exceeds the controller's ±{self.limit_mm:g}")
+        span = [(a.start, a.start + (a.count - 1) * a.step) for a in p.axes]
+        probes = [[0.5 * (lo + hi) for lo, hi in span]]
+        if len(span) <= 6:
+            probes += [list(c) for c in itertools.product(*span)]
+        with np.errstate(all="ignore"):
+            f = FactoredLadder(p).fields(np.array(probes))
+        if not np.all(np.isfinite(f)):
             return "map evaluates to non-finite corrections within the travel"
         return None
 

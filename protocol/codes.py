@@ -54,6 +54,9 @@ class MapEncoding(IntFlag):
     THERMAL = 8
     """Hello only: the machine applies the thermal records of grid maps (format version
     3) with its latest temperatures every cycle."""
+    FACTORED = 16
+    """Hello only: the machine evaluates ``factored`` maps (format version 4: sums of
+    products of 1-D tables, rounded rotary-first to int32 increments)."""
 
 
 class ErrorCode(IntEnum):

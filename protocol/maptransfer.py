@@ -16,6 +16,7 @@ from dataclasses import dataclass, field
 from .codes import MapEncoding, MapRejectReason
 from .errors import LocalProtocolError
 from .limits import MAX_CHUNK_BYTES, MAX_MAP_BYTES
+from .mapfactored import FACTORED_FORMAT_VERSION, FactoredPayload, decode_factored
 from .mapformat import ErrorMapPayload, MapFormatError
 from .maptables import TablesPayload, decode_payload
 from .messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject, clip_text
@@ -44,7 +45,7 @@ class MapAccepted:
     """A whole, verified map: swap to ``payload``, then send ``ack()``."""
 
     version: int
-    payload: ErrorMapPayload | TablesPayload
+    payload: ErrorMapPayload | TablesPayload | FactoredPayload
     data: bytes
 
     def ack(self) -> MapAck:
@@ -189,8 +190,12 @@ class MapAssembler:
         if t.failure is not None:
             return t.failure
         data = bytes(t.data)
+        payload: ErrorMapPayload | TablesPayload | FactoredPayload
         try:
-            payload = decode_payload(data)
+            if data[4:6] == FACTORED_FORMAT_VERSION.to_bytes(2, "little"):
+                payload = decode_factored(data)
+            else:
+                payload = decode_payload(data)
         except MapFormatError as exc:
             return MapRejected(b.version, MapRejectReason.DECODE_ERROR, str(exc))
         if payload.version != b.version:
@@ -203,6 +208,10 @@ class MapAssembler:
         if isinstance(payload, TablesPayload) and not self.accepted & MapEncoding.TABLES:
             return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
                                "a tables map, and this machine evaluates only grid maps")
+        if isinstance(payload, FactoredPayload) and not self.accepted & MapEncoding.FACTORED:
+            return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,
+                               "a factored map (format version 4), and this machine does not "
+                               "evaluate them")
         if (isinstance(payload, ErrorMapPayload) and payload.thermal
                 and not self.accepted & MapEncoding.THERMAL):
             return MapRejected(b.version, MapRejectReason.UNSUPPORTED_ENCODING,

@@ -29,7 +29,8 @@ NONCE_BYTES: Final = 32
 MAC_BYTES: Final = 32
 SHA256_BYTES: Final = 32
 _VALUE_FORMATS: Final = MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM
-_ALL_FORMATS: Final = _VALUE_FORMATS | MapEncoding.TABLES | MapEncoding.THERMAL
+_ALL_FORMATS: Final = (_VALUE_FORMATS | MapEncoding.TABLES | MapEncoding.THERMAL
+                       | MapEncoding.FACTORED)
 ABSOLUTE_ZERO_C: Final = -273.15
 _AXIS_TOKEN = re.compile(r"[XYZABC][0-9]?")
 

@@ -20,6 +20,15 @@ from typing import Any
 import numpy as np
 
 from protocol.codes import MapEncoding
+from protocol.mapfactored import (
+    FACTORED_FORMAT_VERSION,
+    BasisTable,
+    FactoredAxis,
+    FactoredPayload,
+    TermTable,
+    decode_factored,
+    encode_factored,
+)
 from protocol.mapformat import (
     GRID_THERMAL_FORMAT_VERSION,
     ErrorMapPayload,
@@ -36,6 +45,13 @@ from protocol.maptables import (
     ThermalRecord,
     encode_payload,
 )
+from volumetric.compensate.factoredmap import (
+    AxisGrid,
+    FactoredMap,
+    Table1D,
+    Term,
+    build_factored_map,
+)
 from volumetric.compensate.gridmap import ErrorMap, GridDim, build_map
 from volumetric.compensate.maps import (
     MAX_MAP_BYTES,
@@ -48,7 +64,7 @@ from volumetric.compensate.tablesmap import ComponentSamples, TablesMap, build_t
 from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel, ThermalTerm
 
-MapContent = ErrorMap | TablesMap
+MapContent = ErrorMap | TablesMap | FactoredMap
 
 
 def grid_to_payload(m: ErrorMap) -> ErrorMapPayload:
@@ -206,10 +222,64 @@ def _limit(t: TablesMap, kind: str) -> float:
     return max(vals, default=1.0)
 
 
+def _ints(values: Any, exponent: int) -> tuple[int, ...]:
+    return tuple(int(v) for v in np.rint(np.ldexp(np.asarray(values, dtype=float), -exponent)))
+
+
+def factored_to_payload(f: FactoredMap) -> FactoredPayload:
+    """The wire payload of a factored map (format version 4, protocol/README.md §6.6).
+
+    Raises
+    ------
+    MapBuildError
+        When a field does not fit the wire format.
+    """
+    inc = f.increment
+    try:
+        return FactoredPayload(
+            machine=f.machine, version=f.version, valid_s=f.valid_s, increment_mm=inc,
+            axes=tuple(FactoredAxis(n, r, None if rev is None else round(rev / inc),
+                                    max(1, round(lim / inc)), g.count, float(g.start),
+                                    float(g.step))
+                       for n, r, rev, lim, g in zip(f.axes, f.rotary, f.reversal, f.limits,
+                                                    f.grids, strict=True)),
+            bases=tuple(BasisTable(b.axis, b.exponent, float(b.start), float(b.step),
+                                   _ints(b.values, b.exponent)) for b in f.bases),
+            terms=tuple(TermTable(t.field, t.table.axis, t.table.exponent, t.factors,
+                                  _ints(t.table.values, t.table.exponent)) for t in f.terms),
+            thermal=_records(f.thermal),
+        )
+    except ValueError as exc:
+        raise MapBuildError(f"map of {f.machine!r} cannot be encoded: {exc}") from None
+
+
+def factored_from_payload(p: FactoredPayload) -> FactoredMap:
+    """The factored map a payload carries (temperatures are not on the wire)."""
+    inc = p.increment_mm
+    grids = tuple(AxisGrid(a.count, a.start, a.step) for a in p.axes)
+    return FactoredMap(
+        machine=p.machine, version=p.version, controller="fanuc",
+        axes=tuple(a.name for a in p.axes), rotary=tuple(a.rotary for a in p.axes),
+        increment=inc, limits=tuple(a.limit * inc for a in p.axes),
+        reversal=tuple(None if a.reversal is None else a.reversal * inc for a in p.axes),
+        grids=grids,
+        bases=tuple(Table1D(b.axis, b.start, b.step,
+                            np.ldexp(np.asarray(b.values, dtype=float), b.exponent),
+                            b.exponent) for b in p.bases),
+        terms=tuple(Term(t.field, Table1D(t.axis, grids[t.axis].start, grids[t.axis].step,
+                                          np.ldexp(np.asarray(t.values, dtype=float),
+                                                   t.exponent), t.exponent), t.factors)
+                    for t in p.terms),
+        valid_s=p.valid_s, thermal=_terms(p.thermal),
+    )
+
+
 def encode(content: MapContent) -> bytes:
     """The payload bytes a machine receives for ``content``."""
     if isinstance(content, TablesMap):
         return encode_payload(tables_to_payload(content))
+    if isinstance(content, FactoredMap):
+        return encode_factored(factored_to_payload(content))
     return encode_map(grid_to_payload(content))
 
 
@@ -227,6 +297,8 @@ def with_version(content: MapContent, version: int) -> MapContent:
 
 
 def kind_of(content: MapContent) -> MapKind:
+    if isinstance(content, FactoredMap):
+        return "factored"
     return "tables" if isinstance(content, TablesMap) else "grid"
 
 
@@ -237,6 +309,8 @@ def carries_thermal(map_or_payload: MapContent | bytes) -> bool:
     nothing, and needs nothing either."""
     if isinstance(map_or_payload, bytes):
         version = int.from_bytes(map_or_payload[4:6], "little")
+        if version == FACTORED_FORMAT_VERSION:  # carries them when it has records
+            return bool(decode_factored(map_or_payload).thermal)
         return version in (TABLES_FORMAT_VERSION, GRID_THERMAL_FORMAT_VERSION)
     return isinstance(map_or_payload, TablesMap) or bool(map_or_payload.thermal)
 
@@ -246,6 +320,8 @@ def declared_kinds(formats: MapEncoding) -> tuple[MapKind, ...]:
     kinds: list[MapKind] = []
     if formats & MapEncoding.TABLES:
         kinds.append("tables")
+    if formats & MapEncoding.FACTORED and formats & MapEncoding.INT32_INCREMENTS:
+        kinds.append("factored")
     if formats & (MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM):
         kinds.append("grid")
     return tuple(kinds)
@@ -254,10 +330,14 @@ def declared_kinds(formats: MapEncoding) -> tuple[MapKind, ...]:
 def default_formats(controller: str) -> MapEncoding:
     """What a machine of a controller family evaluates when it has not said (the
     simulated Siemens-style endpoint evaluates tables, the Fanuc-style one grids and
-    applies their thermal records)."""
+    applies their thermal records; factored maps only when it declares them)."""
     if controller.lower() == "fanuc":
         return MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
     return MapEncoding.FLOAT32_MM | MapEncoding.TABLES
+
+
+def _size(content: MapContent) -> int:
+    return content.report.bytes if content.report is not None else len(encode(content))
 
 
 def build_for(machine: Machine, model: MachineModel,
@@ -275,8 +355,9 @@ def build_for(machine: Machine, model: MachineModel,
         What the machine declared in its Hello (or its registration); by default what its
         controller family evaluates. With ``MapEncoding.THERMAL`` a grid carries the
         model's thermal terms (built at their references, checked at ``temperatures``).
-    kind : {"auto", "grid", "tables"}
-        ``auto`` picks the smallest payload meeting the tolerance among the declared kinds.
+    kind : {"auto", "grid", "tables", "factored"}
+        ``auto`` picks the smallest payload meeting the tolerance among the declared kinds
+        (a factored map's tolerance is its error as sent: it fails rather than miss it).
     tolerance_um : float
         Largest tool-tip error allowed, µm.
 
@@ -290,8 +371,8 @@ def build_for(machine: Machine, model: MachineModel,
     declared = default_formats(ctrl) if formats is None else formats
     have = declared_kinds(declared)
     thermal_grid = bool(declared & MapEncoding.THERMAL)
-    if kind not in ("auto", "grid", "tables"):
-        raise MapBuildError(f"map kind {kind!r}: expected auto, grid or tables")
+    if kind not in ("auto", "grid", "tables", "factored"):
+        raise MapBuildError(f"map kind {kind!r}: expected auto, grid, tables or factored")
     if kind != "auto" and kind not in have:
         raise MapBuildError(f"machine {machine.name!r} does not evaluate {kind} maps (it "
                             f"takes {', '.join(have) or 'none'})")
@@ -305,6 +386,17 @@ def build_for(machine: Machine, model: MachineModel,
                                               tolerance_um=tolerance_um, **table_opts))
         except MapBuildError:
             if kind == "tables":
+                raise
+    if "factored" in wanted:
+        fopts = {k: v for k, v in options.items() if k not in ("check_points",)}
+        try:
+            fac = with_size(build_factored_map(machine, model, temperatures,
+                                               tolerance_um=tolerance_um,
+                                               thermal_in_map=thermal_grid, **fopts))
+            if best is None or _size(fac) < _size(best):
+                best = fac
+        except MapBuildError:
+            if kind == "factored":
                 raise
     if "grid" in wanted:
         # a grid only wins when smaller: it may not grow beyond the tables' size (a
@@ -351,6 +443,8 @@ __all__ = [
     "declared_kinds",
     "default_formats",
     "encode",
+    "factored_from_payload",
+    "factored_to_payload",
     "grid_from_payload",
     "grid_to_payload",
     "kind_of",

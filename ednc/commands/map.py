@@ -15,6 +15,7 @@ from ednc.commands.compensate import (
 )
 from ednc.inputs import read_machine, read_model
 from server.mapcodec import MapContent, build_for, encode, kind_of
+from volumetric.compensate.factoredmap import FactoredMap
 from volumetric.compensate.gridmap import (
     DEFAULT_INCREMENT,
     DEFAULT_LIMIT_DEG,
@@ -31,6 +32,8 @@ def summary(m: MapContent, out: Path | None) -> dict[str, Any]:
     ``kind``, ``bytes``, ``worst_error_um`` and ``build_s``)."""
     if isinstance(m, TablesMap):
         return _tables_summary(m, out)
+    if isinstance(m, FactoredMap):
+        return _factored_summary(m, out)
     r = m.report
     return {
         "machine": m.machine,
@@ -68,9 +71,44 @@ def _tables_summary(m: TablesMap, out: Path | None) -> dict[str, Any]:
     }
 
 
+def _factored_summary(m: FactoredMap, out: Path | None) -> dict[str, Any]:
+    r = m.report
+    return {
+        "machine": m.machine, "controller": m.controller, "version": m.version,
+        "out": str(out) if out is not None else None,
+        "terms": len(m.terms), "basis_tables": len(m.bases),
+        "term_nodes": {a: g.count for a, g in zip(m.axes, m.grids, strict=True)},
+        "thermal": [{"effect": t.kind, "axis": t.axis, "sensor": t.sensor}
+                    for t in m.thermal],
+        "outputs": list(m.outputs), "increment": m.increment,
+        "limits": dict(zip(m.outputs, m.limits, strict=True)),
+        "reversal": {o: r_ for o, r_ in zip(m.outputs, m.reversal, strict=True)
+                     if r_ is not None},
+        "temperatures": dict(m.temperatures),
+        **(r.to_json() if r is not None else {"nodes": m.entries, "bytes": m.nbytes}),
+    }
+
+
+def _factored_text(m: FactoredMap, out: Path | None) -> str:
+    r = m.report
+    assert r is not None
+    return "\n".join([
+        f"factored map of {m.machine} v{m.version} for {m.controller} (int32 counts of "
+        f"{m.increment:g} mm (deg), rotary rounded first): {len(m.terms)} terms over "
+        f"{len(m.bases)} basis tables, {r.nodes} values; {r.bytes} bytes"
+        + (f" -> {out}" if out is not None else ""),
+        f"worst tool-tip error as sent {r.worst_error_um:.3f} µm (unrounded "
+        f"{r.worst_interpolation_um:.3f} µm; tolerance {r.tolerance_um:g} µm, "
+        f"{r.check_points} random check points)",
+        f"built in {r.build_s:.2f} s",
+    ])
+
+
 def _text(m: MapContent, out: Path | None) -> str:
     if isinstance(m, TablesMap):
         return _tables_text(m, out)
+    if isinstance(m, FactoredMap):
+        return _factored_text(m, out)
     r = m.report
     assert r is not None
     unit = (f"int32 counts of {m.increment:g} mm (deg)" if m.increment is not None
@@ -135,7 +173,9 @@ def register(app: typer.Typer) -> None:
         kind: Annotated[str, typer.Option(
             "--kind", help="auto (the smallest the controller evaluates that meets the "
                            "tolerance), tables (component tables the machine evaluates: "
-                           "Siemens-style endpoints) or grid (corrections on a grid).")
+                           "Siemens-style endpoints), factored (sums of products of 1-D "
+                           "tables, rotary rounded first: Fanuc-style ladders) or grid "
+                           "(corrections on a grid).")
         ] = "auto",
         allow_over_tolerance: Annotated[bool, typer.Option(
             "--allow-over-tolerance",
@@ -160,8 +200,8 @@ def register(app: typer.Typer) -> None:
         if missing:
             raise UserError(f"{model_path}: the model needs the temperatures of "
                             f"{', '.join(missing)}; give them with --temperature NAME=°C")
-        if kind not in ("auto", "tables", "grid"):
-            raise UserError(f"--kind {kind!r}: expected auto, tables or grid")
+        if kind not in ("auto", "tables", "factored", "grid"):
+            raise UserError(f"--kind {kind!r}: expected auto, tables, factored or grid")
         options: dict[str, Any] = {"increment": increment} if ctrl == "fanuc" else {}
         try:
             m = build_for(

@@ -32,8 +32,8 @@ from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
 Controller = Literal["fanuc", "siemens"]
-MapKind = Literal["grid", "tables"]
-KINDS: tuple[MapKind, ...] = ("grid", "tables")
+MapKind = Literal["grid", "tables", "factored"]
+KINDS: tuple[MapKind, ...] = ("grid", "tables", "factored")
 DEFAULT_INCREMENT = 0.001
 """Fanuc's least input increment (IS-B): 0.001 mm, or 0.001° on a rotary axis."""
 DEFAULT_LIMIT_MM = 0.5
