@@ -179,6 +179,8 @@ class IntakeStats:
     stored: int = 0
     unstored: int = 0
     """Readings dropped from a full buffer (database away too long)."""
+    store_cpu_s: float = 0.0
+    """CPU time of the database thread building and running the batched INSERTs, s."""
 
 
 class TemperatureIntake:
@@ -500,7 +502,7 @@ class TemperatureIntake:
         batch = list(self._buffer)
         self._buffer.clear()
         try:
-            n = await self.center.db.run(reading_repo.add_readings, batch)
+            n = await self.center.db.run(self._add_readings, batch)
         except SQLAlchemyError:
             room = MAX_BUFFER - len(self._buffer)  # put them back in front, if room
             keep = batch[-room:] if room > 0 else []
@@ -509,6 +511,13 @@ class TemperatureIntake:
             raise
         self.stats.stored += n
         return n
+
+    def _add_readings(self, session: Session, batch: list[NewReading]) -> int:
+        cpu0 = time.thread_time()  # on the database's worker thread
+        try:
+            return reading_repo.add_readings(session, batch)
+        finally:
+            self.stats.store_cpu_s += time.thread_time() - cpu0
 
     async def _flush_loop(self) -> None:
         while True:
