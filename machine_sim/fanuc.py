@@ -8,7 +8,7 @@ addresses the EMZPS function reads. A change larger than ``max_step_counts`` in 
 is split over several scans (``on_jump="ramp"``), or latches an alarm and holds the shift
 (``on_jump="alarm"``) until :meth:`FanucPMC.reset_alarm`.
 
-Factored maps (format version 4, protocol/README.md §6.6): the ladder looks its 1-D
+Factored maps (format version 4, protocol/README.md §6.5): the ladder looks its 1-D
 tables up, multiplies and adds them into the correction and sensitivity fields, and rounds
 the rotary corrections first, letting the linear axes absorb what that rounding leaves
 (:class:`machine_sim.lookup.FactoredLadder`); it declares ``MapEncoding.FACTORED``.

@@ -283,7 +283,7 @@ class TablesMap:
 
 class FactoredLadder:
     """A factored map (format version 4) as a PMC ladder evaluates it, written from
-    protocol/README.md §6.6 alone.
+    protocol/README.md §6.5 alone.
 
     Per scan: every basis table is looked up once at its axis's position (linear
     interpolation between the two nodes around it, held at the ends); every term looks its

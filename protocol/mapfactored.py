@@ -1,5 +1,5 @@
 """The ``factored`` map payload (format version 4): sums of products of 1-D tables, for
-endpoints that only look up, multiply and add in fixed point (protocol/README.md §6.6).
+endpoints that only look up, multiply and add in fixed point (protocol/README.md §6.5).
 
 Every multi-byte field is little-endian, as in the other map kinds. Layout::
 
@@ -22,10 +22,10 @@ Every multi-byte field is little-endian, as in the other map kinds. Layout::
     then B basis tables, each 24 + 4 n bytes: axis u8 (< D); exponent i8 (-126..126);
                    reserved 2 zero; nodes n u32 (1..4096); start f64; step f64 (> 0);
                    n values int32
-    then T terms, each 16 + 4 n_axis bytes: field u16; axis u8 (< D); exponent i8;
-                   factors m u8 (0..4); reserved 3 zero; 4 basis indices u16 (the first
-                   m < B, the others 0xFFFF); n_axis values int32 (n_axis the term nodes
-                   of its axis)
+    then T terms, each 16 + 4 n bytes: field u16; axis u8 (< D); exponent i8;
+                   factors m u8 (0..4); flags u8 (bit 0: a constant, n = 1); reserved 2
+                   zero; 4 basis indices u16 (the first m < B, the others 0xFFFF); n
+                   values int32 (n the term nodes of its axis, or 1 for a constant)
     then           thermal records H u32 (0..32) and H records of 48 bytes (as in format
                    version 3; each names a linear axis of the map)
 
@@ -68,7 +68,7 @@ NO_FACTOR: Final = 0xFFFF
 _HEAD = struct.Struct("<4sHBBHHI32sIId")  # 64 bytes
 _AXIS = struct.Struct("<4sB3siiIdd")  # 36 bytes
 _BASIS = struct.Struct("<BbHIdd")  # 24 bytes
-_TERM = struct.Struct("<HBbB3s4H")  # 16 bytes
+_TERM = struct.Struct("<HBbBB2s4H")  # 16 bytes
 _COUNT = struct.Struct("<I")
 _THERMAL_SIZE = 48
 _AXIS_RE = re.compile(r"[A-Za-z][A-Za-z0-9]{0,3}")
@@ -214,10 +214,10 @@ class FactoredPayload:
                 raise ValueError(f"term {i} is on axis {t.axis}, the map has {d}")
             if t.field >= n_fields:
                 raise ValueError(f"term {i} adds to field {t.field}, the map has {n_fields}")
-            if len(t.values) != self.axes[t.axis].count:
+            if len(t.values) not in (1, self.axes[t.axis].count):
                 raise ValueError(f"term {i} has {len(t.values)} values, axis "
                                  f"{self.axes[t.axis].name} has {self.axes[t.axis].count} "
-                                 f"term nodes")
+                                 f"term nodes (or 1 for a constant)")
             for j in t.factors:
                 if j >= len(self.bases):
                     raise ValueError(f"term {i} multiplies basis table {j}, the map has "
@@ -258,8 +258,8 @@ def encode_factored(p: FactoredPayload) -> bytes:
         parts.append(struct.pack(f"<{len(b.values)}i", *b.values))
     for t in p.terms:
         factors = (*t.factors, *([NO_FACTOR] * (MAX_FACTORS - len(t.factors))))
-        parts.append(_TERM.pack(t.field, t.axis, t.exponent, len(t.factors), bytes(3),
-                                *factors))
+        parts.append(_TERM.pack(t.field, t.axis, t.exponent, len(t.factors),
+                                1 if len(t.values) == 1 else 0, bytes(2), *factors))
         parts.append(struct.pack(f"<{len(t.values)}i", *t.values))
     parts.append(_COUNT.pack(len(p.thermal)))
     parts += [pack_thermal(th) for th in p.thermal]
@@ -369,10 +369,10 @@ def decode_factored(data: bytes) -> FactoredPayload:
         terms = []
         for i in range(n_terms):
             _need(data, at + _TERM.size, f"term {i}")
-            fld, axis, exponent, m, pad3, *raw_factors = _TERM.unpack_from(data, at)
-            if any(pad3):
-                raise MapFormatError(f"term {i} at offset {at + 5}: reserved bytes are not "
-                                     f"zero")
+            fld, axis, exponent, m, flags, pad3, *raw_factors = _TERM.unpack_from(data, at)
+            if flags & ~1 or any(pad3):
+                raise MapFormatError(f"term {i} at offset {at + 5}: unknown flags "
+                                     f"0x{flags:02x} or non-zero reserved bytes")
             if axis >= n_axes:
                 raise MapFormatError(f"term {i} at offset {at + 2}: axis {axis}, the map has "
                                      f"{n_axes}")
@@ -385,7 +385,7 @@ def decode_factored(data: bytes) -> FactoredPayload:
                 raise MapFormatError(f"term {i} at offset {at + 8}: basis indices "
                                      f"{tuple(raw_factors)} with {m} factors; the map has "
                                      f"{n_bases} basis tables, unused slots 0xFFFF")
-            n = axes[axis].count
+            n = 1 if flags & 1 else axes[axis].count
             values = _ints(data, at + _TERM.size, n, f"term {i}")
             try:
                 terms.append(TermTable(fld, axis, exponent, factors, values))

@@ -227,7 +227,7 @@ def _ints(values: Any, exponent: int) -> tuple[int, ...]:
 
 
 def factored_to_payload(f: FactoredMap) -> FactoredPayload:
-    """The wire payload of a factored map (format version 4, protocol/README.md §6.6).
+    """The wire payload of a factored map (format version 4, protocol/README.md §6.5).
 
     Raises
     ------

@@ -1,8 +1,9 @@
 """``ednc lookup``: the corrections a machine endpoint applies from a map file.
 
 Computed by the simulated machines' own endpoint code (:mod:`machine_sim.lookup` for grid
-maps, :mod:`machine_sim.chaineval` for tables maps), the implementation written from the
-protocol README, not by the center's solver: comparing the two is what this command is for
+and factored maps, :mod:`machine_sim.chaineval` for tables maps), the implementation
+written from the protocol README, not by the center's solver: comparing the two is what
+this command is for
 (``../shared/spec/formats.md`` section 3). Positive approach (no reversal); a tables map's
 corrections are clamped to its limits and rounded to its encoding, as the machine applies
 them.
@@ -23,32 +24,40 @@ from ednc.cli import UserError
 from ednc.commands.compensate import parse_temperatures
 from ednc.inputs import parse_number
 from machine_sim.chaineval import StructureError, sensor_key
-from machine_sim.lookup import GridMap, TablesMap
+from machine_sim.lookup import FactoredLadder, GridMap, TablesMap
 from protocol.codes import MapEncoding
+from protocol.mapfactored import FACTORED_FORMAT_VERSION, FactoredPayload, decode_factored
 from protocol.mapformat import ErrorMapPayload, MapFormatError
 from protocol.maptables import TablesPayload, decode_payload
+
+Payload = ErrorMapPayload | TablesPayload | FactoredPayload
 
 F64 = NDArray[np.float64]
 
 
-def read_map(path: Path) -> ErrorMapPayload | TablesPayload:
-    """A map payload file (protocol/README.md section 6), either kind."""
+def read_map(path: Path) -> Payload:
+    """A map payload file (protocol/README.md section 6), any kind."""
     try:
         data = path.read_bytes()
     except OSError as exc:
         raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
     try:
+        if data[4:6] == FACTORED_FORMAT_VERSION.to_bytes(2, "little"):
+            return decode_factored(data)
         return decode_payload(data)
     except MapFormatError as exc:
         raise UserError(f"{path}: not an EDNC map payload: {exc}") from None
 
 
-def map_axes(p: ErrorMapPayload | TablesPayload) -> tuple[list[str], list[str]]:
+def map_axes(p: Payload) -> tuple[list[str], list[str]]:
     """The axes of the output (upper case, in order) and the ones whose position the
-    evaluation needs. Tables: the chain axes, all needed; grid: the grid axes (needed)
-    then output axes not in the grid."""
+    evaluation needs. Tables: the chain axes, all needed; factored: its axes, all needed;
+    grid: the grid axes (needed) then output axes not in the grid."""
     if isinstance(p, TablesPayload):
         names = list(p.axis_names)
+        return names, names
+    if isinstance(p, FactoredPayload):
+        names = [a.name.upper() for a in p.axes]
         return names, names
     grid = [g.name.upper() for g in p.grid]
     rest = [o.name.upper() for o in p.outputs if o.name.upper() not in grid]
@@ -98,7 +107,7 @@ def read_points(path: Path, axes: list[str], needed: list[str]) -> tuple[F64, li
     return np.array(out), [a for a in axes if a in cols]
 
 
-def evaluate(p: ErrorMapPayload | TablesPayload, q: F64, axes: list[str],
+def evaluate(p: Payload, q: F64, axes: list[str],
              temperatures: dict[str, float]) -> F64:
     """Corrections (N, len(axes)), mm or degrees, that the endpoint applies at q."""
     out = np.zeros(q.shape)
@@ -107,6 +116,9 @@ def evaluate(p: ErrorMapPayload | TablesPayload, q: F64, axes: list[str],
     if missing:
         raise UserError(f"the map's thermal records need temperatures of {missing}; "
                         f"give them with --temperature SENSOR=°C")
+    if isinstance(p, FactoredPayload):
+        # the ladder's own evaluation: rotary rounded first, whole increments
+        return FactoredLadder(p, temperatures).lookup(q)
     if isinstance(p, TablesPayload):
         tm = TablesMap.from_payload(p, temperatures)
         try:
@@ -130,7 +142,8 @@ def register(app: typer.Typer) -> None:
     @app.command("lookup")
     def lookup_cmd(
         map_path: Annotated[Path, typer.Option(
-            "--map", help="Map payload file (grid or tables), as 'ednc map --out' writes.")],
+            "--map", help="Map payload file (grid, tables or factored), as 'ednc map --out' "
+                          "writes.")],
         points: Annotated[Path, typer.Option(
             "--points", help="CSV of points, a header naming the axes (x or x_mm, ...).")],
         temperature: Annotated[list[str] | None, typer.Option(
@@ -148,7 +161,8 @@ def register(app: typer.Typer) -> None:
         if as_json:
             body: dict[str, Any] = {
                 "machine": p.machine, "version": p.version,
-                "kind": "tables" if isinstance(p, TablesPayload) else "grid",
+                "kind": ("factored" if isinstance(p, FactoredPayload) else
+                         "tables" if isinstance(p, TablesPayload) else "grid"),
                 "axes": keys, "units": {k: _unit(a) for k, a in zip(keys, axes, strict=True)},
                 "points": [{"q": {a.lower(): float(q[n, axes.index(a)]) for a in given},
                             "correction": dict(zip(keys, corr[n].tolist(), strict=True))}

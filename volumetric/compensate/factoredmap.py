@@ -27,7 +27,7 @@ the correction) times an affine function of the other linear positions (an angul
 lever). The builder offers every such term and fits all of them at once, by linear least
 squares over random samples of the exact corrections (:mod:`volumetric.compensate.solver`;
 the unknowns are the term tables' values, the basis tables are fixed), then drops the terms
-whose largest contribution moves the tool tip by less than 0.01 µm and fits again.
+whose largest contributions add up to less than 0.05 µm at the tool tip and fits again.
 The table spacing starts at ~1/12 of a linear travel and 5° on a rotary axis and shrinks
 while the check below finds the tolerance missed.
 
@@ -94,8 +94,9 @@ BASIS_STEP_DEG = 2.0
 """Spacing of the trigonometric basis tables: linear interpolation of cos at 2° errs by
 (2π/180)²/8 = 1.5e-4 of the amplitude, 0.008 µm on a 50 µm correction; the fit sees the
 tables as interpolated, so that is all it costs."""
-PRUNE_UM = 0.01
-"""A term whose largest contribution moves the tool tip by less than this (µm) is dropped."""
+PRUNE_UM = 0.05
+"""The weakest terms of a field are dropped while their largest contributions add up to at
+most this (µm at the tool tip); the rest are fitted again."""
 _HEADER_BYTES = 64
 _AXIS_BYTES = 36
 _BASIS_BYTES = 24
@@ -301,7 +302,7 @@ class FactoredMap:
 
     @property
     def nbytes(self) -> int:
-        """Length of the encoded payload (protocol/README.md §6.6)."""
+        """Length of the encoded payload (protocol/README.md §6.5)."""
         return payload_bytes(self)
 
     def fields(self, q: ArrayLike) -> F64:
@@ -410,11 +411,11 @@ class _Layout:
     bases: list[Table1D]
     rot_bases: dict[int, list[int | None]]  # per rotary axis: its basis indices (None = 1)
     lin_basis: dict[int, int]  # per linear axis: the basis index of its position
-    candidates: list[tuple[int, tuple[int, ...]]] = field(default_factory=list)
-    """(axis of the term table, basis factors) of every candidate term."""
+    candidates: list[tuple[int, tuple[int, ...], bool]] = field(default_factory=list)
+    """(axis of the term table, basis factors, a constant) of every candidate term."""
 
     def column_blocks(self) -> list[int]:
-        return [self.grids[a].count for a, _ in self.candidates]
+        return [1 if const else self.grids[a].count for a, _, const in self.candidates]
 
     def design(self, q: F64) -> sp.csr_matrix:
         """(N, Σ nodes) sparse: row n holds every candidate's hat weights at q_n times its
@@ -424,12 +425,12 @@ class _Layout:
         rows, cols, vals = [], [], []
         offset = 0
         r = np.arange(n)
-        for axis, factors in self.candidates:
+        for axis, factors, const in self.candidates:
             g = self.grids[axis]
             w = np.ones(n)
             for b in factors:
                 w = w * basis[b]
-            if g.count == 1:
+            if const or g.count == 1:
                 rows.append(r)
                 cols.append(np.full(n, offset))
                 vals.append(w)
@@ -440,7 +441,7 @@ class _Layout:
                 rows += [r, r]
                 cols += [offset + i, offset + i + 1]
                 vals += [w * (1.0 - f), w * f]
-            offset += g.count
+            offset += 1 if const else g.count
         return sp.csr_matrix((np.concatenate(vals), (np.concatenate(rows),
                                                      np.concatenate(cols))),
                              shape=(n, offset))
@@ -493,7 +494,14 @@ def _layout(machine: Machine, lin_nodes: Sequence[int], rot_step: float,
         for shape in shapes:
             for p in positions:
                 factors = tuple(b for b in (*shape, p) if b is not None)
-                lay.candidates.append((i, factors))
+                lay.candidates.append((i, factors, False))
+    # constants times the trigonometric shapes of every rotary axis times one linear
+    # position: exactly the sensitivities' form (nominal kinematics)
+    if rot:
+        for shape in product(*[rot_b[r] for r in rot]):
+            for p in [None] + [lin_b[j] for j in lin]:
+                factors = tuple(b for b in (*shape, p) if b is not None)
+                lay.candidates.append((0, factors, True))
     return lay
 
 
@@ -506,19 +514,36 @@ def _fit(lay: _Layout, a: sp.csr_matrix, ata: F64, atb: F64, targets: F64,
     edges = np.concatenate([[0], np.cumsum(blocks)])
     ridge = 1e-10 * float(np.mean(np.diag(ata)))
     # one factorisation serves every field's first solve; the pruned solves are smaller
-    first = _solve(ata, atb, ridge)
+    first = np.zeros_like(atb)
+    is_const = np.repeat(np.array([c for _, _, c in lay.candidates]), blocks)
+    for want in (False, True):  # the two families are fitted apart (disjoint fields)
+        cols = np.flatnonzero(is_const == want)
+        if cols.size:
+            first[cols] = _solve(ata[np.ix_(cols, cols)], atb[cols], ridge)
     # column → candidate indicator: A·diag(x)·P gives every candidate's contribution at
     # every sample in one sparse product
     owner = np.repeat(np.arange(len(blocks)), blocks)
     ind = sp.csr_matrix((np.ones(owner.size), (np.arange(owner.size), owner)),
                         shape=(owner.size, len(blocks)))
     kept: list[tuple[int, int, F64]] = []
+    k = len(lay.machine.axes)
+    const = [c for _, _, c in lay.candidates]
     for f in range(targets.shape[1]):
         x = first[:, f]
-        active = list(range(len(blocks)))
+        # a sensitivity is nominal kinematics (trigonometry of the rotary axes, affine in
+        # the linear ones): constants times basis tables; a correction: tables
+        active = [c for c in range(len(blocks)) if const[c] == (f >= k)]
         for _ in range(3):
             contrib = np.abs((a @ sp.diags(x) @ ind).toarray()).max(axis=0) * tip_scale[f]
-            keep = [c for c in active if contrib[c] >= PRUNE_UM]
+            # drop the weakest terms while their contributions add up to the budget
+            order = sorted(active, key=lambda c: contrib[c])
+            spent, drop = 0.0, set()
+            for c in order:
+                spent += contrib[c]
+                if spent > PRUNE_UM:
+                    break
+                drop.add(c)
+            keep = [c for c in active if c not in drop]
             if keep == active or not keep:
                 active = keep
                 break
@@ -711,11 +736,11 @@ def _assemble(machine: Machine, version: int, lay: _Layout, kept: list[tuple[int
               temps: Mapping[str, float], valid_s: int,
               thermal: tuple[ThermalTerm, ...]) -> FactoredMap:
     # only the basis tables some kept term uses travel; renumber them
-    used = sorted({b for _, c, _ in kept for b in lay.candidates[c][1]})
+    used = sorted({b for _, c, _v in kept for b in lay.candidates[c][1]})
     renum = {b: i for i, b in enumerate(used)}
     terms = []
     for f, c, values in kept:
-        axis, factors = lay.candidates[c]
+        axis, factors, _ = lay.candidates[c]
         g = lay.grids[axis]
         v, e = fixed_point(values)
         terms.append(Term(f, Table1D(axis, g.start, g.step, v, e),
