@@ -1,5 +1,5 @@
-"""``ednc fit``: identify a machine's component errors from a measurement CSV;
-``ednc tables``: export and import component-error tables with ISO 230-1 column names."""
+"""``ednc fit``: identify a machine's component errors from a measurement CSV
+(``ednc tables`` lives in :mod:`ednc.commands.tables`)."""
 
 from __future__ import annotations
 
@@ -11,18 +11,15 @@ from typing import Annotated
 import typer
 
 from ednc.cli import UserError
-from ednc.inputs import read_machine, read_model
+from ednc.inputs import read_machine
 from ednc.progress import CommandProgress, wanted
-from volumetric.errors import ComponentErrorSpecError
 from volumetric.identify.fit import FitError, FitResult, fit_blocks
 from volumetric.measure.measurement import (
     MeasurementFormatError,
     Measurements,
     read_measurement_blocks,
 )
-from volumetric.measure.tables import export_tables, import_tables, read_table_files, write_tables
 from volumetric.model.machine import Machine
-from volumetric.model.model import MachineModel
 
 
 def summary(result: FitResult) -> str:
@@ -86,40 +83,3 @@ def register(app: typer.Typer) -> None:
             typer.echo(summary(result))
             if out is not None:
                 typer.echo(f"model written to {out}")
-
-    tables = typer.Typer(help="Component-error tables with ISO 230-1 column names.",
-                         no_args_is_help=True)
-
-    @tables.command("export")
-    def export_cmd(
-        machine: Annotated[Path, typer.Option("--machine", help="Machine description JSON.")],
-        model: Annotated[Path, typer.Option("--model", help="Model JSON (ednc fit).")],
-        out: Annotated[Path, typer.Option("--out", help="Directory for the CSV files.")],
-        points: Annotated[int, typer.Option(help="Positions per axis.")] = 21,
-    ) -> None:
-        """Write one CSV per axis (position, EXX, EYX, ...) and locations.csv."""
-        m = read_machine(machine)
-        mm = read_model(model)
-        try:
-            for p in write_tables(export_tables(m, mm.geometry, points=points), out):
-                typer.echo(str(p))
-        except ComponentErrorSpecError as exc:
-            raise UserError(str(exc)) from exc
-
-    @tables.command("import")
-    def import_cmd(
-        machine: Annotated[Path, typer.Option("--machine", help="Machine description JSON.")],
-        files: Annotated[list[Path], typer.Argument(help="Table CSV files.")],
-        out: Annotated[Path, typer.Option("--out", help="Model JSON to write.")],
-    ) -> None:
-        """Build a model from component-error tables (linear interpolation between rows)."""
-        m = read_machine(machine)
-        try:
-            errors = import_tables(m, read_table_files(files))
-        except ComponentErrorSpecError as exc:
-            raise UserError(str(exc)) from exc
-        model = MachineModel(m.name, errors, (), {"source": [str(f) for f in files]})
-        out.write_text(json.dumps(model.to_json(), indent=1))
-        typer.echo(f"model with {len(errors.components)} tables written to {out}")
-
-    app.add_typer(tables, name="tables")

@@ -16,15 +16,21 @@ and the files of earlier versions write it; a suffix that contradicts the name's
 (``EAX_um``) is refused. Position-independent errors go in one more file,
 ``name,value,unit`` (``EC0Y,12.5,urad``; ``name,value`` is read too). Every cell must be a
 finite number; an error names file, line and column.
+
+The model's extension terms (backlash, periodic, thermal) go to ``terms.json`` beside the
+tables (:func:`export_model`, :func:`import_model`): the tables alone are the rigid
+geometry. A term the file cannot carry exactly is refused at export, by name.
 """
 
 from __future__ import annotations
 
 import csv
 import io
+import json
 import math
 from collections.abc import Iterable, Mapping
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -37,6 +43,14 @@ from volumetric.model.components import (
     location_names,
 )
 from volumetric.model.machine import Axis, Machine
+from volumetric.model.model import (
+    BacklashTerm,
+    DynamicThermalTerm,
+    MachineModel,
+    PeriodicTerm,
+    Term,
+    ThermalTerm,
+)
 
 UNITS = {"um": "µm", "urad": "µrad"}
 
@@ -188,13 +202,22 @@ def import_tables(machine: Machine, files: Iterable[tuple[str, str]]) -> Geometr
 
 
 def read_table_files(paths: Iterable[Path]) -> list[tuple[str, str]]:
-    """(name, text) of each file, with a clear error for unreadable ones."""
+    """(name, text) of each file, with a clear error for unreadable ones. A directory
+    stands for what an export wrote there: its ``*.csv`` and :data:`TERMS_FILE`."""
     out = []
     for p in paths:
-        try:
-            out.append((str(p), Path(p).read_text()))
-        except OSError as exc:
-            raise ComponentErrorSpecError(f"{p}: cannot read ({exc.strerror})") from None
+        p = Path(p)
+        inside = (sorted(p.glob("*.csv")) + [q for q in [p / TERMS_FILE] if q.is_file()]
+                  if p.is_dir() else [p])
+        if not inside:
+            raise ComponentErrorSpecError(f"{p}: a directory without tables (*.csv)")
+        for q in inside:
+            try:
+                out.append((str(q), q.read_text(encoding="utf-8")))
+            except OSError as exc:
+                raise ComponentErrorSpecError(f"{q}: cannot read ({exc.strerror})") from None
+            except UnicodeDecodeError:
+                raise ComponentErrorSpecError(f"{q}: not a text file (UTF-8)") from None
     return out
 
 
@@ -204,5 +227,254 @@ def write_tables(tables: Mapping[str, str], directory: Path) -> list[Path]:
     for key, text in tables.items():
         p = directory / f"{key}.csv"
         p.write_text(text)
+        written.append(p)
+    return written
+
+
+# --- extension terms ---------------------------------------------------------------------
+# The model's terms (backlash, periodic, thermal expansion and drift, dynamic thermal with
+# lags and a time column) go to one JSON file beside the CSV tables. JSON rather than CSV:
+# a dynamic thermal term holds a list of regressors of its own length, each with its unit
+# and a saved lag state that may be absent (null); a flat CSV would need sparse columns or
+# a second file linked by row numbers. JSON writes each number as its shortest exact
+# decimal, so the terms come back bit for bit.
+
+TERMS_FILE = "terms.json"
+TERMS_FORMAT = "ednc-terms/1"
+
+REVERSAL_CONVENTION = (
+    "reversal_um = error on a negative approach minus error on a positive approach, µm, "
+    ">= 0 for an axis that lags behind its motion (the tool stops B/2 short on either side, "
+    "protocol/README.md section 6); a map carries the correction's reversal, which is "
+    "-reversal_um/1000 mm")
+
+TERM_UNITS = {
+    "reversal_um": "µm",
+    "amplitude_um": "µm",
+    "period_mm": "mm",
+    "phase_rad": "rad",
+    "t_ref_C": "°C",
+    "q_min": "mm (the axis position where the expansion is zero)",
+    "coefficient": "µm/(m·K) for thermal_expansion; µm/K for thermal_drift and for a "
+                   "thermal_dynamic level or lag column; µm/h for a time column",
+    "std": "the unit of its coefficient",
+    "intercept_um": "µm",
+    "t0_s": "s (origin of the time column)",
+    "t_state_s": "s (time of the last fitted reading; null when none was saved)",
+    "tau_s": "s (a lag's time constant; 0 for level and time columns)",
+    "state_C": "°C (the lag's state at t_state_s; null when none was saved)",
+    "input_C": "°C (the sensor's temperature at t_state_s; null when none was saved)",
+}
+
+_KINDS = (ThermalTerm, PeriodicTerm, BacklashTerm, DynamicThermalTerm)
+_EFFECTS = "backlash, periodic, thermal_expansion, thermal_drift, thermal_dynamic"
+
+
+def _term_label(index: int, term: object) -> str:
+    """``term 2 (backlash of axis x)``: how messages name a term."""
+    effect = {ThermalTerm: getattr(term, "kind", "thermal"), PeriodicTerm: "periodic",
+              BacklashTerm: "backlash", DynamicThermalTerm: "thermal_dynamic"}.get(
+                  type(term), type(term).__name__)
+    axis = getattr(term, "axis", None)
+    return f"term {index} ({effect}{f' of axis {axis}' if axis is not None else ''})"
+
+
+def describe_term(term: Term) -> str:
+    """One line saying what a term does, with its units."""
+    a = term.axis
+    if isinstance(term, BacklashTerm):
+        return (f"backlash of axis {a}: reversal {term.reversal_um:g} µm; "
+                f"{REVERSAL_CONVENTION}")
+    if isinstance(term, PeriodicTerm):
+        return (f"periodic error of axis {a}: E{a.upper()}{a.upper()} += "
+                f"{term.amplitude_um:g} µm · sin(2π·{a}/{term.period_mm:g} mm + "
+                f"{term.phase_rad:g} rad)")
+    if isinstance(term, ThermalTerm):
+        if term.kind == "thermal_drift":
+            return (f"thermal drift along {a}: E{a.upper()}{a.upper()} += "
+                    f"{term.coefficient:g} µm/K · ({term.sensor} − {term.t_ref_C:g} °C)")
+        return (f"thermal expansion of axis {a}: E{a.upper()}{a.upper()} += "
+                f"{term.coefficient:g} µm/(m·K) · ({term.sensor} − {term.t_ref_C:g} °C) · "
+                f"({a} − {term.q_min:g} mm)")
+    parts = []
+    for c in term.columns:
+        if c.kind == "time":
+            parts.append(f"{c.coefficient:g} µm/h · hours since t0_s")
+        elif c.kind == "lag":
+            parts.append(f"{c.coefficient:g} µm/K · lag({c.sensor}, τ {c.tau_s:g} s)")
+        else:
+            parts.append(f"{c.coefficient:g} µm/K · {c.sensor}")
+    return (f"lagged (dynamic) thermal drift along {a}: E{a.upper()}{a.upper()} += "
+            f"{term.intercept_um:g} µm" + "".join(f" + {p}" for p in parts))
+
+
+def _non_finite(value: Any, path: str) -> str | None:
+    """The key path of the first NaN or infinity in a term's JSON, or None."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return path
+    if isinstance(value, Mapping):
+        for k, v in value.items():
+            found = _non_finite(v, f"{path}.{k}" if path else str(k))
+            if found:
+                return found
+    if isinstance(value, list):
+        for i, v in enumerate(value):
+            found = _non_finite(v, f"{path}[{i}]")
+            if found:
+                return found
+    return None
+
+
+def _terms_json(model_name: str, terms: Iterable[Term]) -> list[dict[str, Any]]:
+    """The model's own JSON of each term (so the file and a model file agree)."""
+    return list(MachineModel(model_name, GeometricErrors(), tuple(terms)).to_json()["terms"])
+
+
+def export_terms(machine: Machine, model: MachineModel) -> str:
+    """The text of :data:`TERMS_FILE`: every extension term of ``model``, exactly.
+
+    Raises
+    ------
+    ComponentErrorSpecError
+        Naming the first term the file cannot carry exactly (a kind it does not know, a
+        NaN or infinite value, an axis the machine does not have): nothing is dropped in
+        silence.
+    """
+    keys = {a.key for a in machine.axes}
+    out = []
+    for i, t in enumerate(model.terms):
+        label = _term_label(i, t)
+        if not isinstance(t, _KINDS):
+            raise ComponentErrorSpecError(
+                f"cannot export {label}: the tables format carries {_EFFECTS} terms only, "
+                "not this kind; nothing written")
+        if t.axis not in keys:
+            raise ComponentErrorSpecError(
+                f"cannot export {label}: machine {machine.name!r} has axes {sorted(keys)}")
+        (data,) = _terms_json(model.machine, (t,))
+        bad = _non_finite(data, "")
+        if bad:
+            raise ComponentErrorSpecError(
+                f"cannot export {label}: {bad} is {_lookup(data, bad)!r}; the tables format "
+                "carries finite numbers only; nothing written")
+        # the file must give back what the model holds: check by reading it again
+        (again,) = _terms_from_json([data], "export")
+        if _terms_json(model.machine, (again,)) != [data]:
+            raise ComponentErrorSpecError(
+                f"cannot export {label}: it does not survive its own JSON; nothing written")
+        out.append({"description": describe_term(t), **data})
+    doc = {
+        "format": TERMS_FORMAT,
+        "machine": model.machine or machine.name,
+        "description": (
+            "Extension terms of the machine model (ednc-model/1 'terms', effect names of "
+            "formats.md section 3), written by `ednc tables export` beside the per-axis "
+            "component-error tables and locations.csv; `ednc tables import` reads them "
+            "back. Each term adds to the named axis's positioning error at the given "
+            "temperatures; backlash is applied by direction. Backlash sign convention: "
+            + REVERSAL_CONVENTION + "."),
+        "units": TERM_UNITS,
+        "terms": out,
+    }
+    return json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
+
+
+def _lookup(data: Mapping[str, Any], path: str) -> Any:
+    """The value at a key path of :func:`_non_finite` (for the message)."""
+    v: Any = data
+    for part in path.replace("[", ".[").split("."):
+        v = v[int(part[1:-1])] if part.startswith("[") else v[part]
+    return v
+
+
+def _terms_from_json(raw: list[Any], source: str) -> tuple[Term, ...]:
+    """Terms parsed by the model's own reader, with the source in the message."""
+    cleaned = [{k: v for k, v in t.items() if k != "description"} if isinstance(t, Mapping)
+               else t for t in raw]
+    try:
+        return MachineModel.from_json({"components": {}, "locations": {},
+                                       "terms": cleaned}).terms
+    except ComponentErrorSpecError as exc:
+        raise ComponentErrorSpecError(f"{source}: {exc}") from None
+
+
+def _refuse_constant(name: str) -> float:
+    raise ComponentErrorSpecError(f"{name} is not a finite number")
+
+
+def import_terms(machine: Machine, source: str, text: str) -> tuple[Term, ...]:
+    """The extension terms of a :data:`TERMS_FILE` text.
+
+    Raises
+    ------
+    ComponentErrorSpecError
+        Naming the file (and the term) when it is not a terms file, is of another
+        machine, or holds a term the model cannot read or an axis the machine lacks.
+    """
+    try:
+        doc = json.loads(text, parse_constant=_refuse_constant)
+    except json.JSONDecodeError as exc:
+        raise ComponentErrorSpecError(
+            f"{source}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except ComponentErrorSpecError as exc:
+        raise ComponentErrorSpecError(f"{source}: {exc}") from None
+    if not isinstance(doc, Mapping) or doc.get("format") != TERMS_FORMAT:
+        raise ComponentErrorSpecError(
+            f"{source}: not a terms file (expected \"format\": \"{TERMS_FORMAT}\", as "
+            f"`ednc tables export` writes {TERMS_FILE})")
+    name = doc.get("machine")
+    if name and name != machine.name:
+        raise ComponentErrorSpecError(
+            f"{source}: the terms are of machine {name!r}, the description of "
+            f"{machine.name!r}")
+    raw = doc.get("terms")
+    if not isinstance(raw, list):
+        raise ComponentErrorSpecError(f"{source}: 'terms' must be a list")
+    terms = _terms_from_json(raw, source)
+    keys = {a.key for a in machine.axes}
+    for i, t in enumerate(terms):
+        if t.axis not in keys:
+            raise ComponentErrorSpecError(
+                f"{source}: {_term_label(i, t)}: machine {machine.name!r} has axes "
+                f"{sorted(keys)}")
+    return terms
+
+
+def export_model(machine: Machine, model: MachineModel, *, points: int = 21
+                 ) -> dict[str, str]:
+    """Every file of a model's export, keyed by file name: ``X.csv``, ... (the geometry
+    sampled at ``points`` positions per axis), ``locations.csv`` and :data:`TERMS_FILE`.
+
+    The terms are checked first, so a refused term leaves nothing half written.
+    """
+    terms = export_terms(machine, model)
+    files = {f"{k}.csv": v for k, v in export_tables(machine, model.geometry,
+                                                      points=points).items()}
+    files[TERMS_FILE] = terms
+    return files
+
+
+def import_model(machine: Machine, files: Iterable[tuple[str, str]]) -> MachineModel:
+    """A model from exported files: ``*.json`` is the terms file (at most one), the rest
+    are CSV tables. Without a terms file (exports of earlier versions) the model is rigid.
+    """
+    files = list(files)
+    json_files = [(s, t) for s, t in files if s.lower().endswith(".json")]
+    if len(json_files) > 1:
+        raise ComponentErrorSpecError(
+            f"more than one terms file: {', '.join(s for s, _ in json_files)}")
+    geometry = import_tables(machine, [(s, t) for s, t in files
+                                       if not s.lower().endswith(".json")])
+    terms = import_terms(machine, *json_files[0]) if json_files else ()
+    return MachineModel(machine.name, geometry, terms, {"source": [s for s, _ in files]})
+
+
+def write_files(files: Mapping[str, str], directory: Path) -> list[Path]:
+    """Write each ``{file name: text}`` into ``directory`` (created if needed)."""
+    directory.mkdir(parents=True, exist_ok=True)
+    written = []
+    for name, text in files.items():
+        p = directory / name
+        p.write_text(text, encoding="utf-8")
         written.append(p)
     return written
