@@ -22,8 +22,9 @@ wall time and peak RSS (``os.wait4``) are reported:
 * ``ednc diagnose --json`` (its default ``--max-readings`` draw).
 
 Targets (issue 14): fit <= 15 s and <= 1 GB, diagnose <= 60 s and <= 1.5 GB. On this
-shared machine the figures depend on the load: the benchmark prints ``os.getloadavg()``
-before and after each run. BLAS is held to one thread (as above) for every child.
+shared machine wall times depend on the load: the benchmark prints ``os.getloadavg()``
+before and after each run and each child's CPU time (user + system), which depends on it
+much less. BLAS is held to one thread (as above) for every child.
 """
 
 from __future__ import annotations
@@ -111,8 +112,9 @@ def write_campaign_file(path: Path, n: int, seed: int = 0) -> int:
     return n
 
 
-def run_child(args: list[str]) -> tuple[float, float, str]:
-    """Wall time (s), peak RSS (GB, from ``os.wait4`` of this child alone) and stdout."""
+def run_child(args: list[str]) -> tuple[float, float, float, str]:
+    """Wall time (s), CPU time (user + system, s), peak RSS (GB) of one child process
+    (``os.wait4``: this child alone) and its stdout."""
     load = os.getloadavg()[0]
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         t0 = time.perf_counter()
@@ -126,7 +128,8 @@ def run_child(args: list[str]) -> tuple[float, float, str]:
     if child.returncode != 0:
         raise SystemExit(f"{' '.join(args[:2])} failed: {problem}")
     print(f"    (load average {load:.1f} before, {os.getloadavg()[0]:.1f} after)")
-    return wall, usage.ru_maxrss / 1e6, text  # ru_maxrss: kB on Linux
+    cpu = usage.ru_utime + usage.ru_stime
+    return wall, cpu, usage.ru_maxrss / 1e6, text  # ru_maxrss: kB on Linux
 
 
 def from_file(n: int) -> None:
@@ -152,12 +155,13 @@ def from_file(n: int) -> None:
                                       str(data), "--json"], 60.0, 1.5),
         ]
         for label, args, t_max, gb_max in runs:
-            wall, gb, _ = run_child(args)
+            wall, cpu, gb, _ = run_child(args)
             verdict = ""
             if t_max is not None and gb_max is not None:
                 ok = wall <= t_max and gb <= gb_max
                 verdict = f"  target <= {t_max:g} s, <= {gb_max:g} GB: {'met' if ok else 'NOT met'}"
-            print(f"{label:24s} {wall:7.1f} s  peak RSS {gb:5.2f} GB{verdict}")
+            print(f"{label:24s} {wall:7.1f} s wall, {cpu:6.1f} s CPU, peak RSS {gb:5.2f} GB"
+                  f"{verdict}")
 
 
 def main() -> None:
