@@ -226,6 +226,7 @@ def judge(seed: int) -> dict[str, Any]:
         desc["hit"] = all(desc["found"])
         named = [e for e in effects if e["effect"] != "unexplained"]
         desc["extra"] = max(len(named) - len(hidden), 0)
+        desc["unexplained"] = len(named) < len(effects)
     return desc
 
 
@@ -262,6 +263,7 @@ def report(results: list[dict[str, Any]], wall: float, args: argparse.Namespace)
     by_kind: Counter[str] = Counter()
     hit_kind: Counter[str] = Counter()
     extra = 0
+    unexplained = 0
     for r in results:
         by_cat[r["category"]] += 1
         hit_cat[r["category"]] += r["hit"]
@@ -269,6 +271,7 @@ def report(results: list[dict[str, Any]], wall: float, args: argparse.Namespace)
         by_kind[kind] += 1
         hit_kind[kind] += r["hit"]
         extra += r.get("extra", 0)
+        unexplained += r.get("unexplained", False)
         for h, ok in zip(r["hidden"], r["found"], strict=False):
             fam_total[(r["category"], h["effect"])] += 1
             fam_hit[(r["category"], h["effect"])] += ok
@@ -288,6 +291,7 @@ def report(results: list[dict[str, Any]], wall: float, args: argparse.Namespace)
                   f"{100 * hit_cat[cat] / by_cat[cat]:5.1f} %")
     print(f"{'false alarms on null':34s} {by_cat['null'] - hit_cat['null']:4d}")
     print(f"{'extra effects named (single/pair)':34s} {extra:4d}")
+    print(f"{'unexplained also said (single/pair)':34s} {unexplained:4d}")
     head = "estimate error median / 95 %"
     print(f"\n{'family':20s} {'single':>9s} {'in pairs':>9s}  {head:>30s}")
     for fam in FAMILIES:

@@ -78,10 +78,13 @@ Procedure (``ednc diagnose``):
    ``unexplained`` entry of ``effects`` (``estimate``: ``correlates_with``, the strongest
    correlate, ``structure_um``, every ``correlates`` with its F-test figures). A named
    effect whose own correlate (its sensor; its axis's position for a periodic error or an
-   expansion; its axis's direction for a backlash) still carries structure was the nearest
+   expansion; its axis's direction for a backlash) still carries strong structure
+   (``DEMOTE_ETA2`` of the variance there) was the nearest
    candidate, not the cause: it moves into the entry's ``nearest`` list and the
    ``unexplained`` entry takes its place (the top-level ``effect`` when it was the first).
-   The saved model keeps every term selected (each made a held-out gain).
+   The saved model keeps every term selected (each made a held-out gain). A periodic
+   error's period is found again, in :func:`_refine`, from the residual of the model
+   with the other effects in.
 
 Candidates that the data cannot support are not guessed at: they are listed in
 ``not_assessed`` with the reason (no temperature columns, one approach direction only,
@@ -99,6 +102,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.diagnose.unexplained import (
+    DEMOTE_ETA2,
     Structure,
     correlate_key,
     own_correlates,
@@ -773,11 +777,15 @@ def diagnose(
             periodic = fit(machine, m.select(train), fourier=frozenset({rotary_axis}))
             model = MachineModel(machine.name, periodic.model.geometry, model.terms,
                                  {**model.info, "fourier_axes": [rotary_axis]})
-    if len(chosen) > 1 and not any("lagged" in c.extra for c in chosen):
-        swapped = _refine(chosen, scored, a0, judge, heldout)
-        if swapped != chosen:
+    if len(chosen) > 1 and not (split == "forward" and any("lagged" in c.extra
+                                                         for c in chosen)):
+        # (a forward split judges a lagged drift with its lags chosen again per fold, which
+        # the columns of one candidate do not reproduce)
+        swapped = _refine(machine, m, chosen, scored, a0, y, w, train, judge, heldout)
+        if any(a is not b for a, b in zip(swapped, chosen, strict=True)):
             # a sensor (or time) chosen before another effect on its axis was in the model
-            # gives way to the alias that explains more with all the effects in
+            # gives way to the alias that explains more with all the effects in; a period
+            # taken from a residual that still held a drift, to the one without it
             chosen = swapped
             for i, c_i in enumerate(chosen):
                 r_i = heldout(_combined(a0, chosen[: i + 1]))
@@ -804,7 +812,7 @@ def diagnose(
         # structure left that the named effects do not explain; an effect whose own
         # correlate (its sensor, its axis's position or direction) still carries it was
         # the nearest candidate, not the cause: it gives way to "unexplained"
-        keys = {correlate_key(s) for s in left}
+        keys = {correlate_key(s) for s in left if s.eta2 >= DEMOTE_ETA2}
         nearest = [e for e in effects if own_correlates(e["effect"], e["axis"], e["sensor"])
                    & keys]
         kept = [e for e in effects if e not in nearest]
@@ -861,15 +869,48 @@ def _prefer_physical(ranked: list[Scored]) -> Scored:
     return top
 
 
-def _refine(chosen: list[Candidate], scored: list[Scored], a0: F64, judge: NDArray[np.bool_],
+def _periodic_again(machine: Machine, m: Measurements, c: Candidate, resid: F64,
+                    train: NDArray[np.bool_]) -> Candidate | None:
+    """The periodic candidate of ``c``'s axis with its period found again from ``resid``
+    (the residual of the model with every other effect in)."""
+    axis = machine.axis(c.axis)
+    k = "XYZ".index(axis.name)
+    uk = np.where(~m.is_angle, m.u[:, k], 0.0)
+    sensed = np.abs(uk) > 1e-6
+    qk = axis_positions(machine, m)[:, machine.axis_names.index(axis.name)]
+    period = _best_period(qk, uk, resid, sensed & train, float(np.ptp(qk[sensed])))
+    if period is None:
+        return None
+    ph = 2 * np.pi * qk / period
+    return Candidate("periodic", c.axis, None, np.column_stack((uk * np.sin(ph), uk * np.cos(ph))),
+                     {"period_mm": period})
+
+
+def _refine(machine: Machine, m: Measurements, chosen: list[Candidate], scored: list[Scored],
+            a0: F64, y: F64, w: F64, train: NDArray[np.bool_], judge: NDArray[np.bool_],
             heldout: Callable[[F64], F64]) -> list[Candidate]:
     """Each thermal or time effect of ``chosen`` chosen again among the thermal and time
     candidates of its axis, with every other chosen effect in the model (forward selection
     picked it before the others were in, when a backlash or a drift on the same axis
-    still distorted the comparison of sensors that move alike)."""
+    still distorted the comparison of sensors that move alike); each periodic error's
+    period found again from the residual of the model with the others in (the base
+    residual it was first taken from still held them, and a drift of several µm moves
+    the periodogram's peak)."""
     out = list(chosen)
     for i, c_i in enumerate(out):
-        if c_i.effect not in THERMAL_FAMILY or c_i.drop:
+        if c_i.effect == "periodic":
+            others = [c for j, c in enumerate(out) if j != i]
+            base = _combined(a0, others)
+            x = _pinv_solve(base[train].T @ (base[train] * w[train, None]),
+                            (base[train] * w[train, None]).T @ y[train])
+            again = _periodic_again(machine, m, c_i, y - base @ x, train)
+            if again is not None:
+                r_old = heldout(c_i.design(base))
+                r_new = heldout(again.design(base))
+                if _rms(r_new[judge]) < _rms(r_old[judge]):
+                    out[i] = again
+            continue
+        if c_i.effect not in THERMAL_FAMILY or c_i.drop or "lagged" in c_i.extra:
             continue
         others = [c for j, c in enumerate(out) if j != i]
         taken = {(c.effect, c.axis) for c in others}
@@ -913,10 +954,18 @@ def _next_effect(
     rms0 = _rms(current.heldout[judge])
     base = _combined(a0, chosen)
     tried: list[Scored] = []
+    # a periodic error's period taken again from the residual of the model with the
+    # effects found so far: the base residual it came from still held them (a drift of
+    # several µm moves the periodogram's peak off a 1 µm pitch error)
+    x_now = _pinv_solve(base[train].T @ (base[train] * w[train, None]),
+                        (base[train] * w[train, None]).T @ y[train])
+    resid_now = y - base @ x_now
     for s in scored:
         c = s.candidate
         if (c.effect, c.axis) in taken or "lagged" in c.extra or (c.drop and replacing):
             continue
+        if c.effect == "periodic":
+            c = _periodic_again(machine, m, c, resid_now, train) or c
         # a replacing candidate drops the base model's columns, which lead ``base``
         r = heldout(c.design(base))
         rms = _rms(r[judge])
