@@ -56,6 +56,13 @@ def read_model(path: Path, machine: Machine | None = None) -> MachineModel:
     try:
         model = MachineModel.from_json(data)
         if machine is not None:
+            if model.machine and model.machine != machine.name:
+                # each machine has its own errors: another's model compensates errors this
+                # one does not have (a model without a name, written by hand, is taken)
+                raise UserError(
+                    f"{path}: the model is of machine {model.machine!r}, the description of "
+                    f"{machine.name!r}; fit this machine's own readings (or correct the "
+                    "'machine' entry if it is the same machine renamed)")
             model.geometry.check(machine)
     except ComponentErrorSpecError as exc:
         raise UserError(f"{path}: {exc}") from None

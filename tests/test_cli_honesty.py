@@ -8,11 +8,8 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 import re
 import socket
-import subprocess
-import sys
 from pathlib import Path
 
 import httpx
@@ -27,6 +24,7 @@ from machine_sim.fleet import Fleet, generated_fleet
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.truth import random_geometry
 from protocol.backoff import Backoff
+from tests.support.cli import ednc, one_line_error
 from tests.support.integration import center, require_loopback_aliases, until
 from volumetric.diagnose.diagnosis import Z_MIN, Diagnosis
 from volumetric.diagnose.report import estimate_rows, relevant_sensors
@@ -36,30 +34,12 @@ from volumetric.model.components import GeometricErrors, Polynomial
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
 
-EDNC = str(Path(sys.executable).parent / "ednc")
 SECRET = "sim-secret-0123456789"
 VMC = {"name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
        "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}}
 HEADER = ("test,run,time_s,x_mm,y_mm,z_mm,dir_x,dir_y,dir_z,tool_mm,quantity,ux,uy,uz,"
           "value")
 NUMPY_REPR = re.compile(r"np\.\w+\(|numpy\.")
-
-
-def ednc(*args: str, timeout: float = 300) -> subprocess.CompletedProcess[str]:
-    # A wide terminal so that rich does not wrap the help text mid-sentence.
-    env = {**{k: v for k, v in os.environ.items() if not k.startswith("EDNC_")},
-           "COLUMNS": "200", "TERM": "dumb"}
-    return subprocess.run([EDNC, *args], capture_output=True, text=True, timeout=timeout,
-                          env=env)
-
-
-def one_line_error(r: subprocess.CompletedProcess[str]) -> str:
-    """The user error of a failed command: exit 2, one line, no traceback."""
-    assert r.returncode == 2, (r.returncode, r.stderr)
-    assert "Traceback" not in r.stderr, r.stderr
-    lines = r.stderr.strip().splitlines()
-    assert len(lines) == 1, r.stderr
-    return lines[0]
 
 
 def free_port() -> int:

@@ -140,7 +140,8 @@ async def test_extension_keys_are_kept(client: httpx.AsyncClient) -> None:
         ({"name": "m" * 33}, ["body", "name"], "31}"),  # the protocol's 32-byte name field
         ({"travel_mm": {"x": [0, 1e308], "y": [0, 300], "z": [-300, 0]}},
          ["body", "travel_mm", "x", 1], "100000"),
-        ({"tool_length_mm": -1e308}, ["body", "tool_length_mm"], "-100000"),
+        ({"tool_length_mm": -1e308}, ["body", "tool_length_mm"], "greater than or equal to 0"),
+        ({"tool_length_mm": -100}, ["body", "tool_length_mm"], "greater than or equal to 0"),
     ],
 )
 async def test_bad_description_is_422_naming_the_field(

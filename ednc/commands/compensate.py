@@ -62,12 +62,34 @@ def parse_weights(text: str | None, machine: Machine) -> Weights | None:
 
 def geometry(model: MachineModel, temperatures: dict[str, float],
              model_path: Path) -> GeometricErrors:
+    unknown = sorted(set(temperatures) - set(model.sensors))
+    if unknown:  # a typo would otherwise leave the term at its reference silently
+        uses = ", ".join(model.sensors) or "no temperatures"
+        raise UserError(f"--temperature {', '.join(unknown)}: the model does not use "
+                        f"{'this sensor' if len(unknown) == 1 else 'these sensors'} "
+                        f"(it uses {uses})")
     try:
         return model.geometry_at(temperatures)
     except ComponentErrorSpecError as exc:
         raise UserError(f"{model_path}: {exc}") from None
     except ValueError as exc:
         raise UserError(f"{model_path}: {exc}; give them with --temperature NAME=°C") from None
+
+
+def check_travel(q: F64, machine: Machine) -> None:
+    """Refuse points outside the travel: the model's polynomials are fitted over it, and
+    outside they extrapolate (hundreds of µm a few metres out) as if that were valid."""
+    lo, hi = machine.travel_lo, machine.travel_hi
+    span = np.maximum(hi - lo, 1.0)
+    outside = (q < lo - 1e-9 * span) | (q > hi + 1e-9 * span)
+    if not outside.any():
+        return
+    i, k = (int(v) for v in np.argwhere(outside)[0])
+    axis = machine.axes[k]
+    raise UserError(
+        f"point {i + 1}: {axis.name} = {q[i, k]:g} {_unit(machine, k)} is outside its travel "
+        f"[{lo[k]:g}, {hi[k]:g}] ({int(outside.any(axis=1).sum())} of {len(q)} points are); "
+        "the model is not valid there (--extrapolate to compute anyway)")
 
 
 def _unit(machine: Machine, i: int) -> str:
@@ -207,6 +229,9 @@ def register(app: typer.Typer) -> None:
         temperature: Annotated[list[str] | None, typer.Option(
             "--temperature", help="SENSOR=°C for the model's thermal terms; may "
                                   "repeat.")] = None,
+        extrapolate: Annotated[bool, typer.Option(
+            "--extrapolate", help="Allow points outside the travel (the model extrapolates "
+                                  "there; refused by default).")] = False,
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     ) -> None:
         """Corrections per axis that minimise the weighted tool-tip errors, and what is left
@@ -219,6 +244,8 @@ def register(app: typer.Typer) -> None:
             [parse_point(p, machine) for p in point or []])
         w = parse_weights(weights, machine)
         geo = geometry(model, parse_temperatures(temperature or []), model_path)
+        if not extrapolate:  # after the options: their mistakes are named first
+            check_travel(q, machine)
         try:
             result = compensate(machine, geo, q, weights=w)
         except (CompensationError, ComponentErrorSpecError) as exc:

@@ -52,6 +52,8 @@ Chain = Annotated[str, StringConstraints(min_length=1, max_length=64,
 TypeNumber = Annotated[int, Field(ge=0, le=99)]
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 Length = Annotated[float, Field(allow_inf_nan=False, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM)]
+ToolLength = Annotated[float, Field(allow_inf_nan=False, ge=0.0, le=MAX_LENGTH_MM,
+                                    description="gauge line to tool tip, mm (>= 0)")]
 Secret = Annotated[
     SecretStr,
     Field(min_length=1, max_length=MAX_SECRET_BYTES,
@@ -84,7 +86,7 @@ class SpindleSpec(BaseModel):
                                            pattern=r"^[A-Za-z0-9._\-]+$")]
     axis: Annotated[str, StringConstraints(pattern=r"^[XYZ][0-9]+$")]
     direction: tuple[FiniteFloat, FiniteFloat, FiniteFloat]
-    tool_length_mm: Length | None = None
+    tool_length_mm: ToolLength | None = None
 
 
 class _DescriptionFields(BaseModel):
@@ -98,7 +100,7 @@ class _DescriptionFields(BaseModel):
     travel_mm: dict[AxisKey, tuple[Length, Length]] = Field(
         default_factory=dict, examples=[{"x": [0, 500], "y": [0, 300], "z": [-300, 0]}]
     )
-    tool_length_mm: Length = 0.0
+    tool_length_mm: ToolLength = 0.0
     spindles: Annotated[list[SpindleSpec], Field(max_length=16)] | None = None
 
     @model_validator(mode="after")

@@ -250,6 +250,20 @@ def _travel(
     return (lo, hi)
 
 
+def _tool_length(value: object, where: str) -> float:
+    """A tool length, mm: finite and not negative (the tip is *below* the gauge line; a
+    negative length would put it inside the spindle and flip every Abbe arm's sign)."""
+    try:
+        length = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise MachineSpecError(f"{where}: expected a number, got {value!r}") from None
+    if not math.isfinite(length) or length < 0:
+        raise MachineSpecError(
+            f"{where}: {length:g} mm; a tool length is a finite length >= 0 mm from the "
+            "spindle gauge line to the tool tip")
+    return length
+
+
 def parse_machine(spec: Mapping[str, Any]) -> Machine:
     """Build a :class:`Machine` from a description (formats.md section 1).
 
@@ -325,11 +339,7 @@ def parse_machine(spec: Mapping[str, Any]) -> Machine:
         if key not in {a.name for a in shared if a.kind == "rotary"}:
             raise MachineSpecError(f"pivots_mm.{key}: the machine has no rotary axis {key!r}")
 
-    default_tool = spec.get("tool_length_mm", 0.0)
-    try:
-        default_tool = float(default_tool)
-    except (TypeError, ValueError):
-        raise MachineSpecError(f"tool_length_mm: expected a number, got {default_tool!r}") from None
+    default_tool = _tool_length(spec.get("tool_length_mm", 0.0), "tool_length_mm")
 
     spindles = spec.get("spindles") or []
     if not isinstance(spindles, list):
@@ -362,11 +372,7 @@ def parse_machine(spec: Mapping[str, Any]) -> Machine:
             travel=_travel(travel_raw, axis_name.lower(), "linear", name),
         )
         all_axes.append(axis)
-        tool_len = s.get("tool_length_mm", default_tool)
-        try:
-            tool_len = float(tool_len)
-        except (TypeError, ValueError):
-            raise MachineSpecError(f"{where}.tool_length_mm: expected a number") from None
+        tool_len = _tool_length(s.get("tool_length_mm", default_tool), f"{where}.tool_length_mm")
         spindle_name = str(s.get("name", f"S{i + 1}"))
         if spindle_name in {b.name for b in branches}:
             raise MachineSpecError(f"{where}.name: spindle {spindle_name!r} appears twice")
