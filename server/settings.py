@@ -20,7 +20,7 @@ variable                        default                    meaning
 ``EDNC_MQTT_HOST/PORT``         unset (MQTT off) / 1883    MQTT broker
 ``EDNC_MQTT_TOPIC_PREFIX``      ``ednc``                   first topic level
 ``EDNC_PUSH_PERIOD_S``          60                         error-map push period, s
-``EDNC_HEARTBEAT_S``            10                         machine heartbeat period, s
+``EDNC_HEARTBEAT_S``            5 (protocol/limits.py)     machine heartbeat period, s
 ``EDNC_NODE_ID``                ``<host>-<pid>``           this process, for leases
 ``EDNC_LEASE_TTL_S``            15                         machine lease life, s (renewed
                                                            every third of it)
@@ -43,6 +43,8 @@ from pydantic import Field, SecretStr, ValidationError, field_validator, model_v
 from pydantic_settings import BaseSettings, SettingsConfigDict
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import ArgumentError
+
+from protocol.limits import HEARTBEAT_PERIOD_MS
 
 ENV_PREFIX = "EDNC_"
 
@@ -137,7 +139,7 @@ class Settings(BaseSettings):
     mqtt_port: Port = 1883
     mqtt_topic_prefix: str = "ednc"
     push_period_s: float = Field(default=60.0, gt=0.0, le=86400.0)
-    heartbeat_s: float = Field(default=10.0, gt=0.0, le=3600.0)
+    heartbeat_s: float = Field(default=HEARTBEAT_PERIOD_MS / 1000, gt=0.0, le=3600.0)
     node_id: str = Field(default_factory=_default_node_id)
     lease_ttl_s: float = Field(
         default=15.0, ge=0.3, le=3600.0,

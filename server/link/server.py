@@ -64,7 +64,12 @@ from protocol import (
     new_nonce,
     verify_mac,
 )
-from protocol.limits import HANDSHAKE_TIMEOUT_MS, MISSED_HEARTBEATS, TELEMETRY_PERIOD_MS
+from protocol.limits import (
+    HANDSHAKE_TIMEOUT_MS,
+    HEARTBEAT_PERIOD_MS,
+    MISSED_HEARTBEATS,
+    TELEMETRY_PERIOD_MS,
+)
 from protocol.messages import Heartbeat
 from server.center import Center
 from server.db import events as event_repo
@@ -132,7 +137,7 @@ class LinkTiming:
 
     handshake_s: float = HANDSHAKE_S
     hello_s: float = HELLO_S
-    heartbeat_s: float = 10.0
+    heartbeat_s: float = HEARTBEAT_PERIOD_MS / 1000  # the protocol's default, 5 s
     telemetry_period_ms: int = TELEMETRY_PERIOD_MS
 
     @property
