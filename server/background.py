@@ -23,8 +23,9 @@ class Background:
     ----------
     grace_s : float or None
         How long :meth:`stop` waits for the cancelled tasks; those still running after it
-        are cancelled once more (aiomqtt, for one, waits for a broker's answer inside its
-        own cancellation handling). None waits as long as they take.
+        are cancelled once more and waited for as long again (aiomqtt, for one, waits for
+        a broker's answer inside its own cancellation handling). None waits as long as
+        they take.
     """
 
     def __init__(self, *, grace_s: float | None = None) -> None:
@@ -51,9 +52,13 @@ class Background:
         for task in pending:
             task.cancel()
         if pending:
-            await asyncio.wait(pending)
+            log.warning("background tasks %s did not stop within %g s: cancelled again",
+                        ", ".join(sorted(t.get_name() for t in pending)), self.grace_s)
+            _, pending = await asyncio.wait(pending, timeout=self.grace_s)
+        for task in pending:  # left to the loop's shutdown: never hold the service's exit
+            log.error("background task %s still running after two cancels", task.get_name())
         for task in tasks:
-            if not task.cancelled() and task.exception() is not None:
+            if task.done() and not task.cancelled() and task.exception() is not None:
                 log.error("background task %s ended with %r", task.get_name(),
                           task.exception())
 

@@ -38,6 +38,7 @@ import aiomqtt
 from prometheus_client import Counter
 
 from protocol.backoff import Backoff
+from server.background import Background
 from server.center import Center
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
@@ -184,7 +185,9 @@ class MqttBridge:
         self._dirty: set[str] = set()
         self._events: deque[dict[str, Any]] = deque(maxlen=EVENT_BACKLOG)
         self._wake = asyncio.Event()
-        self._tasks: list[asyncio.Task[None]] = []
+        # aiomqtt's exit waits, without a deadline, for the broker to confirm DISCONNECT;
+        # the second cancel after the grace ends that wait when the broker does not answer
+        self._background = Background(grace_s=5.0)
         self._unsubscribe: list[Any] = []
         self._bad = Counter("ednc_mqtt_bad_payloads", "MQTT temperature messages refused.",
                             registry=center.metrics.registry)
@@ -192,8 +195,8 @@ class MqttBridge:
     async def __aenter__(self) -> MqttBridge:
         self._stopping = False
         self._unsubscribe.append(self.feed.subscribe(self._on_notice))
-        self._tasks = [asyncio.create_task(self._connection_loop(), name="mqtt:connection"),
-                       asyncio.create_task(self._stale_loop(), name="mqtt:stale")]
+        self._background.start(self._connection_loop(), "mqtt:connection")
+        self._background.start(self._stale_loop(), "mqtt:stale")
         return self
 
     async def __aexit__(self, exc_type: type[BaseException] | None,
@@ -204,17 +207,7 @@ class MqttBridge:
         # MqttError mid-operation, which the reconnect loop would otherwise take for a lost
         # broker and retry forever, holding the shutdown.
         self._stopping = True
-        tasks, self._tasks = self._tasks, []
-        for task in tasks:
-            task.cancel()
-        # aiomqtt's exit waits, without a deadline, for the broker to confirm DISCONNECT;
-        # a second cancel ends that wait when the broker does not answer
-        _, pending = await asyncio.wait(tasks, timeout=5.0)
-        for task in pending:
-            task.cancel()
-        if pending:
-            log.warning("MQTT bridge: the broker did not confirm the disconnect")
-            await asyncio.wait(pending, timeout=1.0)
+        await self._background.stop()
 
     def topic(self, *levels: str) -> str:
         return "/".join((self.prefix, *levels))

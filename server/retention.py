@@ -6,14 +6,13 @@
 
 from __future__ import annotations
 
-import asyncio
-import contextlib
 import datetime as dt
 import logging
 from types import TracebackType
 
 from sqlalchemy.exc import SQLAlchemyError
 
+from server.background import Background, every
 from server.center import Center
 from server.db import events as event_repo
 
@@ -26,7 +25,7 @@ class EventRetention:
     def __init__(self, center: Center, *, period_s: float = 3600.0) -> None:
         self.center = center
         self.period_s = period_s
-        self._task: asyncio.Task[None] | None = None
+        self._background = Background()
 
     async def prune_once(self) -> int:
         """Delete the events older than the retention period; return how many."""
@@ -37,24 +36,15 @@ class EventRetention:
             log.info("deleted %d events older than %s", deleted, cutoff.isoformat())
         return deleted
 
-    async def _loop(self) -> None:
-        while True:
-            await asyncio.sleep(self.period_s)
-            try:
-                await self.prune_once()
-            except SQLAlchemyError as exc:  # the database may be back next period
-                log.warning("event retention failed: %s", exc)
-
     async def __aenter__(self) -> EventRetention:
         await self.prune_once()
-        self._task = asyncio.create_task(self._loop(), name="event-retention")
+        # a database error is logged and tried again next period (it may be back by then)
+        self._background.start(every(self.period_s, self.prune_once, errors=(SQLAlchemyError,),
+                                     what="event retention"), "event-retention")
         return self
 
     async def __aexit__(
         self, exc_type: type[BaseException] | None, exc: BaseException | None,
         tb: TracebackType | None,
     ) -> None:
-        if self._task is not None:
-            self._task.cancel()
-            with contextlib.suppress(asyncio.CancelledError):
-                await self._task
+        await self._background.stop()
