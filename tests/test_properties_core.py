@@ -160,6 +160,9 @@ def test_grid_map_at_its_nodes_returns_the_solvers_corrections(
     m, errors, emap = _grid_map(chain, seed, size, controller, tolerance_um)
     payload = decode_map(encode_map(grid_to_payload(emap)))  # as the machine receives it
     _, q = node_points(m, payload)
+    # the solver stopped where the map build stops it (STEP_TOL, 10 nm steps; the tighter
+    # default moves the corrections by < 1e-9 mm, measured): what is checked is the node
+    # layout, the value order, the encoding and the machine's lookup
     assert_nodes_match(m, payload, corrections(m, errors, q, step_tol=STEP_TOL))
 
 
@@ -193,6 +196,24 @@ def _center_and_machine(m: Machine, emap: ErrorMap, q: np.ndarray,
     g = GridMap.from_payload(decode_map(encode_map(grid_to_payload(emap))), machine_temps)
     return center, g.lookup(q[:, [m.axis_names.index(a) for a in g.inputs]])
 
+
+
+@pytest.mark.parametrize(("chain", "controller"), [("w C A X b Y Z t", "siemens"),
+                                                   ("w X Y b Z A C t", "fanuc")])
+def test_five_axis_grid_map_at_its_nodes_and_between_them(chain: str, controller: str) -> None:
+    """Properties 3 and 4 on one 5-axis table-table and one head-head machine (a full-turn
+    C in the grid): too slow to build for every hypothesis example."""
+    m = make_machine(chain, {"A": (0.0, 0.0, -50.0), "C": (1.0, -2.0, 0.0)})
+    errors = random_errors(m, np.random.default_rng(2), 1.0)
+    emap = build_map(m, MachineModel(m.name, errors), tolerance_um=2.0,
+                     controller=controller)  # type: ignore[arg-type]
+    payload = decode_map(encode_map(grid_to_payload(emap)))
+    assert len(payload.grid) == 5
+    _, q = node_points(m, payload)
+    assert_nodes_match(m, payload, corrections(m, errors, q, step_tol=STEP_TOL))
+    inside = random_q(m, np.random.default_rng(3), 500)
+    center, machine = _center_and_machine(m, emap, inside, {}, {})
+    np.testing.assert_allclose(machine, center, rtol=0.0, atol=1e-12)
 
 THERMAL = (ThermalTerm("thermal_expansion", "x", "T_x_C", 11.5, 20.0, 0.0),
            ThermalTerm("thermal_drift", "z", "T_spindle_C", -2.5, 22.0))
