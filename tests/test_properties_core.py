@@ -21,7 +21,7 @@ from hypothesis import strategies as st
 from machine_sim.lookup import GridMap
 from protocol.mapformat import decode_map, encode_map
 from server.mapcodec import grid_to_payload
-from tests.support.kinematics import random_errors, random_q
+from tests.support.kinematics import arch, random_errors, random_q
 from tests.support.properties import (
     FIVE_AXIS_CHAINS,
     THREE_AXIS_CHAINS,
@@ -63,14 +63,28 @@ def test_exact_and_first_order_error_agree_to_second_order(
     assert_second_order(m, random_errors(m, rng, size), random_q(m, rng, 200), size)
 
 
+@settings(max_examples=20, deadline=None)
+@given(theta=st.tuples(st.floats(-45.0, 45.0), st.floats(-45.0, 45.0)),
+       spindle=st.sampled_from(["S1", "S2"]), size=st.floats(1.0, 50.0),
+       seed=st.integers(0, 2**32 - 1))
+def test_exact_and_first_order_agree_to_second_order_on_each_spindle(
+        theta: tuple[float, float], spindle: str, size: float, seed: int) -> None:
+    """The arch-type two-spindle machine, spindle axes tilted in the y-z plane."""
+    m = arch(*theta)
+    rng = np.random.default_rng(seed)
+    assert_second_order(m, random_errors(m, rng, size), random_q(m, rng, 200), size,
+                        spindle=spindle)
+
+
 def test_the_second_order_check_catches_a_first_order_slip() -> None:
     m = make_machine("w C A X b Y Z t", {"A": (0.0, 10.0, -50.0)})
     rng = np.random.default_rng(1)
     e, q = random_errors(m, rng, 10.0), random_q(m, rng, 200)
     assert_second_order(m, e, q, 10.0)  # the real first-order model passes
 
-    def one_percent_off(mach: Machine, err: GeometricErrors, pts: np.ndarray) -> VolumetricError:
-        v = linear_volumetric_error(mach, err, pts)
+    def one_percent_off(mach: Machine, err: GeometricErrors, pts: np.ndarray,
+                        spindle: str | None) -> VolumetricError:
+        v = linear_volumetric_error(mach, err, pts, spindle=spindle)
         assert v.orientation_urad is not None
         return VolumetricError(1.01 * v.position_um, 1.01 * v.orientation_urad)
 

@@ -24,7 +24,8 @@ from volumetric.model.linear import linear_volumetric_error
 from volumetric.model.machine import Machine, parse_machine
 
 F64 = NDArray[np.float64]
-FirstOrder = Callable[[Machine, GeometricErrors, F64], VolumetricError]
+FirstOrder = Callable[[Machine, GeometricErrors, F64, str | None], VolumetricError]
+"""A first-order model: (machine, errors, positions (N, n_axes), spindle) -> error."""
 
 THREE_AXIS_CHAINS = ("w X Y b Z t", "w Y b X Z t", "w X b Y Z t", "w b X Y Z t")
 FIVE_AXIS_CHAINS = ("w C A X b Y Z t", "w A C b X Y Z t", "w C B b X Y Z t",
@@ -79,11 +80,18 @@ class Gap:
     error_urad: float
 
 
+def linear_model(machine: Machine, errors: GeometricErrors, q: F64, spindle: str | None
+                 ) -> VolumetricError:
+    """The project's first-order model, :func:`linear_volumetric_error`."""
+    return linear_volumetric_error(machine, errors, q, spindle=spindle)
+
+
 def first_order_gap(machine: Machine, errors: GeometricErrors, q: F64,
-                    first_order: FirstOrder = linear_volumetric_error) -> Gap:
+                    first_order: FirstOrder = linear_model, spindle: str | None = None
+                    ) -> Gap:
     """The gap between :func:`volumetric_error` and a first-order model at positions q."""
-    ex = volumetric_error(machine, errors, q)
-    li = first_order(machine, errors, q)
+    ex = volumetric_error(machine, errors, q, spindle=spindle)
+    li = first_order(machine, errors, q, spindle)
     assert ex.orientation_urad is not None and li.orientation_urad is not None
     return Gap(_rms(ex.position_um - li.position_um),
                _rms(ex.orientation_urad - li.orientation_urad),
@@ -101,12 +109,13 @@ coefficient size; measured up to about 1.1e-5 on these machines (a factor 9 of m
 
 
 def assert_second_order(machine: Machine, errors: GeometricErrors, q: F64, size: float,
-                        first_order: FirstOrder = linear_volumetric_error) -> None:
+                        first_order: FirstOrder = linear_model,
+                        spindle: str | None = None) -> None:
     """The first-order model errs by a second-order amount: halving all errors divides
     the gap by about 4, and the gap is small against the error (``size``: the typical
     coefficient, µm or µrad)."""
-    full = first_order_gap(machine, errors, q, first_order)
-    half = first_order_gap(machine, scaled(errors, 0.5), q, first_order)
+    full = first_order_gap(machine, errors, q, first_order, spindle)
+    half = first_order_gap(machine, scaled(errors, 0.5), q, first_order, spindle)
     lo, hi = SECOND_ORDER_RATIO
     for what, a, b, err in (("position", full.position_um, half.position_um, full.error_um),
                             ("orientation", full.orientation_urad, half.orientation_urad,
