@@ -7,6 +7,8 @@ import json
 import math
 from pathlib import Path
 
+import numpy as np
+
 from ednc.cli import UserError
 from volumetric.errors import ComponentErrorSpecError, MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
@@ -41,6 +43,42 @@ def read_data(path: Path) -> Measurements:
         raise UserError(str(exc)) from exc
     except OSError as exc:
         raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc
+
+
+_STANDARD_AXES = ("X", "Y", "Z", "A", "B", "C")
+
+
+class ReadingsTravel:
+    """Checks readings against the machine's travel, block after block.
+
+    The model is fitted as polynomials over the travel; a reading far outside it (a wrong
+    column, a typo, another machine's file) would bend every polynomial to reach it. The
+    file's line of the first offending reading is named (the header is line 1, readings
+    follow one per line, as formats.md §2 writes them).
+    """
+
+    def __init__(self, machine: Machine, path: Path) -> None:
+        self.path = path
+        self.axes = [(j, a) for j, a in enumerate(machine.axes) if a.name in _STANDARD_AXES]
+        self.rows_seen = 0
+
+    def check(self, m: Measurements) -> Measurements:
+        """``m`` unchanged, or a UserError naming the line, axis, value and travel."""
+        for _, axis in self.axes:
+            column = m.q[:, _STANDARD_AXES.index(axis.name)]
+            lo, hi = axis.travel
+            margin = 1e-6 * max(hi - lo, 1.0)
+            outside = np.flatnonzero((column < lo - margin) | (column > hi + margin))
+            if outside.size:
+                i = int(outside[0])
+                unit = "°" if axis.kind == "rotary" else " mm"
+                raise UserError(
+                    f"{self.path} line {self.rows_seen + i + 2}: {axis.key} = {column[i]:g}{unit} "
+                    f"is outside the travel [{lo:g}, {hi:g}] of axis {axis.name} "
+                    f"({outside.size} such readings in this block); check the file and the "
+                    "description (--allow-outside-travel to use them anyway)")
+        self.rows_seen += len(m)
+        return m
 
 
 def read_model(path: Path, machine: Machine | None = None) -> MachineModel:

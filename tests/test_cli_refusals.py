@@ -84,3 +84,32 @@ def test_an_unknown_temperature_sensor_is_refused(files: tuple[Path, Path]) -> N
     line = one_line_error(ednc("compensate", "--machine", str(machine), "--model", str(model),
                                "--point", "250,150,-100", "--temperature", "T_spindel_C=25"))
     assert "T_spindel_C" in line and "does not use" in line
+
+
+HEADER = "test,run,time_s,x_mm,y_mm,z_mm,dir_x,dir_y,dir_z,tool_mm,quantity,ux,uy,uz,value"
+
+
+@pytest.mark.parametrize("command", ["fit", "diagnose"])
+def test_readings_outside_the_travel_are_refused_naming_the_line(command: str,
+                                                                 tmp_path: Path) -> None:
+    machine = tmp_path / "m.json"
+    machine.write_text(json.dumps(VMC))
+    rows = [f"X-pos,1,{i},{x},150,-100,1,1,1,100,displacement,1,0,0,0.5"
+            for i, x in enumerate([0, 250, 588, 500])]
+    data = tmp_path / "c.csv"
+    data.write_text("\n".join([HEADER, *rows]) + "\n")
+    line = one_line_error(ednc(command, "--machine", str(machine), "--data", str(data)))
+    assert "line 4" in line and "x = 588 mm" in line and "[0, 500]" in line, line
+    assert "--allow-outside-travel" in line
+    allowed = ednc(command, "--machine", str(machine), "--data", str(data),
+                   "--allow-outside-travel")
+    assert "outside the travel" not in allowed.stderr
+
+
+def test_unidentifiable_parameters_are_named_in_words() -> None:
+    from ednc.commands.fit import term_text
+
+    assert term_text("EBZ[0]") == "EBZ constant term"
+    assert term_text("EXX[2]") == "EXX quadratic term"
+    assert term_text("ECX[7]") == "ECX order-7 term"
+    assert term_text("EC0Y") == "EC0Y"

@@ -9,7 +9,7 @@ from typing import Annotated
 import typer
 
 from ednc.cli import UserError
-from ednc.inputs import read_machine
+from ednc.inputs import ReadingsTravel, read_machine
 from ednc.progress import CommandProgress, read_shown, wanted
 from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
 from volumetric.diagnose.text import effects_text
@@ -37,6 +37,9 @@ def register(app: typer.Typer) -> None:
         max_readings: Annotated[int, typer.Option(
             "--max-readings", help="Diagnose at most about this many readings, drawn at "
                                    "random within each test (0: all).")] = MAX_READINGS,
+        outside_travel: Annotated[bool, typer.Option(
+            "--allow-outside-travel", help="Use readings outside the description's travel "
+                                           "(refused by default).")] = False,
     ) -> None:
         """Fit the rigid model, test physical extensions on held-out readings, name the cause.
 
@@ -47,6 +50,8 @@ def register(app: typer.Typer) -> None:
         m = read_machine(machine)
         with CommandProgress(wanted(as_json)) as progress:
             readings = read_shown(data, progress)
+            if not outside_travel:
+                ReadingsTravel(m, data).check(readings)
             if max_readings > 0 and len(readings) > max_readings:
                 typer.echo(f"diagnosing a random {max_readings} of the {len(readings)} "
                            "readings (every test keeps its share; --max-readings)", err=True)
