@@ -13,8 +13,13 @@ from numpy.typing import NDArray
 
 from machine_sim.chaineval import ChainBatch
 from protocol import TablesPayload, ThermalRecord
-from tests.support.sim_tables import random_tables, tables_payload
-from tests.test_sim_tables import CHAINS, random_machine, random_weights
+from tests.support.sim_tables import (
+    CHAINS,
+    random_machine,
+    random_tables,
+    random_weights,
+    tables_payload,
+)
 from volumetric.model.components import location_names
 from volumetric.model.machine import Machine
 

@@ -14,11 +14,36 @@ from protocol import (
     TablesPayload,
     ThermalRecord,
 )
+from tests.support.kinematics import arch, machine
 from volumetric.compensate.solver import Weights
 from volumetric.model.components import GeometricErrors, Table, component_names
 from volumetric.model.machine import Machine, parse_machine
 
 FLOAT32 = MapEncoding.FLOAT32_MM
+CHAINS = ["w X Y b Z t", "w b Y X Z t", "w Y b X Z t", "w b X Y Z t",  # 3-axis types
+          "w C A X Y b Z t", "w A B X Y b Z t", "w C Y b X Z B t", "w Z b X Y A t",
+          "w b X Y Z C A t", "w b X Y Z B C t", "arch"]
+
+
+def random_machine(chain: str, rng: np.random.Generator) -> Machine:
+    """A machine of ``chain`` (or the two-spindle arch) with random pivots and tool."""
+    if chain == "arch":
+        return arch(float(rng.uniform(-10, 10)), float(rng.uniform(15, 45)))
+    pivots = {k: rng.uniform(-80, 80, 3).round(3).tolist() for k in "ABC" if k in chain}
+    return machine(chain, pivots_mm=pivots, tool_length_mm=float(rng.uniform(0, 200)))
+
+
+def random_weights(m: Machine, rng: np.random.Generator) -> Weights:
+    """Random solver weights; sometimes a second tool tip that does not count."""
+    b = len(m.branches)
+    pos = rng.uniform(0.1, 10, (b, 3))
+    rotary = any(a.kind == "rotary" for a in m.axes)
+    ori = rng.uniform(0.0, 3, (b, 3)) if rotary and rng.random() < 0.7 else np.zeros((b, 3))
+    if b > 1 and rng.random() < 0.3:
+        pos[1] = 0.0  # the second tool tip does not count: its own axis is unobservable
+        ori[1] = 0.0
+    return Weights(pos, ori)
+
 
 
 def random_tables(m: Machine, rng: np.random.Generator, size: float
