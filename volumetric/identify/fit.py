@@ -395,19 +395,30 @@ def fit(
     """
     if len(m) == 0:
         raise FitError("no readings")
+    # one block: its design is kept for the residuals; more: built again block by block
+    kept: list[F64] | None = [] if len(m) <= BLOCK_ROWS else None
     result = fit_blocks(machine, _blocks(m), degrees=degrees, select=select,
-                        fourier=fourier)
+                        fourier=fourier, keep=kept)
     residual = np.empty(len(m))
-    for start, block in zip(range(0, len(m), BLOCK_ROWS), _blocks(m), strict=True):
-        a = build_design(machine, block, degrees=degrees, fourier=fourier,
-                         params=result.params).matrix
-        residual[start : start + len(block)] = block.value - a @ result.values
+    if kept:
+        layout = {p.name: j for j, p in
+                  enumerate(design_params(machine, degrees=degrees, fourier=fourier))}
+        cols = np.array([layout[p.name] for p in result.params], dtype=np.intp)
+        residual[:] = m.value - kept[0][:, cols] @ result.values
+    else:
+        for start, block in zip(range(0, len(m), BLOCK_ROWS), _blocks(m), strict=True):
+            a = build_design(machine, block, degrees=degrees, fourier=fourier,
+                             params=result.params).matrix
+            residual[start : start + len(block)] = block.value - a @ result.values
     w = np.where(m.is_angle, result.group_weights.get("angle", 1.0),
                  result.group_weights.get("displacement", 1.0))
     return replace(result, residual=residual, weights=w)
 
 
 def _blocks(m: Measurements) -> Iterator[Measurements]:
+    if len(m) <= BLOCK_ROWS:
+        yield m  # no copy
+        return
     for start in range(0, len(m), BLOCK_ROWS):
         yield m.select(np.arange(start, min(start + BLOCK_ROWS, len(m))))
 
@@ -419,6 +430,7 @@ def fit_blocks(
     degrees: Mapping[str, int] | None = None,
     select: bool = True,
     fourier: bool | frozenset[str] = True,
+    keep: list[F64] | None = None,
 ) -> FitResult:
     """Identify the rigid model from readings that arrive block by block.
 
@@ -436,6 +448,9 @@ def fit_blocks(
         :func:`volumetric.measure.measurement.read_measurement_blocks`).
     degrees, select, fourier
         As for :func:`fit`.
+    keep : list, optional
+        Each block's design, with every column of :func:`design_params`, is appended here
+        (for a caller that keeps the readings anyway and wants their residuals).
 
     Returns
     -------
@@ -461,6 +476,8 @@ def fit_blocks(
             raise FitError(str(exc)) from None
         present.update(b for b, r in rows.items() if r.size)
         normal.add(design.matrix, block.value, block.is_angle)
+        if keep is not None:
+            keep.append(design.matrix)
     n = int(normal.n.sum())
     if n == 0:
         raise FitError("no readings")
