@@ -4,7 +4,8 @@ estimate errors and time per diagnosis (issue 15, item 7).
 Run::
 
     .venv/bin/python benchmarks/diagnosis_hit_rate.py [--campaigns 200] [--jobs 2]
-        [--first 0] [--verbose]
+        [--first 0] [--verbose] [--log results.jsonl]
+    .venv/bin/python benchmarks/diagnosis_hit_rate.py --from-log results.jsonl
 
 Every campaign draws from its seed (``--first`` + i) what it hides:
 
@@ -39,6 +40,7 @@ os.environ.setdefault("MKL_NUM_THREADS", "1")
 
 import argparse
 import dataclasses
+import json
 import multiprocessing
 import sys
 import time
@@ -236,13 +238,24 @@ def main() -> None:
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--first", type=int, default=0, help="first seed")
     ap.add_argument("--verbose", action="store_true", help="one line per campaign")
+    ap.add_argument("--log", type=Path, help="append each campaign's result (JSON line)")
+    ap.add_argument("--from-log", type=Path, help="only print the table of a --log file "
+                                                   "(a run stopped early)")
     args = ap.parse_args()
+    if args.from_log is not None:
+        rows = [json.loads(line) for line in args.from_log.read_text().splitlines() if line]
+        args.first = min((r["seed"] for r in rows), default=0)
+        report(rows, float("nan"), args)
+        return
     seeds = range(args.first, args.first + args.campaigns)
     t_start = time.perf_counter()
     results: list[dict[str, Any]] = []
     with multiprocessing.get_context("spawn").Pool(args.jobs) as pool:
         for r in pool.imap_unordered(judge, seeds):
             results.append(r)
+            if args.log is not None:
+                with args.log.open("a") as f:
+                    f.write(json.dumps(r) + "\n")
             if args.verbose or not r["hit"]:
                 hid = "; ".join(f"{h['effect']} {h['axis']} {h['sensor'] or ''} "
                                 f"{ {k: round(v, 3) for k, v in h['size'].items()} }"

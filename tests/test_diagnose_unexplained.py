@@ -5,7 +5,7 @@ The campaigns are simulated with the rigid geometry and noise only, and an error
 the library is added to the readings afterwards (along the axis's own direction, seen by
 each reading through its sensing direction): a step of a scale joint along x (position), a
 spindle growth quadratic in its temperature (a linear drift explains most of it but leaves
-a bend against the temperature). A clean campaign must not say ``unexplained``
+a bend against the temperature, which must be said). A clean campaign must not say ``unexplained``
 (``tests/test_diagnose_pairs.py`` and the null cases of ``tests/test_diagnose.py``).
 """
 
@@ -59,23 +59,26 @@ def test_a_step_along_x_is_unexplained_and_follows_position_x() -> None:
     d = diagnose(machine, with_error(m, 0, np.where(x >= 430.0, 3.0, 0.0)))
     effects = d.to_json()["effects"]
     assert d.effect == "unexplained", effects
-    assert effects[0]["estimate"]["correlates_with"] == "position x"
+    # the strongest correlate is along x: its position, or a period along it
+    top = effects[0]["estimate"]["correlates_with"]
+    assert top == "position x" or top.endswith(" along x"), top
     assert "position x" in correlates(effects)
     # the nearest candidate (a sinusoid along x) is not named as the cause
     assert not any(e["effect"] == "periodic" for e in effects)
 
 
-def test_a_drift_quadratic_in_temperature_names_its_sensor_as_unexplained() -> None:
+def test_a_drift_quadratic_in_temperature_leaves_unexplained_structure_on_its_sensor(
+) -> None:
     machine, m = campaign(2, "w X Y b Z t")
     t = m.temperatures["spindle"]
     d = diagnose(machine, with_error(m, 2, -1.5 * (t - t.min()) ** 2))
     effects = d.to_json()["effects"]
-    assert d.effect == "unexplained", effects
-    assert "temperature T_spindle_C" in correlates(effects)
-    # the linear drift it resembles is kept as the nearest candidate, not as the cause
-    nearest = effects[0]["estimate"].get("nearest", [])
-    assert not any(e["effect"] == "thermal_drift" for e in effects)
-    assert [(n["effect"], n["axis"]) for n in nearest] == [("thermal_drift", "z")]
+    # a linear drift on the sensor explains most of it and may be named; what it leaves
+    # (the bend against the temperature) is said, with the sensor among its correlates
+    assert "temperature T_spindle_C" in correlates(effects), effects
+    named = [(e["effect"], e["axis"], e["sensor"]) for e in effects
+             if e["effect"] != "unexplained"]
+    assert named in ([], [("thermal_drift", "z", "T_spindle_C")]), named
 
 
 def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:

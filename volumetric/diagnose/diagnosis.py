@@ -78,8 +78,8 @@ Procedure (``ednc diagnose``):
    ``unexplained`` entry of ``effects`` (``estimate``: ``correlates_with``, the strongest
    correlate, ``structure_um``, every ``correlates`` with its F-test figures). A named
    effect whose own correlate (its sensor; its axis's position for a periodic error or an
-   expansion; its axis's direction for a backlash) still carries strong structure
-   (``DEMOTE_ETA2`` of the variance there) was the nearest
+   expansion; its axis's direction for a backlash) still carries structure of at least
+   ``DEMOTE_RATIO`` of what the effect explained was the nearest
    candidate, not the cause: it moves into the entry's ``nearest`` list and the
    ``unexplained`` entry takes its place (the top-level ``effect`` when it was the first).
    The saved model keeps every term selected (each made a held-out gain). A periodic
@@ -102,7 +102,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.diagnose.unexplained import (
-    DEMOTE_ETA2,
+    DEMOTE_RATIO,
     Structure,
     correlate_key,
     own_correlates,
@@ -135,6 +135,11 @@ T_MIN = 5.0
 N_CHUNKS = 30
 SCREW_LEAD_MM = 25.0
 """Longest usual ballscrew lead; positions that cannot resolve it are reported."""
+PERIOD_MAX_MM = 4 * SCREW_LEAD_MM
+"""Longest period of the ``periodic`` candidate: a screw's pitch error repeats every lead
+(<= ``SCREW_LEAD_MM``); a sinusoid of hundreds of mm would only be the nearest fit to
+something else (a step between scale segments), which the search for unexplained
+structure reports with its period instead."""
 TIE = 0.05
 """Relative held-out RMS within which another sensor is reported as an alternative."""
 MIN_READINGS = 50
@@ -409,7 +414,8 @@ def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -
     """The period (mm) whose sinusoid along the axis best explains the residual.
 
     A least-squares periodogram over periods from twice the typical spacing of the sensed
-    positions (their Nyquist limit; 2 mm at least) to a third of the sensed span, refined
+    positions (their Nyquist limit; 2 mm at least) to a third of the sensed span or
+    ``PERIOD_MAX_MM``, whichever is shorter, refined
     on a finer grid around the peak. The typical spacing is the 20th percentile of the
     gaps between distinct positions: a fine test over part of the travel resolves short
     periods, a few stray close targets do not.
@@ -417,7 +423,7 @@ def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -
     if np.unique(np.round(q[rows], 6)).size < 8:
         return None
     lo = _shortest_period(q[rows])
-    hi = span / 3.0
+    hi = min(span / 3.0, PERIOD_MAX_MM)
     if hi <= lo:
         return None
     qq, uu, rr = q[rows], u[rows], r[rows]
@@ -812,9 +818,16 @@ def diagnose(
         # structure left that the named effects do not explain; an effect whose own
         # correlate (its sensor, its axis's position or direction) still carries it was
         # the nearest candidate, not the cause: it gives way to "unexplained"
-        keys = {correlate_key(s) for s in left if s.eta2 >= DEMOTE_ETA2}
-        nearest = [e for e in effects if own_correlates(e["effect"], e["axis"], e["sensor"])
-                   & keys]
+        strength = {correlate_key(s): s.rms_um for s in left}
+        nearest = []
+        before_i = rms_before
+        for e in effects:
+            # what this effect explained: the held-out RMS it removed (in quadrature)
+            explained = math.sqrt(max(before_i ** 2 - float(e["rms_after_um"]) ** 2, 0.0))
+            before_i = float(e["rms_after_um"])
+            own = own_correlates(e["effect"], e["axis"], e["sensor"])
+            if any(strength.get(k, 0.0) >= DEMOTE_RATIO * explained for k in own):
+                nearest.append(e)
         kept = [e for e in effects if e not in nearest]
         entry = _unexplained_entry(left, nearest, current.rms_after_um)
         effects = [entry, *kept] if nearest and nearest[0] is effects[0] else [*kept, entry]

@@ -46,10 +46,11 @@ ETA2_MIN = 0.1
 """Share of the residual variance, on the correlate's readings, that its bins explain."""
 SHARE_MIN = 0.3
 """RMS of the explained part over the RMS of the whole judged residual."""
-DEMOTE_ETA2 = 0.15
-"""Share of the variance left on a named effect's own correlate beyond which it was not
-the cause but the nearest candidate (a sinusoid fitted to a step): higher than
-``ETA2_MIN``, since a real effect estimated a little off leaves some structure there."""
+DEMOTE_RATIO = 0.5
+"""A named effect whose own correlate still carries structure of at least this fraction of
+what the effect itself explained (RMS) was the nearest candidate, not the cause: a sinusoid
+fitted to a step explains less than what stays on the step's position; a real pitch error
+explains several times the little structure its slightly-off estimate leaves."""
 MIN_ROWS = 60
 MIN_MOVE = 0.02
 """A test moves an axis when its positions span this fraction of the axis's travel."""
