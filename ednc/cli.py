@@ -33,14 +33,31 @@ class UserError(Exception):
     """An error in the user's input: printed as one line, exit code 2."""
 
 
-def _load_commands() -> None:
+def _load_commands(only: str | None = None) -> None:
+    """Register the sub-commands: every module, or only the one named ``only``."""
     for info in sorted(pkgutil.iter_modules(commands.__path__), key=lambda m: m.name):
-        module = importlib.import_module(f"{commands.__name__}.{info.name}")
-        module.register(app)
+        if only is None or info.name == only:
+            module = importlib.import_module(f"{commands.__name__}.{info.name}")
+            module.register(app)
+
+
+def command_module(argv: list[str]) -> str | None:
+    """The module of the sub-command ``argv`` names (``iso230-2`` lives in ``iso230``),
+    None for ``--help`` or anything unknown (then every command is loaded, so help and
+    typer's own "no such command" list them all)."""
+    if len(argv) < 2 or argv[1].startswith("-"):
+        return None
+    names = {info.name for info in pkgutil.iter_modules(commands.__path__)}
+    for name in (argv[1], argv[1].split("-")[0]):
+        if name in names:
+            return name
+    return None
 
 
 def main() -> None:
-    _load_commands()
+    # only the command asked for is imported: the others' imports (the service, plotting)
+    # cost a second before a 15 s fit of a big file even starts
+    _load_commands(command_module(sys.argv))
     try:
         app()
     except UserError as exc:
