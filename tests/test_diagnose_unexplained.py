@@ -100,6 +100,7 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
     text = "\n".join(effects_text(d))
     assert "1. backlash x: reversal_um 8.02 ± 0.09 µm" in text
     assert "held-out RMS 4.200 -> 0.900 µm" in text
+    assert "reversal_um is B >= 0" in text and "-B/1000 mm" in text  # the sign convention
     assert "2. thermal_drift z T_spindle_C: um_per_K -2.5 ± 0.05 µm/K" in text
     assert "held-out RMS 0.900 -> 0.400 µm" in text
     assert "3. unexplained: the residual still follows position y" in text

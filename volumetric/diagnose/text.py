@@ -66,6 +66,11 @@ def effects_text(d: Diagnosis) -> list[str]:
         vals = ", ".join(f"{k} {v}" for k, v in estimate_rows(e["estimate"])
                          if k not in ("dynamic", "components"))
         lines.append(f"{i}. {_what(e)}: {vals}")
+        if e["effect"] == "backlash":
+            # the sign that confuses: stated where the value is read (report.SIGN_NOTES)
+            lines.append("     reversal_um is B >= 0, the axis's lost motion; a map carries "
+                         "the correction's reversal, -B/1000 mm (negative minus positive "
+                         "approach)")
         lines.append(f"     held-out RMS {before:.3f} -> {after:.3f} µm")
         before = after
     return lines
