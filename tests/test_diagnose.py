@@ -54,7 +54,13 @@ def test_real_spindle_thermal_test_names_the_thermal_cause_and_beats_2_um(
     static = [c for c in d.candidates if c["effect"] == "thermal_drift" and "model" not in c]
     assert min(c["rms_after_um"] for c in static) > 4.0  # one static sensor is not enough
     assert d.rms_after_um <= 2.0
-    assert d.estimate["dynamic"]["terms"]  # the lagged sensors that carry it
+    terms = d.estimate["dynamic"]["terms"]  # the lagged sensors that carry it
+    assert terms
+    for t in terms:  # each as fields: what it is computed from, its lag, its coefficient
+        assert t["kind"] in ("level", "lag", "time")
+        assert (t["sensor"] is None) == (t["kind"] == "time")
+        assert (t["tau_s"] > 0) == (t["kind"] == "lag")
+        assert t["um_per_K_std"] > 0
 
 
 def test_what_the_data_cannot_support_is_named_not_guessed() -> None:

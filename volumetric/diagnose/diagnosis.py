@@ -1117,7 +1117,10 @@ def _dynamic_drift(
     cols_sorted = np.column_stack([term.column(t_all, sig, model.t0_s) for term in model.terms])
     cols = np.empty_like(cols_sorted)
     cols[order] = cols_sorted
-    desc = {"terms": [{"name": term.name, "um_per_K": float(cf), "um_per_K_std": float(cu)}
+    # each term also as fields (kind, sensor, time constant), not only as its name's text
+    desc = {"terms": [{"name": term.name, "kind": term.kind, "sensor": term.source or None,
+                       "tau_s": float(term.tau_s), "um_per_K": float(cf),
+                       "um_per_K_std": float(cu)}
                       for term, cf, cu in zip(model.terms, model.coef, model.coef_u,
                                               strict=True)]}
     return Candidate("thermal_drift", static.axis, static.sensor, uk[:, None] * cols,
