@@ -38,7 +38,6 @@ among the linear and rotary axes, R rotary axes): the sensitivity ``S_lr``, mm p
 
 from __future__ import annotations
 
-import re
 import struct
 from dataclasses import dataclass
 from typing import Final
@@ -47,10 +46,13 @@ from . import _check as check
 from .codes import MapEncoding
 from .limits import MAX_NAME_BYTES
 from .mapformat import (
+    _AXIS_RE,
     MAP_MAGIC,
     MAX_THERMAL,
     MapFormatError,
     ThermalRecord,
+    _name_field,
+    _name_from,
     pack_thermal,
     thermal_at,
 )
@@ -71,7 +73,6 @@ _BASIS = struct.Struct("<BbHIdd")  # 24 bytes
 _TERM = struct.Struct("<HBbBB2s4H")  # 16 bytes
 _COUNT = struct.Struct("<I")
 _THERMAL_SIZE = 48
-_AXIS_RE = re.compile(r"[A-Za-z][A-Za-z0-9]{0,3}")
 
 
 def _values(what: str, values: tuple[int, ...], n: int | None = None) -> None:
@@ -239,10 +240,6 @@ class FactoredPayload:
         return FACTORED_FORMAT_VERSION
 
 
-def _name_field(name: str, size: int) -> bytes:
-    return name.encode("ascii").ljust(size, b"\0")
-
-
 def encode_factored(p: FactoredPayload) -> bytes:
     """The wire bytes of ``p`` (layout in the module docstring)."""
     parts = [_HEAD.pack(MAP_MAGIC, FACTORED_FORMAT_VERSION, int(p.encoding), len(p.axes),
@@ -269,16 +266,6 @@ def encode_factored(p: FactoredPayload) -> bytes:
 def _need(data: bytes, end: int, what: str) -> None:
     if len(data) < end:
         raise MapFormatError(f"map payload is {len(data)} bytes, {what} needs {end}")
-
-
-def _name_from(raw: bytes, what: str, offset: int) -> str:
-    text, _, pad = raw.partition(b"\0")
-    if pad.strip(b"\0"):
-        raise MapFormatError(f"{what} at offset {offset} has bytes after its NUL padding")
-    try:
-        return text.decode("ascii")
-    except UnicodeDecodeError:
-        raise MapFormatError(f"{what} at offset {offset} is not ASCII: {text!r}") from None
 
 
 def _ints(data: bytes, at: int, n: int, what: str) -> tuple[int, ...]:
