@@ -949,23 +949,7 @@ class ChainBatch:
                               max_steps: int = MAX_STEPS) -> F64:
         """:meth:`corrections` the straightforward way: rows first, stacked 3x3 products,
         every step as the README writes it (the check of the fleet cycle's layout).
-
-        Parameters
-        ----------
-        idx : ndarray of int, shape (N,), or None
-            The machine of each row (None: machine 0 for every row).
-        q : ndarray, shape (N, A)
-            Commanded positions of the chain axes, mm or degrees.
-        start : ndarray, shape (N, K), optional
-            Where the refinement starts (0 by default). A PLC passes its previous cycle's
-            corrections: the refinement has one fixed point, reached in fewer steps from
-            nearby.
-        max_steps : int
-            Refinement steps at most (README: 6). A PLC tracking a moving machine from
-            its previous cycle's corrections may take 1 per cycle: the fixed point moves by
-            far less between cycles than one step corrects (the step contracts the gap by
-            the errors' slope, ~1e-4).
-        """
+        Parameters and result as for :meth:`corrections`."""
         idx, q = self._check(idx, q)
         nominal, jac = self.nominal(idx, q)
         g = self._g_const[idx] if self._g_const is not None else self._pinv(idx, jac)
