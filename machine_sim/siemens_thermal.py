@@ -27,6 +27,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from protocol.mapformat import THERMAL_DRIFT, ThermalRecord
 from volumetric.model.model import ThermalTerm
@@ -64,6 +65,36 @@ class TempCompData:
         return self.slope != 0.0
 
 
+class _Acting(NamedTuple):
+    """One drift or expansion term at its temperature, whichever side it comes from."""
+
+    axis: str
+    drift: bool
+    coefficient: float
+    """µm/K (drift) or µm/(m·K) about ``q_min`` (expansion)."""
+    dt_K: float
+    q_min: float
+
+
+def _setting_data(names: Sequence[str], acting: Iterable[_Acting]) -> dict[str, TempCompData]:
+    """Offset, slope and reference per axis that cancel ``acting`` (one rule for the
+    model's terms and the map's records)."""
+    offset = dict.fromkeys(names, 0.0)
+    slope = dict.fromkeys(names, 0.0)
+    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    for a in acting:
+        if a.drift:
+            offset[a.axis] -= a.coefficient * a.dt_K * 1e-3  # µm → mm, cancelling the error
+            continue
+        s = -a.coefficient * a.dt_K * 1e-6  # µm/(m·K) · K → mm/mm, cancelling the error
+        r = ref[a.axis]
+        if r is None:
+            ref[a.axis] = r = a.q_min
+        slope[a.axis] += s
+        offset[a.axis] += s * (r - a.q_min)  # a slope about another reference (docstring)
+    return {n: TempCompData(offset[n], slope[n], ref[n] or 0.0) for n in names}
+
+
 def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, float],
                    axes: Sequence[str]) -> dict[str, TempCompData]:
     """The setting data of each axis that cancel ``terms`` at ``temperatures``.
@@ -88,28 +119,18 @@ def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, floa
         A term's axis is not one of ``axes``, or its sensor has no temperature.
     """
     names = [a.upper() for a in axes]
-    offset = dict.fromkeys(names, 0.0)
-    slope = dict.fromkeys(names, 0.0)
-    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    acting: list[_Acting] = []
     for t in terms:
         axis = t.axis.upper()
-        if axis not in offset:
+        if axis not in names:
             raise ValueError(f"{t.kind} term on axis {t.axis!r}, which the NC does not have "
                              f"({' '.join(names)})")
         if t.sensor not in temperatures:
             raise ValueError(f"{t.kind} term of axis {t.axis} needs {t.sensor}; have "
                              f"{sorted(temperatures)}")
-        dt_K = float(temperatures[t.sensor]) - t.t_ref_C
-        if t.kind == "thermal_drift":
-            offset[axis] -= t.coefficient * dt_K * 1e-3  # µm → mm, cancelling the error
-            continue
-        s = -t.coefficient * dt_K * 1e-6  # µm/(m·K) · K → mm/mm, cancelling the error
-        r = ref[axis]
-        if r is None:
-            ref[axis] = r = t.q_min
-        slope[axis] += s
-        offset[axis] += s * (r - t.q_min)  # a slope about another reference (docstring)
-    return {a: TempCompData(offset[a], slope[a], ref[a] or 0.0) for a in names}
+        acting.append(_Acting(axis, t.kind == "thermal_drift", t.coefficient,
+                              float(temperatures[t.sensor]) - t.t_ref_C, t.q_min))
+    return _setting_data(names, acting)
 
 
 def record_setting_data(records: Iterable[ThermalRecord], temperatures: Mapping[str, float],
@@ -137,22 +158,12 @@ def record_setting_data(records: Iterable[ThermalRecord], temperatures: Mapping[
     """
     temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
     names = [a.upper() for a in axes]
-    offset = dict.fromkeys(names, 0.0)
-    slope = dict.fromkeys(names, 0.0)
-    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    acting: list[_Acting] = []
     for rec in records:
         axis = rec.axis.upper()
         t = temps.get(sensor_key(rec.sensor))
-        if axis not in offset or t is None or not math.isfinite(t):
+        if axis not in names or t is None or not math.isfinite(t):
             continue
-        dt_K = t - rec.t_ref_C
-        if rec.kind == THERMAL_DRIFT:
-            offset[axis] -= rec.coefficient * dt_K * 1e-3  # µm → mm, cancelling the error
-            continue
-        s = -rec.coefficient * dt_K * 1e-6  # µm/(m·K) · K → mm/mm, cancelling the error
-        r = ref[axis]
-        if r is None:
-            ref[axis] = r = rec.q_min
-        slope[axis] += s
-        offset[axis] += s * (r - rec.q_min)  # a slope about another reference (docstring)
-    return {a: TempCompData(offset[a], slope[a], ref[a] or 0.0) for a in names}
+        acting.append(_Acting(axis, rec.kind == THERMAL_DRIFT, rec.coefficient,
+                              t - rec.t_ref_C, rec.q_min))
+    return _setting_data(names, acting)
