@@ -28,13 +28,16 @@ import json
 import logging
 import math
 import random
+import ssl
 import time
 from collections import deque
+from collections.abc import Iterator
 from dataclasses import dataclass, field
 from types import TracebackType
 from typing import Any, Final
 
 import aiomqtt
+import paho.mqtt.client as mqtt_client
 from prometheus_client import Counter
 
 from protocol.backoff import Backoff
@@ -52,8 +55,15 @@ MIN_C: Final = -60.0
 MAX_C: Final = 200.0
 """Readings outside this are not a machine tool's temperatures: a unit or sensor fault."""
 
-READ_BATCH: Final = 1000
-"""MQTT packets read in one event-loop wake-up at most (2 s of a 500/s plant)."""
+READ_BYTES: Final = 65536
+"""Bytes read from the broker's socket in one event-loop wake-up at most: about 900
+temperature messages (nearly 2 s of a 500/s plant), so that a backlog is taken in few
+loop turns and the machine sessions still get theirs between them."""
+
+_PUBLISH_QOS0_MASK: Final = 0xF6
+_PUBLISH_QOS0: Final = 0x30
+"""First byte of an MQTT PUBLISH (type 3) with QoS 0, under the mask that drops the DUP
+and RETAIN flags."""
 
 PUBLISH_TIMEOUT_S: Final = 60.0
 """How long a status or event publish may wait for the broker's PUBACK. aiomqtt's
@@ -68,6 +78,138 @@ EVENT_BACKLOG: Final = 1000
 
 class PayloadError(ValueError):
     """A temperature message that cannot be read; the text says why."""
+
+
+class PacketError(ValueError):
+    """Bytes from the broker that are no MQTT packet (left to paho, which disconnects)."""
+
+
+def next_packet(buf: bytes | bytearray, pos: int) -> tuple[int, int, int] | None:
+    """The MQTT packet starting at ``buf[pos]``: (first byte, body start, body end), body
+    being what follows the fixed header; None while it is not complete.
+
+    Raises
+    ------
+    PacketError
+        The remaining length takes more than the 4 bytes MQTT allows.
+    """
+    n = len(buf)
+    i = pos + 1
+    length = 0
+    shift = 0
+    while True:
+        if i >= n:
+            return None
+        byte = buf[i]
+        i += 1
+        length |= (byte & 0x7F) << shift
+        if not byte & 0x80:
+            break
+        shift += 7
+        if shift > 21:
+            raise PacketError("remaining length longer than 4 bytes")
+    end = i + length
+    return (buf[pos], i, end) if end <= n else None
+
+
+def publish_parts(buf: bytes | bytearray, start: int, end: int) -> tuple[bytes, bytes]:
+    """(topic, payload) of a QoS 0 PUBLISH body ``buf[start:end]`` (MQTT 3.1.1: topic
+    length u16 big-endian, topic, payload; no packet identifier at QoS 0).
+
+    Raises
+    ------
+    PacketError
+        The topic runs past the packet.
+    """
+    if end - start < 2:
+        raise PacketError("PUBLISH shorter than its topic length")
+    topic_end = start + 2 + (buf[start] << 8 | buf[start + 1])
+    if topic_end > end:
+        raise PacketError("PUBLISH topic runs past the packet")
+    return bytes(buf[start + 2:topic_end]), bytes(buf[topic_end:end])
+
+
+class PacketReader:
+    """The broker's byte stream cut into MQTT 3.1.1 packets, across ``recv`` boundaries.
+
+    :meth:`feed` yields, in stream order, each complete QoS 0 PUBLISH as ``(topic,
+    payload)`` and every other packet (or bytes that are no packet) as its raw bytes, to
+    be handed to paho; an incomplete packet waits for the next :meth:`feed`.
+    """
+
+    def __init__(self) -> None:
+        self._buf = bytearray()
+
+    def feed(self, data: bytes) -> Iterator[tuple[bytes, bytes] | bytes]:
+        buf = self._buf
+        buf += data
+        pos, size = 0, len(buf)
+        try:
+            while pos < size:
+                try:
+                    found = next_packet(buf, pos)
+                except PacketError:  # paho finds it malformed and disconnects
+                    rest, pos = bytes(buf[pos:]), size
+                    yield rest
+                    return
+                if found is None:
+                    return
+                first, start, end = found
+                if first & _PUBLISH_QOS0_MASK == _PUBLISH_QOS0:
+                    try:
+                        parts: tuple[bytes, bytes] | bytes = publish_parts(buf, start, end)
+                    except PacketError:
+                        parts = bytes(buf[pos:end])
+                else:
+                    parts = bytes(buf[pos:end])
+                pos = end
+                yield parts
+        finally:
+            del buf[:pos]
+
+    @property
+    def waiting(self) -> int:
+        """Bytes of an incomplete packet held for the next :meth:`feed`."""
+        return len(self._buf)
+
+
+class _PahoSocket:
+    """What paho reads from once the bridge reads the broker's socket itself: the packets
+    the bridge hands it (:meth:`push`), then the socket's end (:meth:`end`) when the
+    broker goes; every other use (send, fileno, close) goes to the real socket."""
+
+    def __init__(self, sock: Any) -> None:
+        self.sock = sock
+        self.data = bytearray()
+        self.ended = False
+        self.error: OSError | None = None
+
+    def push(self, packet: bytes | bytearray) -> None:
+        self.data += packet
+
+    def end(self, error: OSError | None) -> None:
+        self.ended, self.error = True, error
+
+    @property
+    def pending(self) -> bool:
+        return bool(self.data) or self.ended
+
+    def recv(self, size: int) -> bytes:
+        if self.data:
+            out = bytes(self.data[:size])
+            del self.data[:size]
+            return out
+        if self.error is not None:
+            raise self.error
+        if self.ended:
+            return b""  # paho's "connection lost"
+        raise BlockingIOError
+
+    def send(self, data: bytes | bytearray) -> int:
+        return int(self.sock.send(data))
+
+    def __getattr__(self, name: str) -> Any:
+        return getattr(self.sock, name)
 
 
 def parse_temperature(payload: bytes) -> tuple[float, float | None]:
@@ -256,55 +398,104 @@ class MqttBridge:
             self.handle(message.topic.value, message.payload)
 
     def _read_in_batches(self, client: aiomqtt.Client) -> None:
-        """Take the broker's messages straight from paho, as many per wake-up as have
-        arrived.
+        """Read the broker's socket here, as much as has arrived per event-loop wake-up,
+        and take the temperature messages without paho.
 
         aiomqtt's reader reads one MQTT packet per event-loop wake-up (paho's
         ``loop_read`` stops after one QoS 0 packet) and hands each message to a queue and
         a task: with a thousand machine sessions sharing the loop, one loop turn takes
         milliseconds, so at 500 temperatures/s the messages queued up in the socket for
-        seconds (issue 13). Here one wake-up reads every packet the socket holds (up to
-        :data:`READ_BATCH`, so the sessions get their turn) and each message goes to
-        :meth:`handle` from paho's callback, without a queue. Reaches into aiomqtt 2.x's
-        paho client (``_client``), the one place that knows it; without it (another
-        aiomqtt) the bridge falls back to aiomqtt's own reading.
+        seconds (issue 13). paho itself reads a packet in three ``recv`` calls (type,
+        length, body) and builds a message object, takes locks and matches callbacks for
+        each. Here one ``recv`` takes up to :data:`READ_BYTES`; every complete QoS 0
+        PUBLISH in it goes to :meth:`handle` at once, and every other packet (CONNACK,
+        SUBACK, PUBACK of the status publishes, PINGRESP, a QoS 1 PUBLISH) is handed to
+        paho, in order, through a socket stand-in it reads from (:class:`_PahoSocket`),
+        so the protocol's state stays paho's. The end of the connection is handed to
+        paho the same way: it disconnects as it would have. Reaches into aiomqtt 2.x's
+        paho client (``_client``, ``_sock``, ``_protocol``), the one place that knows
+        them; without them (another aiomqtt, MQTT 5, TLS) the bridge falls back to
+        aiomqtt's own reading.
         """
         paho = getattr(client, "_client", None)
         sock = paho.socket() if paho is not None else None
-        if paho is None or sock is None:
-            log.info("MQTT bridge: aiomqtt's reader kept (no paho socket to read from)")
+        if (paho is None or sock is None or getattr(paho, "_sock", None) is not sock
+                or getattr(paho, "_protocol", None) not in (mqtt_client.MQTTv31,
+                                                            mqtt_client.MQTTv311)
+                or isinstance(sock, ssl.SSLSocket)):
+            log.info("MQTT bridge: aiomqtt's reader kept (no plain MQTT 3.1.1 paho socket)")
             return
         disconnected = getattr(client, "_disconnected", None)
-        received = self.stats
+        stats = self.stats
+        real: Any = sock
+        stand_in = _PahoSocket(real)
+        paho._sock = stand_in
+        packets = PacketReader()
 
         def on_message(_client: Any, _userdata: Any, message: Any) -> None:
-            received.received += 1
+            stats.received += 1  # a QoS 1 or 2 message: paho acknowledges it
             try:
                 self.handle(message.topic, message.payload)
             except Exception:  # a bug in one reading must not end the bridge
                 log.exception("MQTT message on %r not taken", message.topic)
 
+        def to_paho() -> bool:
+            """Let paho read what it was handed; False when the connection is over."""
+            while stand_in.pending:
+                try:
+                    rc = paho.loop_read()
+                except Exception as exc:  # as aiomqtt's reader: the connection broke
+                    if disconnected is not None and not disconnected.done():
+                        disconnected.set_exception(exc)
+                    return False
+                if rc != 0:  # paho has handled the end of the connection
+                    return False
+            return True
+
+        def publish(topic: bytes, payload: bytes) -> None:
+            stats.received += 1
+            try:
+                name = topic.decode("utf-8")
+            except UnicodeDecodeError:
+                self._refuse(repr(topic)[:80], PayloadError("topic is not UTF-8"))
+                return
+            try:
+                self.handle(name, payload)
+            except Exception:  # a bug in one reading must not end the bridge
+                log.exception("MQTT message on %r not taken", name)
+
         def readable() -> None:
             cpu0 = time.thread_time()
             try:
-                for _ in range(READ_BATCH):
-                    before = received.received
-                    try:
-                        rc = paho.loop_read()
-                    except Exception as exc:  # as aiomqtt's reader: the connection broke
-                        if disconnected is not None and not disconnected.done():
-                            disconnected.set_exception(exc)
+                try:
+                    data = real.recv(READ_BYTES)
+                except (BlockingIOError, InterruptedError):
+                    return
+                except OSError as exc:
+                    stand_in.end(exc)
+                    to_paho()
+                    return
+                if not data:
+                    stand_in.end(None)
+                    to_paho()
+                    return
+                taken = 0
+                for item in packets.feed(data):
+                    if isinstance(item, tuple):
+                        publish(*item)
+                        taken += 1
+                        continue
+                    stand_in.push(item)
+                    if not to_paho():
                         return
-                    # a partial packet, no data or a packet that is no message (PUBACK,
-                    # PINGRESP): wait for the socket to be readable again (epoll is
-                    # level-triggered)
-                    if rc != 0 or received.received == before:
-                        return
+                if taken:  # what paho notes for its keepalive on every packet read
+                    with paho._msgtime_mutex:
+                        paho._last_bytes_received = mqtt_client.time_func()
             finally:
-                received.read_cpu_s += time.thread_time() - cpu0
+                stats.read_cpu_s += time.thread_time() - cpu0
 
         paho.on_message = on_message
-        asyncio.get_running_loop().add_reader(sock.fileno(), readable)
+        asyncio.get_running_loop().add_reader(real.fileno(), readable)
 
     def handle(self, topic: str, payload: Any) -> bool:
         """Take one temperature message; False (counted, logged) when it is refused."""
@@ -314,13 +505,16 @@ class MqttBridge:
                 payload = str(payload).encode()
             celsius, stamp = parse_temperature(bytes(payload))
         except PayloadError as exc:
-            self.stats.bad_payloads += 1
-            self._bad.inc()
-            self.stats.bad_examples.append(f"{topic}: {exc}")
-            level = logging.WARNING if self.stats.bad_payloads <= 10 else logging.DEBUG
-            log.log(level, "MQTT %s refused: %s", topic, exc)
+            self._refuse(topic, exc)
             return False
         return self.temperatures.update(machine, sensor, celsius, source="mqtt", at=stamp)
+
+    def _refuse(self, topic: str, exc: PayloadError) -> None:
+        self.stats.bad_payloads += 1
+        self._bad.inc()
+        self.stats.bad_examples.append(f"{topic}: {exc}")
+        level = logging.WARNING if self.stats.bad_payloads <= 10 else logging.DEBUG
+        log.log(level, "MQTT %s refused: %s", topic, exc)
 
     def _parse_topic(self, topic: str) -> tuple[str, str]:
         head = self.prefix + "/"
