@@ -18,7 +18,8 @@ bad: not finite, out of range, too fast) when
   Telemetry names its sensors itself, so this check does not apply to it;
 * ``too_fast``: it moved from the sensor's last good reading by more than
   ``max_rate_K_per_s`` times the time between them plus ``jump_allowance_K`` (a sensor
-  fault or a unit mix-up, not a machine warming up).
+  fault or a unit mix-up, not a machine warming up; ``EDNC_TEMPERATURE_MAX_RATE`` and
+  ``EDNC_TEMPERATURE_JUMP``, 1 K/s and 10 K by default).
 
 A refused reading changes nothing: the board and the machine keep the last good value.
 
@@ -71,6 +72,7 @@ from server.events import EventKind
 from server.feed import Feed, Notice
 from server.forward import INTERVAL_S, TemperatureForwarder
 from server.link.session import MachineSession
+from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE
 from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor
 
 log = logging.getLogger(__name__)
@@ -78,14 +80,11 @@ log = logging.getLogger(__name__)
 PLAUSIBLE_C: Final = (-20.0, 100.0)
 """A machine tool's temperatures in a shop; outside is a sensor or unit fault."""
 
-MAX_RATE_K_PER_S: Final = 1.0
-"""A machine's structure warms by hundredths of a kelvin per second, a spindle bearing
-by a tenth at most; 1 K/s is a fault."""
+MAX_RATE_K_PER_S: Final = TEMPERATURE_MAX_RATE
+"""Default of ``EDNC_TEMPERATURE_MAX_RATE``, K/s (why: :mod:`server.settings`)."""
 
-JUMP_ALLOWANCE_K: Final = 10.0
-"""Allowed on top of the rate: noise, quantisation, a step of coolant or a heater switched
-on, a sensor read again after a pause, a test rig's set point; a unit mix-up (°F for °C:
-tens of K) or a broken sensor (open circuit, -273 or +850 °C) jumps further."""
+JUMP_ALLOWANCE_K: Final = TEMPERATURE_JUMP
+"""Default of ``EDNC_TEMPERATURE_JUMP``, K (why: :mod:`server.settings`)."""
 
 RETENTION_DAYS: Final = 30.0
 """Readings kept this long (re-identification wants weeks of warm-ups)."""
@@ -197,7 +196,9 @@ class TemperatureIntake:
         This node's live sessions (``MachineServer.sessions``); without them nothing is
         forwarded.
     plausible_C : (float, float)
-    max_rate_K_per_s, jump_allowance_K : float
+    max_rate_K_per_s, jump_allowance_K : float, optional
+        The rate rule (module docstring), K/s and K; the settings'
+        ``temperature_max_rate`` and ``temperature_jump`` by default.
     forward_interval_s : float
     flush_s : float
         How often accepted readings are written to the database, s.
@@ -211,11 +212,15 @@ class TemperatureIntake:
     def __init__(self, center: Center, board: TemperatureBoard, feed: Feed | None = None, *,
                  sessions: Mapping[str, MachineSession] | None = None,
                  plausible_C: tuple[float, float] = PLAUSIBLE_C,
-                 max_rate_K_per_s: float = MAX_RATE_K_PER_S,
-                 jump_allowance_K: float = JUMP_ALLOWANCE_K,
+                 max_rate_K_per_s: float | None = None,
+                 jump_allowance_K: float | None = None,
                  forward_interval_s: float = INTERVAL_S, flush_s: float = 0.5,
                  retention_days: float = RETENTION_DAYS, max_rows: int = MAX_ROWS,
                  refresh_s: float = 600.0) -> None:
+        if max_rate_K_per_s is None:
+            max_rate_K_per_s = center.settings.temperature_max_rate
+        if jump_allowance_K is None:
+            jump_allowance_K = center.settings.temperature_jump
         lo, hi = plausible_C
         if not (math.isfinite(lo) and math.isfinite(hi) and lo < hi):
             raise ValueError(f"plausible_C must be a finite (low, high), got {plausible_C!r}")

@@ -54,7 +54,7 @@ class MachineServices:
 
 @asynccontextmanager
 async def machine_services(
-    center: Center, *, timing: LinkTiming | None = None, stale_after_s: float = 60.0,
+    center: Center, *, timing: LinkTiming | None = None, stale_after_s: float | None = None,
     push_options: dict[str, Any] | None = None, mqtt_options: dict[str, Any] | None = None,
     publish_period_s: float = 1.0, max_handshakes: int = MAX_HANDSHAKES,
 ) -> AsyncIterator[MachineServices]:
@@ -65,8 +65,8 @@ async def machine_services(
     center : Center
     timing : LinkTiming, optional
         Handshake and heartbeat deadlines (the settings' heartbeat by default).
-    stale_after_s : float
-        Age after which a temperature counts as stale.
+    stale_after_s : float, optional
+        Age after which a temperature counts as stale (``EDNC_TEMPERATURE_STALE_S``).
     push_options : dict, optional
         Keyword arguments of :class:`PushScheduler` (``threshold_K``, ``tolerance_um``...).
     max_handshakes : int
@@ -78,7 +78,8 @@ async def machine_services(
     """
     settings = center.settings
     feed = Feed(center)
-    temperatures = TemperatureBoard(stale_after_s)
+    temperatures = TemperatureBoard(
+        settings.temperature_stale_s if stale_after_s is None else stale_after_s)
     async with AsyncExitStack() as stack:
         push = await stack.enter_async_context(
             PushScheduler(center, feed, temperatures, **(push_options or {})))

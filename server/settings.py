@@ -27,6 +27,13 @@ variable                        default                    meaning
 ``EDNC_MACHINES_FILE``          unset                      machines registered at start-up
 ``EDNC_LEASES``                 ``auto``                   leases: on PostgreSQL only
 ``EDNC_EVENT_RETENTION_DAYS``   30                         events older are deleted
+``EDNC_TEMPERATURE_MAX_RATE``   1 K/s                      a temperature moving faster
+                                                           (beyond the allowance) is refused
+``EDNC_TEMPERATURE_JUMP``       10 K                       allowed on top of the rate
+``EDNC_TEMPERATURE_STALE_S``    60                         a machine without a new
+                                                           temperature this long is shown
+                                                           stale (it holds the last good
+                                                           value)
 ==============================  =========================  ===============================
 """
 
@@ -37,7 +44,7 @@ import os
 import re
 import socket
 from pathlib import Path
-from typing import Annotated, Any, Literal
+from typing import Annotated, Any, Final, Literal
 
 from pydantic import Field, SecretStr, ValidationError, field_validator, model_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
@@ -47,6 +54,19 @@ from sqlalchemy.exc import ArgumentError
 from protocol.limits import HEARTBEAT_PERIOD_MS
 
 ENV_PREFIX = "EDNC_"
+
+TEMPERATURE_MAX_RATE: Final = 1.0
+"""K/s. A machine's structure warms by hundredths of a kelvin per second, a spindle
+bearing by a tenth at most; 1 K/s is a fault (the intake's default, server/intake.py)."""
+
+TEMPERATURE_JUMP: Final = 10.0
+"""K allowed on top of the rate: noise, quantisation, a step of coolant or a heater
+switched on, a sensor read again after a pause, a test rig's set point; a unit mix-up (°F
+for °C: tens of K) or a broken sensor (open circuit, -273 or +850 °C) jumps further."""
+
+TEMPERATURE_STALE_S: Final = 60.0
+"""s. A sensor publishes every few seconds; a minute without a reading is a sensor, a
+gateway or a broker gone, not a slow sensor."""
 
 Port = Annotated[int, Field(ge=0, le=65535)]
 _HOST = re.compile(r"^[A-Za-z0-9.:\-\[\]]+$")
@@ -146,6 +166,18 @@ class Settings(BaseSettings):
         description="How long a machine's lease outlives its node's last renewal; the "
                     "node renews every third of it (server/leasing.py).")
     event_retention_days: float = Field(default=30.0, gt=0.0, le=36500.0)
+    temperature_max_rate: float = Field(
+        default=TEMPERATURE_MAX_RATE, gt=0.0, le=1000.0,
+        description="K/s: a temperature further from its sensor's last good reading than "
+                    "this rate times the time between them, plus the jump allowance, is "
+                    "refused (a sensor fault or a unit mix-up); server/intake.py.")
+    temperature_jump: float = Field(
+        default=TEMPERATURE_JUMP, ge=0.0, le=1000.0,
+        description="K allowed on top of the rate (noise, a heater switched on).")
+    temperature_stale_s: float = Field(
+        default=TEMPERATURE_STALE_S, gt=0.0, le=86400.0,
+        description="s: a temperature not renewed for this long is stale: the machine "
+                    "holds its last good value, the dashboard and the MQTT status say so.")
     leases: Literal["auto", "on", "off"] = Field(
         default="auto",
         description="Machine leases for several nodes on one database: 'auto' takes them "

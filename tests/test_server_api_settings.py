@@ -70,6 +70,10 @@ def test_postgresql_url_gets_the_installed_driver() -> None:
     ("EDNC_NODE_ID", "two words", "letters, digits"),
     ("EDNC_HTTP_HOST", "bad host", "not a host"),
     ("EDNC_EVENT_RETENTION_DAYS", "0", "greater than 0"),
+    ("EDNC_TEMPERATURE_MAX_RATE", "0", "greater than 0"),
+    ("EDNC_TEMPERATURE_JUMP", "-1", "greater than or equal to 0"),
+    ("EDNC_TEMPERATURE_STALE_S", "0", "greater than 0"),
+    ("EDNC_TEMPERATURE_STALE_S", "soon", "number"),
 ])
 def test_bad_value_names_the_variable(
     monkeypatch: pytest.MonkeyPatch, variable: str, value: str, words: str
@@ -110,3 +114,18 @@ def test_leases_are_taken_on_postgresql_only_unless_asked() -> None:
     assert Settings(database_url="postgresql://postgres@127.0.0.1:5432/ednc").uses_leases
     assert Settings(database_url="sqlite:///./x.db", leases="on").uses_leases
     assert not Settings(database_url="postgresql://postgres@127.0.0.1/e", leases="off").uses_leases
+
+
+def test_temperature_rate_and_staleness_from_the_environment(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from server.intake import JUMP_ALLOWANCE_K, MAX_RATE_K_PER_S
+
+    s = load_settings()  # the intake's documented defaults
+    assert (s.temperature_max_rate, s.temperature_jump, s.temperature_stale_s) == (
+        MAX_RATE_K_PER_S, JUMP_ALLOWANCE_K, 60.0)
+    monkeypatch.setenv("EDNC_TEMPERATURE_MAX_RATE", "0.05")
+    monkeypatch.setenv("EDNC_TEMPERATURE_JUMP", "0.5")
+    monkeypatch.setenv("EDNC_TEMPERATURE_STALE_S", "12.5")
+    s = load_settings()
+    assert (s.temperature_max_rate, s.temperature_jump, s.temperature_stale_s) == (
+        0.05, 0.5, 12.5)
