@@ -542,3 +542,44 @@ async def test_pages_and_stream_stay_out_of_the_openapi_document(
     paths = (await client.get("/openapi.json")).json()["paths"]
     assert "/api/dashboard" in paths and "/api/machines/{name}/maps/latest/grid" in paths
     assert not {"/", "/dashboard", "/api/live", "/machines/{name}"} & set(paths)
+
+
+async def test_stale_temperatures_turn_an_applied_machine_warn(
+    api: tuple[FastAPI, httpx.AsyncClient]
+) -> None:
+    """Temperatures that stop arriving (EDNC_TEMPERATURE_STALE_S, or the broker gone) show
+    on the machine's row: the map is applied but the thermal part holds its last value."""
+    from server.temperatures import TemperatureBoard
+
+    app, client = api
+    await register(client, VMC)
+    center = center_of(app)
+    center.registry.connected("vmc-01", "10.0.0.21:1")
+    center.registry.seen("vmc-01", telemetry(0.0))
+    db, mid = center.db, await machine_id(app, "vmc-01")
+    await db.run(map_repo.add_map_version, mid, payload=b"m", model_version=None)
+    sent = await db.run(map_repo.record_sent, mid, 1)
+    await db.run(map_repo.record_answer, sent.id, acked=True)
+    board = TemperatureBoard(stale_after_s=0.2)
+    board.update("vmc-01", "spindle", 24.5, source="rest")  # REST readings show too
+    center.temperatures = board  # type: ignore[attr-defined]  # as the services hand it over
+
+    async def row() -> tuple[str, str, list[tuple[str, bool, str]]]:
+        card = (await client.get("/api/dashboard")).json()["machines"][0]
+        return card["health"], card["health_reason"], [
+            (t["name"], t["stale"], t["source"]) for t in card["temperatures"]]
+
+    assert await row() == ("ok", "map v1 applied", [("spindle", False, "rest")])
+    await asyncio.sleep(0.25)  # no reading for longer than the limit
+    health, reason, temps = await row()
+    assert (health, temps) == ("warn", [("spindle", True, "rest")])
+    assert reason.startswith("temperature stale (spindle 0.") and "holds the last good" \
+        in reason
+    detail = (await client.get("/api/machines/vmc-01/dashboard")).json()["card"]
+    assert detail["health"] == "warn" and "spindle" in detail["health_reason"]
+    board.update("vmc-01", "spindle", 24.6, source="mqtt")  # a fresh one: in order again
+    assert (await row())[:2] == ("ok", "map v1 applied")
+    board.mark_stale(source="mqtt")  # the broker went away
+    assert (await row())[0] == "warn"
+    center.registry.disconnected("vmc-01")  # a worse state keeps its own reason
+    assert (await row())[:2] == ("offline", "not connected")

@@ -35,8 +35,9 @@ class TemperatureLive(BaseModel):
     name: str
     celsius: float = Field(description="°C.")
     stale: bool = Field(description="The reading is older than the stale limit.")
-    source: Literal["telemetry", "mqtt"] = Field(
-        default="telemetry", description="Where it came from: the machine link or MQTT.")
+    source: Literal["telemetry", "mqtt", "rest"] = Field(
+        default="telemetry",
+        description="Where it came from: the machine link, MQTT or the REST API.")
     age_s: float | None = Field(default=None, description="Age of the reading, s.")
 
 

@@ -238,8 +238,24 @@ def board_temperatures(board: TemperatureBoard, machine: str, telemetry_stale: b
     return out
 
 
+def thermal_stale_reason(stale: list[TemperatureLive]) -> str:
+    """The health reason of a machine whose temperatures stopped: which, how old, and what
+    the machine does meanwhile (holds the last good value, machine_sim/temperatures.py)."""
+    ages = ", ".join(f"{t.name} {t.age_s:.1f} s" if t.age_s is not None else t.name
+                     for t in stale)
+    return (f"temperature{'s' if len(stale) > 1 else ''} stale ({ages} since the last "
+            "reading): the thermal compensation holds the last good value")
+
+
 def with_board(card: MachineCard, board: TemperatureBoard | None) -> MachineCard:
-    """The card with the board's readings in place of (or added to) the telemetry's."""
+    """The card with the board's readings in place of (or added to) the telemetry's.
+
+    A machine otherwise in order whose board readings are stale (older than the board's
+    ``stale_after_s``, ``EDNC_TEMPERATURE_STALE_S``, or their broker gone) is shown
+    ``warn`` with :func:`thermal_stale_reason`: its map is applied, but the thermal part
+    follows no temperature any more. A worse state (offline, alarm, a map not applied)
+    keeps its own reason; the stale readings are marked on their rows either way.
+    """
     if board is None:
         return card
     extra = board_temperatures(board, card.name, card.telemetry_stale)
@@ -247,7 +263,12 @@ def with_board(card: MachineCard, board: TemperatureBoard | None) -> MachineCard
         return card
     names = {t.name for t in extra}
     merged = [t for t in card.temperatures if t.name not in names] + extra
-    return card.model_copy(update={"temperatures": merged})
+    update: dict[str, Any] = {"temperatures": merged}
+    stale = [t for t in extra if t.stale]
+    if stale and card.health == "ok":
+        update["health"] = "warn"
+        update["health_reason"] = thermal_stale_reason(stale)
+    return card.model_copy(update=update)
 
 
 def build_snapshot(facts: Facts, registry: Registry | PlantView, *, node_id: str,
