@@ -345,15 +345,16 @@ class Measured:
     """CPU s and wall s the center took for a burst of readings waiting in its socket, and
     how many it forwarded."""
     path: tuple[float, float]
-    """CPU s per reading over the bursts: in the MQTT reader (thread time: paho, intake,
-    frame, socket write), and in the database thread writing the series."""
+    """CPU s per reading over the bursts: in the MQTT reader (thread time: recv and
+    packet cutting, intake, frame, socket write), and in the database thread writing the
+    series."""
 
 
 async def _drain(pub: subprocess.Popen[str], forwarded: Any, count: int, celsius: float,
                  bursts: int = 3) -> tuple[float, float, int]:
     """The center's cost per forwarded temperature at full speed: the publisher sends one
     reading per machine while the center's event loop is blocked (so they all wait in its
-    MQTT socket and the broker), then the center takes them: MQTT client, intake,
+    MQTT socket and the broker), then the center takes them: MQTT reading, intake,
     Temperatures frame, socket write to each machine. Its idle work during the drain
     (sessions, heartbeats) is included; it is a small part of a second or two."""
     assert pub.stdin is not None and pub.stdout is not None
@@ -548,12 +549,12 @@ async def _cpu_lines(m: Measured, count: int) -> None:
     cpu, wall, drained = m.drain
     per = cpu / max(drained, 1)
     print(f"center CPU per forwarded temperature, {drained} taken at full speed from its "
-          f"MQTT socket (MQTT client, intake, frame, socket write): {1000 * per:.3f} ms "
+          f"MQTT socket (MQTT reading, intake, frame, socket write): {1000 * per:.3f} ms "
           f"({1 / max(per, 1e-9):,.0f}/s on one core; drained in {wall:.2f} s); target "
           f"<= 0.2 ms: {'met' if per <= 0.0002 else 'NOT met'}")
     reader, store = m.path
     print(f"  the same readings on their own path, without the center's other work: "
-          f"{1000 * reader:.3f} ms in the MQTT reader (paho, intake, frame, socket write; "
+          f"{1000 * reader:.3f} ms in the MQTT reader (packets, intake, frame, socket write; "
           f"thread CPU) + {1000 * store:.3f} ms writing the series (database thread) = "
           f"{1000 * (reader + store):.3f} ms ({1 / max(reader + store, 1e-9):,.0f}/s on one "
           f"core); target <= 0.2 ms: {'met' if reader + store <= 0.0002 else 'NOT met'}")

@@ -191,7 +191,7 @@ class _PahoSocket:
         self.ended, self.error = True, error
 
     @property
-    def pending(self) -> bool:
+    def unread(self) -> bool:
         return bool(self.data) or self.ended
 
     def recv(self, size: int) -> bytes:
@@ -286,9 +286,10 @@ class BridgeStats:
     bad_payloads: int = 0
     published: int = 0
     read_cpu_s: float = 0.0
-    """CPU time of this thread in the batched reader (paho's parsing, :meth:`handle`, the
-    intake and the Temperatures frames it writes), s: what the messages cost the event
-    loop, without its other work."""
+    """CPU time of this thread in the bridge's reader (the ``recv``, cutting packets,
+    paho's share for the packets that are not temperatures, :meth:`handle`, the intake
+    and the Temperatures frames it writes), s: what the messages cost the event loop,
+    without its other work."""
     last_error: str = ""
     bad_examples: deque[str] = field(default_factory=lambda: deque(maxlen=20))
 
@@ -301,15 +302,17 @@ class MqttBridge:
     center, feed, temperatures
     host, port, prefix
         The broker and the first topic level(s).
-    stale_check_s : float
-        How often readings are checked for age (``temperatures.stale_after_s``).
+    stale_check_s : float, optional
+        How often readings are checked for age (``temperatures.stale_after_s``); by
+        default every 5 s, or every half of the stale limit when that is shorter, so that
+        the status says stale at most half the limit late.
     status_refresh_s : float
         Every connected machine's status is republished this often (its ``last_seen``).
     """
 
     def __init__(self, center: Center, feed: Feed, temperatures: TemperatureBoard, *,
                  host: str, port: int = 1883, prefix: str = "ednc",
-                 backoff: Backoff | None = None, stale_check_s: float = 5.0,
+                 backoff: Backoff | None = None, stale_check_s: float | None = None,
                  status_refresh_s: float = 30.0, seed: int | None = None) -> None:
         self.center = center
         self.feed = feed
@@ -318,7 +321,8 @@ class MqttBridge:
         self.port = port
         self.prefix = prefix
         self.backoff = backoff or Backoff(initial_s=0.5, cap_s=30.0)
-        self.stale_check_s = stale_check_s
+        self.stale_check_s = (min(5.0, temperatures.stale_after_s / 2)
+                              if stale_check_s is None else stale_check_s)
         self.status_refresh_s = status_refresh_s
         self.stats = BridgeStats()
         self.connected = asyncio.Event()
@@ -441,7 +445,7 @@ class MqttBridge:
 
         def to_paho() -> bool:
             """Let paho read what it was handed; False when the connection is over."""
-            while stand_in.pending:
+            while stand_in.unread:
                 try:
                     rc = paho.loop_read()
                 except Exception as exc:  # as aiomqtt's reader: the connection broke

@@ -108,14 +108,14 @@ def test_paho_reads_what_it_is_handed_then_the_end() -> None:
     stand_in = _PahoSocket(real)
     with pytest.raises(BlockingIOError):
         stand_in.recv(1)
-    assert not stand_in.pending
+    assert not stand_in.unread
     stand_in.push(SUBACK)
-    assert stand_in.pending
+    assert stand_in.unread
     assert stand_in.recv(1) == SUBACK[:1] and stand_in.recv(100) == SUBACK[1:]
     assert stand_in.send(b"ping") == 4 and real.sent == [b"ping"]
     assert stand_in.fileno() == 42  # everything else is the real socket's
     stand_in.end(None)
-    assert stand_in.pending and stand_in.recv(1) == b""
+    assert stand_in.unread and stand_in.recv(1) == b""
     broken = _PahoSocket(real)
     broken.end(ConnectionResetError("reset"))
     with pytest.raises(ConnectionResetError):

@@ -59,3 +59,17 @@ def test_an_argument_still_wins_over_the_settings(tmp_path: Path) -> None:
         database_url=f"sqlite:///{tmp_path / 'd.db'}"), db=None),  # type: ignore[arg-type]
         TemperatureBoard())
     assert (default.max_rate_K_per_s, default.jump_allowance_K) == (1.0, 10.0)
+
+
+def test_the_mqtt_status_checks_staleness_at_half_a_short_limit(tmp_path: Path) -> None:
+    from server.feed import Feed
+    from server.mqtt import MqttBridge
+
+    def bridge(stale_after_s: float) -> MqttBridge:
+        center = Center(settings=load_settings(
+            database_url=f"sqlite:///{tmp_path / 'c.db'}"), db=None)  # type: ignore[arg-type]
+        return MqttBridge(center, Feed(center), TemperatureBoard(stale_after_s),
+                          host="unused")
+
+    assert bridge(2.0).stale_check_s == 1.0
+    assert bridge(60.0).stale_check_s == 5.0
