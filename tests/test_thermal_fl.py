@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.support.thermal_sim import NOISE_UM, TRUE_LAGS, lagged_spindle
 from volumetric.identify.thermal import (
     ThermalTerm,
     first_order_lag,
@@ -166,6 +167,22 @@ def test_selection_finds_the_lagged_sensor_and_its_time_constant() -> None:
     assert model.coef[0] == pytest.approx(8.0, rel=0.05)
     assert len(model.terms) <= 2  # the noise does not buy extra terms
     assert model.train_rms_um == pytest.approx(0.3, rel=0.2)
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_backfitting_finds_the_true_time_constant_of_the_first_lag(seed: int) -> None:
+    # The first lag's τ is refined while it alone stands for the whole drift, so it also
+    # makes up for the slow ambient term that joins later; refined again with that term in
+    # (backfit), it comes back to the truth (the default keeps it: see fit_thermal_drift).
+    r = lagged_spindle(seed)
+    temps = {f"T_{k}_C": v for k, v in r.temperatures.items()}
+    model = fit_thermal_drift(r.time_s, temps, r.value, time_drift=False, backfit=True)
+    first = model.terms[0]
+    tau, coef = TRUE_LAGS["T_a_C"]
+    assert (first.source, first.kind) == ("T_a_C", "lag")
+    assert first.tau_s == pytest.approx(tau, rel=0.1)
+    assert model.coef[0] == pytest.approx(coef, rel=0.15)
+    assert model.train_rms_um < 1.15 * NOISE_UM
 
 
 def test_pure_noise_selects_nothing() -> None:
