@@ -560,7 +560,7 @@ async def test_stale_temperatures_turn_an_applied_machine_warn(
     await db.run(map_repo.add_map_version, mid, payload=b"m", model_version=None)
     sent = await db.run(map_repo.record_sent, mid, 1)
     await db.run(map_repo.record_answer, sent.id, acked=True)
-    board = TemperatureBoard(stale_after_s=0.2)
+    board = TemperatureBoard(stale_after_s=60.0)
     board.update("vmc-01", "spindle", 24.5, source="rest")  # REST readings show too
     center.temperatures = board  # type: ignore[attr-defined]  # as the services hand it over
 
@@ -570,13 +570,15 @@ async def test_stale_temperatures_turn_an_applied_machine_warn(
             (t["name"], t["stale"], t["source"]) for t in card["temperatures"]]
 
     assert await row() == ("ok", "map v1 applied", [("spindle", False, "rest")])
-    await asyncio.sleep(0.25)  # no reading for longer than the limit
+    board.stale_after_s = 0.01  # (EDNC_TEMPERATURE_STALE_S) no reading for longer
+    await asyncio.sleep(0.02)
     health, reason, temps = await row()
     assert (health, temps) == ("warn", [("spindle", True, "rest")])
-    assert reason.startswith("temperature stale (spindle 0.") and "holds the last good" \
+    assert reason.startswith("temperature stale (spindle ") and "holds the last good" \
         in reason
     detail = (await client.get("/api/machines/vmc-01/dashboard")).json()["card"]
     assert detail["health"] == "warn" and "spindle" in detail["health_reason"]
+    board.stale_after_s = 60.0
     board.update("vmc-01", "spindle", 24.6, source="mqtt")  # a fresh one: in order again
     assert (await row())[:2] == ("ok", "map v1 applied")
     board.mark_stale(source="mqtt")  # the broker went away
