@@ -24,23 +24,21 @@ machines whose maps share one chain structure (same axes, sides, branches, outpu
 evaluates any number of rows, each with its machine index, in one call; a whole fleet's
 PLC cycle is one call per chain structure (``benchmarks/fleet_scan.py``).
 
-Two evaluations of the same steps: :meth:`ChainBatch.corrections` keeps the rows as the
-last axis of every array (the fleet cycle: per link a handful of numpy calls over all
-rows, the per-machine constants gathered once per row set, only the table intervals that
-changed since the last call gathered again), and :meth:`ChainBatch.corrections_reference`
-writes the steps as above with the rows first (stacked 3x3 products), the check of the
-first (``tests/test_chaineval_fast.py``: equal within 1e-9 mm). In pure numpy the fleet
-cycle has a floor that does not shrink with fewer machines: its hundreds of numpy calls
-(per link, the 5x5 Cholesky of the pseudo-inverse, the orientation products), each a few
-µs of dispatch; a cycle of 10 5-axis machines costs half of one of 1,000. A compiled loop
-over the rows (numba) would remove that floor.
+Two evaluations of the same steps: :meth:`ChainBatch.corrections` hands the rows to
+:class:`machine_sim.chaineval_cycle.FleetCycle` (the fleet cycle: the rows as the last
+axis of every array, every table value of every row in one gather, every axis's error
+rotation in one set of calls, one matrix-vector product per link step, the Jacobian from
+the same backward pass, the least squares inverted in closed form for all rows), and
+:meth:`ChainBatch.corrections_reference` writes the steps as above with the rows first
+(stacked 3x3 products), the check of the first (``tests/test_chaineval_fast.py``). Both
+are exact (no small-angle truncation): they agree to rounding.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any, Final
 
 import numpy as np
@@ -49,22 +47,16 @@ from numpy.typing import NDArray
 from protocol.codes import MapEncoding
 from protocol.maptables import THERMAL_DRIFT, ComponentTable, TablesPayload
 
-__all__ = ["ChainBatch", "StructureError", "sensor_key", "structure_of"]
+from .chaineval_cycle import FleetCycle
+from .chaineval_rules import DEG, MAX_STEPS, PIVOT, RCOND, SERIES, STEP_TOL
+
+__all__ = ["MAX_STEPS", "PIVOT", "RCOND", "STEP_TOL", "ChainBatch", "StructureError",
+           "sensor_key", "structure_of"]
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
-RCOND = 1e-9
-"""Singular values of the column-normalised weighted Jacobian below RCOND · σ_max are zero
-(an unobservable axis gets no correction). README section 6.3."""
-STEP_TOL = 1e-7
-"""Refinement stops once no correction changes by more than this, mm or degrees."""
-MAX_STEPS = 6
-PIVOT = 1e-8
-"""Cholesky pivots of the normal matrix (unit diagonal after column normalisation) below
-this take the SVD path: the normal equations square the condition number, so rows with
-σ_min/σ_max below about 1e-4 are solved as the README says, by SVD."""
-_DEG = math.pi / 180.0
-_SERIES = 1e-4  # θ² below which the Rodrigues series are exact to double precision
+_DEG = DEG
+_SERIES = SERIES
 _DIRS = "XYZABC"
 _EYE = np.eye(3)
 
@@ -219,149 +211,6 @@ def _frame_from_z(d: tuple[float, float, float]) -> F64:
     return out
 
 
-# --- rows last: the fleet cycle's layout ------------------------------------------------
-# A PLC fleet's cycle is thousands of rows of tiny 3x3 algebra. numpy's stacked matmul
-# costs ~0.5 ms and einsum ~0.15 ms per call on 1,000 rows of 3x3, far more than their
-# arithmetic; with the rows as the last, contiguous axis ((3, N) vectors, (3, 3, N)
-# matrices) einsum runs one inner loop over whole rows (~6 µs for a product).
-
-def _mv_t(m: F64, v: F64) -> F64:
-    """``m @ v`` per row: m (3, 3, N), v (3, N) → (3, N)."""
-    out: F64 = np.einsum("ijN,jN->iN", m, v)
-    return out
-
-
-def _mm_t(a: F64, b: F64) -> F64:
-    """``a @ b`` per row: (3, 3, N) each → (3, 3, N)."""
-    out: F64 = np.einsum("ijN,jkN->ikN", a, b)
-    return out
-
-
-def _cross_t(a: F64, b: F64) -> F64:
-    """``a x b`` per row: (3, N) each."""
-    out = np.empty(np.broadcast_shapes(a.shape, b.shape))
-    out[0] = a[1] * b[2] - a[2] * b[1]
-    out[1] = a[2] * b[0] - a[0] * b[2]
-    out[2] = a[0] * b[1] - a[1] * b[0]
-    return out
-
-
-def _matrix_t(w: F64) -> F64:
-    """Rotation matrices (A, 3, 3, N) of rotation vectors (A, 3, N), as :func:`_matrix`
-    (the series/exact choice made over all of them at once, as there)."""
-    t2 = np.einsum("aiN,aiN->aN", w, w)
-    if float(np.max(t2, initial=0.0)) < _SERIES:
-        a = 1.0 - t2 / 6.0 * (1.0 - t2 / 20.0)
-        b = 0.5 - t2 / 24.0 * (1.0 - t2 / 30.0)
-    else:
-        t = np.sqrt(t2)
-        safe = np.where(t2 > 0, t, 1.0)
-        a = np.where(t2 > 0, np.sin(safe) / safe, 1.0)
-        b = np.where(t2 > 0, (1.0 - np.cos(safe)) / (safe * safe), 0.5)
-    out: F64 = b[:, None, None] * (w[:, :, None] * w[:, None, :])
-    diag = 1.0 - b * t2
-    aw = a[:, None] * w
-    for i, (u, v) in enumerate(((1, 2), (2, 0), (0, 1))):
-        out[:, i, i] += diag
-        out[:, v, u] += aw[:, i]
-        out[:, u, v] -= aw[:, i]
-    return out
-
-
-def _turn_t(i: int, c: F64, s: F64, v: F64) -> F64:
-    """Vectors v (3, N) turned by the angle of cosines c and sines s (N,) about base axis
-    i (A, B, C turn about x, y, z): two components change."""
-    u, w = ((1, 2), (2, 0), (0, 1))[i]
-    out = np.empty(np.broadcast_shapes(v.shape, (3, *c.shape)))
-    out[i] = v[i]
-    out[u] = c * v[u] - s * v[w]
-    out[w] = s * v[u] + c * v[w]
-    return out
-
-
-def _times_turn_t(r: F64 | None, i: int, c: F64, s: F64) -> F64:
-    """``r @ T`` (3, 3, N) with T the turn about base axis i (r None: the identity)."""
-    u, w = ((1, 2), (2, 0), (0, 1))[i]
-    if r is None:
-        out = np.zeros((3, 3, *c.shape))
-        out[i, i] = 1.0
-        out[u, u] = c
-        out[w, w] = c
-        out[u, w] = -s
-        out[w, u] = s
-        return out
-    out = np.empty(r.shape)
-    out[:, i] = r[:, i]
-    out[:, u] = r[:, u] * c + r[:, w] * s
-    out[:, w] = r[:, w] * c - r[:, u] * s
-    return out
-
-
-def _log_t(r: F64) -> F64:
-    """Rotation vectors (3, N) of rotation matrices (3, 3, N), as :func:`_log`."""
-    v = np.empty((3, *r.shape[2:]))
-    v[0] = r[2, 1] - r[1, 2]
-    v[1] = r[0, 2] - r[2, 0]
-    v[2] = r[1, 0] - r[0, 1]
-    v *= 0.5
-    s = np.sqrt(np.einsum("iN,iN->N", v, v))
-    c = np.clip(0.5 * (r[0, 0] + r[1, 1] + r[2, 2] - 1.0), -1.0, 1.0)
-    theta = np.arctan2(s, c)
-    small = theta < 1e-4
-    factor = np.where(small, 1.0 + theta * theta / 6.0, theta / np.where(small, 1.0, s))
-    v *= factor
-    return v
-
-
-def _spd_inverse_t(m: F64) -> tuple[F64, NDArray[np.bool_]]:
-    """:func:`_spd_inverse` with the rows last: m (n, n, N) → inverses (n, n, N) and
-    which rows are well-posed. Each step works on a whole column of the factor."""
-    n = m.shape[0]
-    low = np.zeros(m.shape)
-    ok = np.ones(m.shape[2:], dtype=bool)
-    for j in range(n):
-        s = m[j, j] - np.einsum("kN,kN->N", low[j, :j], low[j, :j]) if j else m[j, j]
-        good = s > PIVOT
-        ok &= good
-        low[j, j] = np.sqrt(np.where(good, s, 1.0))
-        if j + 1 < n:
-            acc = m[j + 1:, j] - np.einsum("ikN,kN->iN", low[j + 1:, :j], low[j, :j])
-            low[j + 1:, j] = acc / low[j, j]
-    inv_l = np.zeros(m.shape)
-    for i in range(n):
-        inv_l[i, i] = 1.0 / low[i, i]
-        if i:  # row i of L⁻¹ from the rows above it (L⁻¹ is lower triangular)
-            acc = np.einsum("kN,kjN->jN", low[i, :i], inv_l[:i, :i])
-            inv_l[i, :i] = -acc / low[i, i]
-    out: F64 = np.einsum("kiN,kjN->ijN", inv_l, inv_l)  # (L⁻¹)ᵀ L⁻¹
-    return out, ok
-
-
-@dataclass(frozen=True)
-class _RowsT:
-    """Per-machine constants gathered for one set of rows, rows last (see the section
-    comment above :func:`_mv_t`)."""
-
-    key: bytes
-    first: I64  # (A, 6, N) index of each table's first value in t_vd
-    cap: I64  # (A, 6, N) last interval's start (count - 2, at least 0)
-    last: F64  # (A, 6, N) count - 1
-    start: F64  # (A, 6, N)
-    step: F64  # (A, 6, N)
-    pivot: F64  # (A, 3, N) mm
-    moved: F64  # (A, 3, N) pivot + offset, mm: the actual axis's point
-    direction: F64  # (A, 3, N)
-    line: F64  # (A, 3, N) the tilted line of a linear axis
-    frame: F64 | None  # (A, 3, 3, N), spindle axes' own frames (None: none has one)
-    turn_basis: F64  # (A, 3, 3, 3, N): I, K1, K2 of each axis's tilted turn
-    zero: F64  # (A, N) rad
-    tool: F64  # (S, 3, N) mm
-    weights: F64  # (R, N)
-    g_const: F64 | None  # (K, R, N) for chains without rotary axes
-    gathered: dict[str, NDArray[Any]] = field(default_factory=dict)
-    """The last table intervals looked up for these rows and their values."""
-
-
 # --- the batch --------------------------------------------------------------------------
 
 @dataclass(frozen=True)
@@ -425,22 +274,13 @@ class ChainBatch:
         self.reversal = np.array([[0.0 if o.reversal is None else o.reversal
                                    for o in p.outputs] for p in maps])  # encoding units
         self._gathered: tuple[bytes, dict[str, NDArray[Any]]] | None = None
-        self._g_const: F64 | None = None
-        # the fleet cycle's (rows last) bookkeeping: rotary axes, their base axis, each
-        # axis's output column (-1: none), the linear axes' own error component
-        self._rows_cache: _RowsT | None = None
-        self._rot_axes = np.flatnonzero(self.rotary)
-        self._base = tuple("ABC".index(x) if r else -1 for x, r in zip(self.axes, self.rotary,
-                                                                      strict=True))
-        self._out_of = tuple(self.outputs.index(x) if x in self.outputs else -1
-                             for x in self.axes)
-        lin = [j for j in range(a) if not self.rotary[j]]
-        self._lin_axes = np.array(lin, dtype=np.int64)
-        self._lin_dirs = np.array([_DIRS.index(self.axes[j][0]) for j in lin], dtype=np.int64)
-        self._thermal_on = False
-        if not self.rotary.any():  # linear axes only: the Jacobian is the same everywhere
+        self.g_const: F64 | None = None
+        """(M, K, R): the pseudo-inverse of chains without rotary axes (the same at every q)."""
+        self.thermal_on = False
+        if not self.rotary.any():
             idx = np.arange(m)
-            self._g_const = self._pinv(idx, self.jacobian(idx, np.zeros((m, a))))
+            self.g_const = self._pinv(idx, self.jacobian(idx, np.zeros((m, a))))
+        self._cycle = FleetCycle(self)
 
     def __len__(self) -> int:
         return len(self.maps)
@@ -503,12 +343,11 @@ class ChainBatch:
                                    strict=True):
                 unit[first:first + last + 1] = f
         self.t_si = self.t_values * unit
-        # each value with its difference to the table's next one (0 at a table's end) as
-        # one complex number: the fleet cycle gathers both in one call of 16-byte items
-        diff = np.zeros(len(values))
+        # each value's difference to the table's next one (0 at a table's end): the fleet
+        # cycle interpolates as value + u · difference
+        self.t_diff = np.zeros(len(values))
         for first, last in zip(self.t_first.ravel(), self.t_last.ravel(), strict=True):
-            diff[first:first + last] = np.diff(self.t_si[first:first + last + 1])
-        self.t_vd = self.t_si + 1j * diff
+            self.t_diff[first:first + last] = np.diff(self.t_si[first:first + last + 1])
 
     def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
         """Fold machine ``machine``'s thermal records at these temperatures (°C, keyed by
@@ -529,7 +368,7 @@ class ChainBatch:
                 slope = rec.coefficient * dt * 1e-3
                 self.thermal0[machine, j] -= slope * rec.q_min
                 self.thermal1[machine, j] += slope
-        self._thermal_on = bool(self.thermal0.any() or self.thermal1.any())
+        self.thermal_on = bool(self.thermal0.any() or self.thermal1.any())
 
     def _rows_of(self, idx: I64) -> dict[str, NDArray[Any]]:
         """The per-machine constants gathered for these rows, cached: a PLC fleet asks
@@ -736,170 +575,6 @@ class ChainBatch:
         idx, q = self._check(idx, q)
         return self._residual(idx, q, np.zeros_like(q), self.nominal(idx, q)[0])
 
-    # -- the fleet cycle, rows last (the same steps as above, a few large numpy calls each)
-    def _rows_t(self, idx: I64) -> _RowsT:
-        """The per-machine constants of these rows, rows last, cached: a PLC fleet asks for
-        the same rows (its groups) every cycle."""
-        key = idx.tobytes()
-        if self._rows_cache is not None and self._rows_cache.key == key:
-            return self._rows_cache
-
-        def last(a: NDArray[Any]) -> NDArray[Any]:  # (N, ...) → (..., N), contiguous
-            return np.ascontiguousarray(np.moveaxis(a[idx], 0, -1))
-
-        rows = _RowsT(
-            key, last(self.t_first), last(self.t_cap), last(self.t_last.astype(float)),
-            last(self.t_start), last(self.t_step), last(self.pivot),
-            last(self.pivot + self.offset), last(self.direction), last(self.line),
-            last(self.frame) if any(self.spindle_axis) else None,
-            last(np.stack((np.broadcast_to(_EYE, self.k1t.shape), self.k1t, self.k2t), 2)),
-            last(self.zero), last(self.tool),
-            last(self.weights if self.orient else self.weights[:, :, :3]
-                 ).reshape(-1, idx.shape[0]),
-            None if self._g_const is None else last(self._g_const))
-        self._rows_cache = rows
-        return rows
-
-    def _components_t(self, g: _RowsT, idx: I64, q: F64) -> F64:
-        """:meth:`components` rows last: q (A, N) → errors (A, 6, N), mm and rad. One
-        gather fetches each table's value and its difference to the next together."""
-        u = q[:, None, :] - g.start
-        u /= g.step
-        np.maximum(u, 0.0, out=u)
-        np.minimum(u, g.last, out=u)
-        i0 = u.astype(np.int64)  # u >= 0: truncation is floor
-        np.minimum(i0, g.cap, out=i0)
-        u -= i0
-        i0 += g.first
-        # (A, 6, N): value + 1j · (next value - value). A machine moves far less than a
-        # node spacing per cycle, so most intervals are those of the last call: gather
-        # only the ones that changed (the gather's cache misses were most of its cost)
-        last = g.gathered.get("at")
-        if last is None:
-            vd = self.t_vd.take(i0)
-            g.gathered["vd"] = vd
-        else:
-            vd = g.gathered["vd"]
-            moved = np.flatnonzero(i0 != last)
-            vd.reshape(-1)[moved] = self.t_vd.take(i0.reshape(-1)[moved])
-        g.gathered["at"] = i0
-        e: F64 = vd.imag * u
-        e += vd.real
-        if self._thermal_on:
-            add = (self.thermal0[idx].T + self.thermal1[idx].T * q) * 1e-3  # µm → mm
-            e[self._lin_axes, self._lin_dirs] += add[self._lin_axes]
-        return e
-
-    def _nominal_t(self, g: _RowsT, q: F64, cos: F64, sin: F64
-                   ) -> tuple[list[tuple[F64, F64 | None]], F64]:
-        """:meth:`nominal` rows last: q (A, N), the cosines and sines of the rotary axes'
-        angles (A, N) → per spindle the tool tip (3, N) and orientation (3, 3, N) (None
-        when not weighed), and the Jacobian (R, K, N)."""
-        n = q.shape[1]
-        per = 6 if self.orient else 3
-        jac = np.zeros((per * len(self.links), len(self.outputs), n))
-        poses: list[tuple[F64, F64 | None]] = []
-        for s, links in enumerate(self.links):
-            after: dict[int, F64] = {}
-            p = g.tool[s]
-            for j in reversed(links):  # tool tip seen from after each link
-                after[j] = p
-                if self.rotary[j]:
-                    c = g.pivot[j]
-                    p = _turn_t(self._base[j], cos[j], sin[j], p - c) + c
-                else:
-                    p = p + q[j] * g.direction[j]
-            rot: F64 | None = None  # the identity
-            for j in links:  # rotation of the frame before each link, forwards
-                d = g.direction[j]
-                k = self._out_of[j]
-                if self.rotary[j]:
-                    if k >= 0:
-                        arm = _turn_t(self._base[j], cos[j], sin[j], after[j] - g.pivot[j])
-                        v = _cross_t(d, arm)
-                        jac[per * s:per * s + 3, k] = (v if rot is None else _mv_t(rot, v)
-                                                       ) * (1e3 * _DEG)
-                        if self.orient:
-                            jac[per * s + 3:per * s + 6, k] = (
-                                d if rot is None else _mv_t(rot, d)) * (1e6 * _DEG)
-                    rot = _times_turn_t(rot, self._base[j], cos[j], sin[j])
-                elif k >= 0:
-                    jac[per * s:per * s + 3, k] = (d if rot is None else _mv_t(rot, d)) * 1e3
-            if self.orient and rot is None:
-                rot = np.broadcast_to(_EYE[:, :, None], (3, 3, n))
-            poses.append((np.broadcast_to(p, (3, n)), rot if self.orient else None))
-        return poses, jac
-
-    def _pinv_t(self, g: _RowsT, jac: F64) -> F64:
-        """:meth:`_pinv` rows last: jac (R, K, N) → G (K, R, N)."""
-        sw = np.sqrt(g.weights)
-        a = jac * sw[:, None, :]
-        norms = np.sqrt(np.einsum("rkN,rkN->kN", a, a))
-        scale = np.where(norms > 0, norms, 1.0)
-        a /= scale
-        m = np.einsum("rkN,rlN->klN", a, a)
-        k = np.arange(a.shape[1])
-        m[k, k] += norms == 0
-        inv, ok = _spd_inverse_t(m)
-        gm: F64 = np.einsum("klN,rlN->krN", inv, a)
-        if not ok.all():  # rank-deficient rows: the SVD with the README's tolerance
-            bad = np.flatnonzero(~ok)
-            u, s, vt = np.linalg.svd(np.moveaxis(a[:, :, bad], -1, 0), full_matrices=False)
-            keep = s > RCOND * s[:, :1]
-            si = np.where(keep, 1.0 / np.where(keep, s, 1.0), 0.0)
-            gm[:, :, bad] = np.einsum("nji,nj,nkj->ikn", vt, si, u)
-        gm /= scale[:, None, :]
-        gm *= sw[None, :, :]
-        return gm
-
-    def _residual_t(self, g: _RowsT, idx: I64, q: F64, nominal: list[tuple[F64, F64 | None]]
-                    ) -> F64:
-        """:meth:`_residual` rows last: stacked tool-tip errors (R, N) at the positions q
-        (A, N) against the nominal poses."""
-        e = self._components_t(g, idx, q)
-        delta, eps = e[:, :3], e[:, 3:]
-        if g.frame is not None:
-            delta = np.einsum("aijN,ajN->aiN", g.frame, delta)
-            eps = np.einsum("aijN,ajN->aiN", g.frame, eps)
-        rots = _matrix_t(eps)
-        rot_axes = self._rot_axes
-        theta = q[rot_axes] * _DEG + g.zero[rot_axes]
-        coef = np.ones((len(rot_axes), 3, q.shape[1]))  # I + sin θ K1 + (1 - cos θ) K2
-        coef[:, 1] = np.sin(theta)
-        np.subtract(1.0, np.cos(theta), out=coef[:, 2])
-        turn = {int(j): k for k, j in enumerate(rot_axes)}
-        rows: list[F64] = []
-        for s, links in enumerate(self.links):
-            p = g.tool[s]
-            r: F64 | None = None  # the identity
-            for j in reversed(links):
-                steps = ("turn", "error") if self.tool_side[j] else ("error", "turn")
-                if not self.rotary[j]:
-                    steps = ("error", "move") if self.tool_side[j] else ("move", "error")
-                for what in steps:
-                    if what == "move":
-                        p = p + q[j] * g.line[j]
-                    elif what == "error":
-                        if self.rotary[j]:
-                            c = g.pivot[j]
-                            p = _mv_t(rots[j], p - c) + c + delta[j]
-                        else:
-                            p = _mv_t(rots[j], p) + delta[j]
-                        if self.orient:
-                            r = rots[j] if r is None else _mm_t(rots[j], r)
-                    else:  # about the tilted line through the moved pivot (see _rotary)
-                        m = np.einsum("bijN,bN->ijN", g.turn_basis[j], coef[turn[j]])
-                        c = g.moved[j]
-                        p = _mv_t(m, p - c) + c
-                        if self.orient:
-                            r = m if r is None else _mm_t(m, r)
-            p_nom, r_nom = nominal[s]
-            rows.append((p - p_nom) * 1e3)
-            if self.orient and r_nom is not None:
-                r_act = np.broadcast_to(_EYE[:, :, None], r_nom.shape) if r is None else r
-                rows.append(_log_t(_mm_t(r_act, np.swapaxes(r_nom, 0, 1))) * 1e6)
-        return np.concatenate(rows, axis=0)
-
     def corrections(self, idx: I64 | None, q: F64, start: F64 | None = None,
                     max_steps: int = MAX_STEPS) -> F64:
         """Unrounded, unclamped corrections (N, K), mm or degrees, of the outputs.
@@ -925,24 +600,9 @@ class ChainBatch:
             the errors' slope, ~1e-4).
         """
         idx, q = self._check(idx, q)
-        g = self._rows_t(idx)
-        qt = np.ascontiguousarray(q.T)  # (A, N)
-        cos, sin = np.zeros_like(qt), np.zeros_like(qt)
-        angle = qt[self._rot_axes] * _DEG
-        cos[self._rot_axes] = np.cos(angle)
-        sin[self._rot_axes] = np.sin(angle)
-        nominal, jac = self._nominal_t(g, qt, cos, sin)
-        gm = g.g_const if g.g_const is not None else self._pinv_t(g, jac)
-        dq = np.zeros_like(qt)
-        if start is not None:
-            dq[self.out_col] = np.asarray(start, dtype=np.float64).T
-        for _ in range(max_steps):
-            res = self._residual_t(g, idx, qt + dq, nominal)
-            delta = np.einsum("krN,rN->kN", gm, res)  # dq ← dq - G r
-            dq[self.out_col] -= delta
-            if float(np.abs(delta).max(initial=0.0)) <= STEP_TOL:
-                break
-        out: F64 = np.ascontiguousarray(dq[self.out_col].T)
+        st = None if start is None else np.asarray(start, dtype=np.float64).T
+        dq = self._cycle.corrections(idx, np.ascontiguousarray(q.T), st, max_steps)
+        out: F64 = np.ascontiguousarray(dq.T)
         return out
 
     def corrections_reference(self, idx: I64 | None, q: F64, start: F64 | None = None,
@@ -952,7 +612,7 @@ class ChainBatch:
         Parameters and result as for :meth:`corrections`."""
         idx, q = self._check(idx, q)
         nominal, jac = self.nominal(idx, q)
-        g = self._g_const[idx] if self._g_const is not None else self._pinv(idx, jac)
+        g = self.g_const[idx] if self.g_const is not None else self._pinv(idx, jac)
         dq = np.zeros_like(q)
         if start is not None:
             dq[:, self.out_col] = start

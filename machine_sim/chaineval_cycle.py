@@ -1,0 +1,507 @@
+"""The fleet cycle's evaluation of tables maps: many machines per call, few numpy calls.
+
+:meth:`machine_sim.chaineval.ChainBatch.corrections` hands its rows (machine, point) here.
+The steps are those of :mod:`machine_sim.chaineval` (protocol/README.md sections 6.2 and
+6.3) and exact: no small-angle truncation anywhere, so the reference evaluation
+(:meth:`~machine_sim.chaineval.ChainBatch.corrections_reference`) agrees to rounding
+(``tests/test_chaineval_fast.py``). What differs is the arrangement for numpy, whose cost
+here is a few µs per call plus ~0.2-0.6 ns per element, so a cycle should be few calls on
+large arrays and few multiply-adds per row:
+
+- the rows are the last, contiguous axis of every array; a row set's per-machine
+  constants are gathered once and kept while the PLC asks for the same rows, already
+  combined with what multiplies them (weights with the rows' units and the Jacobian
+  columns' units, the operands of the cross products, the tilted turns' bases);
+- one gather fetches every table value (and its difference to the next) of every axis,
+  component and row; only the intervals that changed since the last cycle are fetched
+  again (a machine moves far less than a node spacing per cycle);
+- one set of calls builds every axis's error rotation (exact Rodrigues: the coefficients'
+  series below θ² = 1e-4, which are exact to double precision there), one every rotary
+  axis's tilted turn;
+- the chain is walked once per spindle, one matrix-vector product per link step; the
+  orientation is multiplied along only when the batch weighs it, and the nominal
+  orientation is taken off it by turning its columns (turns about base axes), not by a
+  3x3 product;
+- the nominal tool tip and Jacobian come from one backward pass: a rotary axis's column
+  is its axis crossed with the arm it turns (the tool tip seen from before it, minus its
+  pivot), and the columns of the links after it turn with it, so no forward pass of
+  orientation products is needed;
+- the weighted least squares is solved in closed form for all rows at once: the
+  column-normalised normal matrix is factored as L D Lᵀ (K pivots, each one update of
+  the trailing block of all rows; its pivots are the squares of the reference's Cholesky
+  pivots' diagonal, the same Schur complements, so the same rows fall below PIVOT and
+  take the README's SVD), and a refinement step solves with the factors for its one
+  residual instead of forming the pseudo-inverse.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Final, Protocol
+
+import numpy as np
+from numpy.typing import NDArray
+
+from .chaineval_rules import DEG, PIVOT, RCOND, SERIES, STEP_TOL
+
+__all__ = ["FleetCycle"]
+
+F64 = NDArray[np.float64]
+I64 = NDArray[np.int64]
+_DIRS: Final = "XYZABC"
+_PLANE: Final = ((1, 2), (2, 0), (0, 1))  # the components a turn about x, y, z changes
+# flat (row-major) indices of a 3x3 matrix: its diagonal, and where [w]x has +w and -w
+_DIAG: Final = slice(0, 9, 4)
+_SKEW_PLUS: Final = [7, 2, 3]  # (2,1) (0,2) (1,0): +w0 +w1 +w2
+_SKEW_MINUS: Final = [5, 6, 1]  # (1,2) (2,0) (0,1): -w0 -w1 -w2
+_YZX: Final = [1, 2, 0]
+_ZXY: Final = [2, 0, 1]
+# Rodrigues coefficients sin θ/θ and (1 - cos θ)/θ² as series in θ², rows a and b
+_SERIES_C: Final = (np.array([1.0, 0.5])[:, None, None],
+                    np.array([-1.0 / 6.0, -1.0 / 24.0])[:, None, None],
+                    np.array([1.0 / 120.0, 1.0 / 720.0])[:, None, None])
+_ERROR, _TURN, _MOVE = 0, 1, 2
+
+
+class ChainArrays(Protocol):
+    """What the cycle reads of a :class:`~machine_sim.chaineval.ChainBatch` (M machines,
+    A axes, S spindles, K outputs; lengths mm, angles rad, table values mm and rad)."""
+
+    axes: tuple[str, ...]
+    rotary: NDArray[np.bool_]  # (A,)
+    tool_side: tuple[bool, ...]
+    links: tuple[tuple[int, ...], ...]  # per spindle, axis indices workpiece to tool
+    outputs: tuple[str, ...]
+    out_col: I64  # (K,) axis of each output
+    orient: bool
+    spindle_axis: tuple[bool, ...]
+    direction: F64  # (M, A, 3)
+    pivot: F64  # (M, A, 3)
+    offset: F64  # (M, A, 3)
+    line: F64  # (M, A, 3)
+    frame: F64  # (M, A, 3, 3)
+    k1t: F64  # (M, A, 3, 3)
+    k2t: F64  # (M, A, 3, 3)
+    zero: F64  # (M, A)
+    tool: F64  # (M, S, 3)
+    weights: F64  # (M, S, 6)
+    t_first: I64  # (M, A, 6)
+    t_last: I64
+    t_cap: I64
+    t_start: F64
+    t_step: F64
+    t_si: F64  # every table value, mm or rad
+    t_diff: F64  # its difference to the next value of its table (0 at the end)
+    thermal0: F64  # (M, A) µm
+    thermal1: F64  # (M, A) µm per mm
+    thermal_on: bool
+    g_const: F64 | None  # (M, K, R): chains without rotary axes
+
+
+@dataclass(frozen=True)
+class _Rows:
+    """A row set's per-machine constants, rows last (N rows; Ar rotary, Al linear axes;
+    R residual rows)."""
+
+    key: bytes
+    first: I64  # (A, 6, N) index of each table's first value in t_si
+    cap: F64  # (A, 6, N) last interval's start (count - 2, at least 0)
+    last: F64  # (A, 6, N) count - 1
+    start: F64  # (A, 6, N) mm or degrees
+    inv_step: F64  # (A, 6, N)
+    pivot: F64  # (A, 3, N) mm
+    direction: F64  # (A, 3, N)
+    d_yzx: F64  # (A, 3, N): d x v = d_yzx * v[ZXY] - d_zxy * v[YZX]
+    d_zxy: F64
+    frame: F64 | None  # (A, 3, 3, N), spindle axes' own frames (None: none has one)
+    turn_at: F64  # (Ar, 3, N) pivot + offset: the actual rotary axis's point, mm
+    k1: F64  # (Ar, 3, 3, N) [n]x of the tilted axis n
+    k2: F64  # (Ar, 3, 3, N) [n]x²
+    zero: F64  # (Ar, N) rad
+    line: F64  # (Al, 3, N) the tilted line of each linear axis
+    tool: F64  # (S, 3, N) mm
+    w_res: F64  # (R, N) √weight · unit of the row (1e3 µm per mm, 1e6 µrad per rad)
+    w_jac: F64  # (R, K, N) √weight · unit of the Jacobian entry (per mm or degree)
+    g_const: F64 | None  # (K, R, N) pseudo-inverse of linear-only chains, rows in mm, rad
+    gathered: dict[str, NDArray[Any]] = field(default_factory=dict)
+    """The last table intervals looked up for these rows and their values."""
+
+
+@dataclass(frozen=True)
+class _Solver:
+    """The least squares of one cycle's rows, ``dq = -(M⁻¹ (aᵀ w r)) / scale`` with a the
+    column-normalised weighted Jacobian and M = aᵀa factored as L D Lᵀ."""
+
+    jw: F64  # (R, K, N) weighted Jacobian (not normalised)
+    ldl: F64  # (K, K, N) below the diagonal L's multipliers
+    pivots: F64  # (K, N) D
+    scale: F64  # (K, N) column norms (1 for a zero column)
+    bad: I64  # rows solved by SVD
+    g_bad: F64  # (K, R, len(bad)) their pseudo-inverse, residual in mm and rad
+
+    def step(self, wres: F64) -> F64:
+        """The corrections' change (K, N) for weighted residuals ``w r`` (R, N)."""
+        x: F64 = np.einsum("rkN,rN->kN", self.jw, wres)
+        x /= self.scale
+        k = x.shape[0]
+        for j in range(k - 1):  # L z = x
+            x[j + 1:] -= self.ldl[j + 1:, j] * x[j]
+        x /= self.pivots  # D w = z
+        for j in range(k - 2, -1, -1):  # Lᵀ y = w
+            x[j] -= np.einsum("kN,kN->N", self.ldl[j + 1:, j], x[j + 1:])
+        x /= self.scale
+        if self.bad.size:
+            x[:, self.bad] = np.einsum("krn,rn->kn", self.g_bad, wres[:, self.bad])
+        return x
+
+
+class FleetCycle:
+    """The corrections of many rows of one :class:`~machine_sim.chaineval.ChainBatch`.
+
+    Parameters
+    ----------
+    batch : ChainArrays
+        The batch: its chain structure and per-machine arrays (read, never written; its
+        thermal arrays are read at each call, so temperatures set later count).
+    """
+
+    def __init__(self, batch: ChainArrays) -> None:
+        self.b = batch
+        a = len(batch.axes)
+        self.rot = np.flatnonzero(batch.rotary)
+        self.lin = np.flatnonzero(~batch.rotary)
+        self.lin_dirs = np.array([_DIRS.index(batch.axes[j][0]) for j in self.lin],
+                                 dtype=np.int64)
+        self.base = tuple("ABC".index(batch.axes[j]) if batch.rotary[j] else -1
+                          for j in range(a))
+        # where each axis sits among the rotary or the linear axes, and its output column
+        self.sub = {int(j): k for k, j in enumerate(self.rot)}
+        self.sub.update({int(j): k for k, j in enumerate(self.lin)})
+        self.out_of = tuple(batch.outputs.index(x) if x in batch.outputs else -1
+                            for x in batch.axes)
+        # per spindle the actual chain's steps in the order the tool tip meets them (the
+        # README table; the order the reference's pose walks)
+        self.steps: list[list[tuple[int, int]]] = []
+        for links in batch.links:
+            steps: list[tuple[int, int]] = []
+            for j in reversed(links):
+                if batch.rotary[j]:
+                    pair = ((_TURN, j), (_ERROR, j)) if batch.tool_side[j] else \
+                        ((_ERROR, j), (_TURN, j))
+                else:
+                    pair = ((_ERROR, j), (_MOVE, j)) if batch.tool_side[j] else \
+                        ((_MOVE, j), (_ERROR, j))
+                steps += pair
+            self.steps.append(steps)
+        self.per = 6 if batch.orient else 3
+        k = len(batch.outputs)
+        self.unit = np.tile([1e3] * 3 + [1e6] * (self.per - 3), len(batch.links))
+        out_rot = batch.rotary[batch.out_col]
+        col = np.where(out_rot, 1e3 * DEG, 1e3)  # position rows, per mm or degree
+        self.jac_unit = np.tile(np.vstack([np.broadcast_to(col, (3, k)),
+                                           np.full((self.per - 3, k), 1e6 * DEG)]),
+                                (len(batch.links), 1))  # (R, K)
+        self._cache: _Rows | None = None
+
+    def rows(self, idx: I64) -> _Rows:
+        """The per-machine constants of these rows, rows last, cached: a PLC fleet asks for
+        the same rows (its groups) every cycle."""
+        key = idx.tobytes()
+        if self._cache is not None and self._cache.key == key:
+            return self._cache
+        b = self.b
+
+        def last(x: NDArray[Any]) -> NDArray[Any]:  # (N, ...) → (..., N), contiguous
+            return np.ascontiguousarray(np.moveaxis(x, 0, -1))
+
+        direction = b.direction[idx]
+        w = b.weights[idx] if b.orient else b.weights[idx][:, :, :3]
+        sw = np.sqrt(w.reshape(idx.shape[0], -1))  # (N, R)
+        g_const = None
+        if b.g_const is not None:
+            g_const = last(b.g_const[idx] * self.unit)
+        rows = _Rows(
+            key, last(b.t_first[idx]), last(b.t_cap[idx].astype(float)),
+            last(b.t_last[idx].astype(float)),
+            last(b.t_start[idx]), last(1.0 / b.t_step[idx]), last(b.pivot[idx]),
+            last(direction), last(direction[:, :, _YZX]), last(direction[:, :, _ZXY]),
+            last(b.frame[idx]) if any(b.spindle_axis) else None,
+            last((b.pivot + b.offset)[idx][:, self.rot]), last(b.k1t[idx][:, self.rot]),
+            last(b.k2t[idx][:, self.rot]), last(b.zero[idx][:, self.rot]),
+            last(b.line[idx][:, self.lin]), last(b.tool[idx]), last(sw * self.unit),
+            last(sw[:, :, None] * self.jac_unit), g_const)
+        self._cache = rows
+        return rows
+
+    # -- step 1: the component errors
+    def components(self, g: _Rows, idx: I64, q: F64) -> F64:
+        """Component errors (A, 6, N), mm and rad, at positions q (A, N)."""
+        u = q[:, None, :] - g.start
+        u *= g.inv_step
+        np.maximum(u, 0.0, out=u)
+        np.minimum(u, g.last, out=u)
+        i0 = np.floor(u)  # interval starts as floats: no conversion of every entry
+        np.minimum(i0, g.cap, out=i0)
+        u -= i0
+        # the values at the interval starts and their differences to the next: a machine
+        # moves far less than a node spacing per cycle, so only the intervals that changed
+        # since the last call are gathered (the gather's cache misses were most of its cost)
+        at = g.gathered.get("at")
+        if at is None:
+            where = i0.astype(np.int64) + g.first
+            val, dif = self.b.t_si.take(where), self.b.t_diff.take(where)
+            g.gathered["val"], g.gathered["dif"] = val, dif
+        else:
+            val, dif = g.gathered["val"], g.gathered["dif"]
+            moved = np.flatnonzero(i0 != at)
+            if moved.size:
+                where = i0.reshape(-1)[moved].astype(np.int64) + g.first.reshape(-1)[moved]
+                val.reshape(-1)[moved] = self.b.t_si.take(where)
+                dif.reshape(-1)[moved] = self.b.t_diff.take(where)
+        g.gathered["at"] = i0
+        e: F64 = dif * u
+        e += val
+        if self.b.thermal_on:
+            add = (self.b.thermal0[idx].T + self.b.thermal1[idx].T * q) * 1e-3  # µm → mm
+            e[self.lin, self.lin_dirs] += add[self.lin]
+        return e
+
+    # -- step 2: the poses
+    def nominal(self, g: _Rows, q: F64) -> tuple[list[F64], list[list[tuple[int, F64, F64]]],
+                                                  F64 | None]:
+        """Nominal tool tip (3, N) of each spindle at q (A, N), its turns in the order the
+        tool tip meets them (base axis, cos, sin), and the nominal Jacobian (R, K, N)
+        without its units (None for linear-only chains, whose pseudo-inverse is fixed)."""
+        b = self.b
+        n = q.shape[1]
+        want_jac = g.g_const is None
+        angle = q[self.rot] * DEG
+        cos, sin = np.cos(angle), np.sin(angle)
+        blocks = self.per // 3
+        jac = np.zeros((len(b.links), blocks, 3, len(b.outputs), n)) if want_jac else None
+        tips: list[F64] = []
+        turns: list[list[tuple[int, F64, F64]]] = []
+        for s, links in enumerate(b.links):
+            p = g.tool[s]
+            met: list[tuple[int, F64, F64]] = []
+            filled = False
+            for j in reversed(links):
+                k = self.out_of[j]
+                if b.rotary[j]:
+                    i, c, sn = self.base[j], cos[self.sub[j]], sin[self.sub[j]]
+                    if jac is not None and filled:  # the columns of the links after j
+                        _turn_block(jac[s], i, c, sn)
+                    arm = _turn(p - g.pivot[j], i, c, sn)
+                    p = arm + g.pivot[j]
+                    if jac is not None and k >= 0:
+                        jac[s, 0, :, k] = g.d_yzx[j] * arm[_ZXY] - g.d_zxy[j] * arm[_YZX]
+                        if blocks == 2:
+                            jac[s, 1, :, k] = g.direction[j]
+                        filled = True
+                    met.append((i, c, sn))
+                else:
+                    if jac is not None and k >= 0:
+                        jac[s, 0, :, k] = g.direction[j]
+                        filled = True
+                    p = p + q[j] * g.direction[j]
+            tips.append(p)
+            turns.append(met)
+        return tips, turns, None if jac is None else jac.reshape(-1, len(b.outputs), n)
+
+    def residual(self, g: _Rows, idx: I64, q: F64, tips: list[F64],
+                 turns: list[list[tuple[int, F64, F64]]]) -> F64:
+        """Tool-tip errors (R, N) at positions q (A, N) against the nominal tips, mm and
+        rad (rows: per spindle x y z, then the orientation's rotation vector when
+        weighed)."""
+        b = self.b
+        e = self.components(g, idx, q)
+        delta, eps = e[:, :3], e[:, 3:]
+        if g.frame is not None:
+            delta = np.einsum("aijN,ajN->aiN", g.frame, delta)
+            eps = np.einsum("aijN,ajN->aiN", g.frame, eps)
+        rots = _rotations(eps)  # (A, 3, 3, N)
+        if self.rot.size:
+            theta = q[self.rot] * DEG
+            theta += g.zero
+            sin = np.sin(theta)
+            omc = np.cos(theta)
+            np.subtract(1.0, omc, out=omc)
+            m = g.k1 * sin[:, None, None]  # I + sin θ [n]x + (1 - cos θ) [n]x²
+            m += g.k2 * omc[:, None, None]
+            m.reshape(-1, 9, q.shape[1])[:, _DIAG] += 1.0
+            shift = delta[self.rot] + g.pivot[self.rot]  # error motion about the pivot
+        if self.lin.size:
+            moves = q[self.lin][:, None, :] * g.line
+        res = np.empty((len(self.unit), q.shape[1]))
+        for s, steps in enumerate(self.steps):
+            p = g.tool[s]
+            r: F64 | None = None  # the identity
+            for what, j in steps:
+                k = self.sub[j]
+                if what == _MOVE:
+                    p = p + moves[k]
+                    continue
+                if what == _TURN:
+                    c = g.turn_at[k]
+                    mat = m[k]
+                    p = np.einsum("ijN,jN->iN", mat, p - c)
+                    p += c
+                else:
+                    mat = rots[j]
+                    if b.rotary[j]:
+                        p = np.einsum("ijN,jN->iN", mat, p - g.pivot[j])
+                        p += shift[k]
+                    else:
+                        p = np.einsum("ijN,jN->iN", mat, p)
+                        p += delta[j]
+                if self.per == 6:
+                    r = mat if r is None else np.einsum("ijN,jkN->ikN", mat, r)
+            at = self.per * s
+            np.subtract(p, tips[s], out=res[at:at + 3])
+            if self.per == 6:
+                if r is None:
+                    r = np.broadcast_to(np.eye(3)[:, :, None], (3, 3, q.shape[1]))
+                for i, c, sn in turns[s]:  # r Rnomᵀ, Rnom = the turns met, first last
+                    r = _undo_turn(r, i, c, sn)
+                _log_into(r, res[at + 3:at + 6])
+        return res
+
+    # -- step 3: the corrections
+    def solver(self, g: _Rows, jac: F64) -> _Solver:
+        """The least squares of the nominal Jacobian (R, K, N) without its units."""
+        jw = jac * g.w_jac
+        k, n = jw.shape[1], jw.shape[2]
+        m = np.einsum("rkN,rlN->klN", jw, jw)
+        diag = m.reshape(k * k, n)[::k + 1]
+        norms = np.sqrt(diag)
+        zero = norms == 0
+        scale = norms + zero  # a zero column (an unobservable axis) keeps a unit scale
+        m /= scale[:, None] * scale[None, :]  # column-normalised: unit diagonal
+        diag += zero  # a zero column's unit pivot: it gets 0
+        pivots = np.empty((k, n))
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            for j in range(k):  # L D Lᵀ without exchanges: M is positive definite
+                pivots[j] = m[j, j]
+                if j + 1 < k:
+                    low = m[j + 1:, j] / m[j, j]
+                    m[j + 1:, j + 1:] -= low[:, None] * m[j, j + 1:]
+                    m[j + 1:, j] = low
+        ok = (pivots > PIVOT).all(axis=0)  # NaN after a bad pivot counts as bad
+        bad = np.flatnonzero(~ok) if not ok.all() else np.zeros(0, dtype=np.int64)
+        g_bad = np.zeros((k, jw.shape[0], 0))
+        if bad.size:  # rank-deficient rows: the SVD with the README's tolerance
+            a = jw[:, :, bad] / scale[:, bad]
+            u, sv, vt = np.linalg.svd(np.moveaxis(a, -1, 0), full_matrices=False)
+            keep = sv > RCOND * sv[:, :1]
+            si = np.where(keep, 1.0 / np.where(keep, sv, 1.0), 0.0)
+            g_bad = np.einsum("nji,nj,nkj->ikn", vt, si, u)
+            g_bad /= scale[:, None, bad]
+        return _Solver(jw, m, pivots, scale, bad, g_bad)
+
+    def corrections(self, idx: I64, q: F64, start: F64 | None, max_steps: int) -> F64:
+        """Unrounded, unclamped corrections (K, N) of rows (machine idx (N,), positions q
+        (A, N) rows last, contiguous), refined from ``start`` (K, N) or 0."""
+        g = self.rows(idx)
+        tips, turns, jac = self.nominal(g, q)
+        solve = None if jac is None else self.solver(g, jac)
+        out_col = self.b.out_col
+        dq = np.zeros_like(q)
+        if start is not None:
+            dq[out_col] = start
+        for step in range(max_steps):
+            res = self.residual(g, idx, q + dq, tips, turns)
+            if solve is None:
+                assert g.g_const is not None
+                delta = np.einsum("krN,rN->kN", g.g_const, res)
+            else:
+                with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+                    delta = solve.step(res * g.w_res)
+            dq[out_col] -= delta
+            if step + 1 < max_steps and float(np.abs(delta).max(initial=0.0)) <= STEP_TOL:
+                break
+        out: F64 = dq[out_col]
+        return out
+
+
+# --- small rows-last helpers --------------------------------------------------------------
+
+def _rotations(w: F64) -> F64:
+    """Rotation matrices (A, 3, 3, N) of rotation vectors w (A, 3, N), exact Rodrigues:
+    ``(1 - b θ²) I + a [w]x + b w wᵀ`` with a = sin θ/θ, b = (1 - cos θ)/θ² (their
+    series when every θ² is below SERIES, as the reference chooses)."""
+    t2 = np.einsum("aiN,aiN->aN", w, w)
+    if float(t2.max(initial=0.0)) < SERIES:
+        ab = _SERIES_C[2] * t2
+        ab += _SERIES_C[1]
+        ab *= t2
+        ab += _SERIES_C[0]
+        a, b = ab[0], ab[1]
+    else:
+        pos = t2 > 0
+        t = np.sqrt(np.where(pos, t2, 1.0))
+        a = np.where(pos, np.sin(t) / t, 1.0)
+        b = np.where(pos, (1.0 - np.cos(t)) / (t * t), 0.5)
+    out: F64 = np.einsum("aiN,ajN->aijN", b[:, None] * w, w)
+    flat = out.reshape(w.shape[0], 9, -1)
+    flat[:, _DIAG] += (1.0 - b * t2)[:, None]
+    aw = a[:, None] * w
+    flat[:, _SKEW_PLUS] += aw
+    flat[:, _SKEW_MINUS] -= aw
+    return out
+
+
+def _turn(v: F64, i: int, c: F64, s: F64) -> F64:
+    """Vectors v (3, N) turned by the angle of cosines c and sines s (N,) about base axis
+    i (A, B, C turn about x, y, z)."""
+    u, w = _PLANE[i]
+    out = np.empty_like(v)
+    out[i] = v[i]
+    np.multiply(c, v[u], out=out[u])
+    out[u] -= s * v[w]
+    np.multiply(s, v[u], out=out[w])
+    out[w] += c * v[w]
+    return out
+
+
+def _turn_block(x: F64, i: int, c: F64, s: F64) -> None:
+    """Turn, in place, the columns x (B, 3, K, N) about base axis i (components on axis
+    1)."""
+    u, w = _PLANE[i]
+    xu = x[:, u].copy()
+    x[:, u] *= c
+    x[:, u] -= s * x[:, w]
+    x[:, w] *= c
+    x[:, w] += s * xu
+
+
+def _undo_turn(r: F64, i: int, c: F64, s: F64) -> F64:
+    """``r @ Tᵀ`` (3, 3, N) for T the turn about base axis i by the angle of c and s."""
+    u, w = _PLANE[i]
+    out = np.empty(r.shape)
+    out[:, i] = r[:, i]
+    np.multiply(r[:, u], c, out=out[:, u])
+    out[:, u] -= r[:, w] * s
+    np.multiply(r[:, u], s, out=out[:, w])
+    out[:, w] += r[:, w] * c
+    return out
+
+
+def _log_into(r: F64, out: F64) -> None:
+    """Rotation vectors (3, N) of rotation matrices r (3, 3, N) into ``out``: the vector
+    of r's antisymmetric part times θ / sin θ (θ from the trace); 1 + θ²/6 for θ below
+    1e-4, as the reference, where with sin θ = s the factor is 1 + s²/6 to rounding."""
+    f = r.reshape(9, -1)
+    np.subtract(f[_SKEW_PLUS], f[_SKEW_MINUS], out=out)
+    out *= 0.5
+    s2 = np.einsum("iN,iN->N", out, out)
+    trace = f[_DIAG].sum(axis=0)
+    if float(s2.max(initial=0.0)) < 0.98e-8 and float(trace.min(initial=3.0)) > 1.0:
+        s2 *= 1.0 / 6.0  # every θ < 1e-4 (sin θ < 0.99e-4 and cos θ > 0)
+        s2 += 1.0
+        out *= s2
+        return
+    s = np.sqrt(s2)
+    c = np.clip(0.5 * (trace - 1.0), -1.0, 1.0)
+    theta = np.arctan2(s, c)
+    small = theta < 1e-4
+    out *= np.where(small, 1.0 + theta * theta / 6.0, theta / np.where(small, 1.0, s))
