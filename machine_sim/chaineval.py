@@ -281,6 +281,7 @@ class ChainBatch:
             idx = np.arange(m)
             self.g_const = self._pinv(idx, self.jacobian(idx, np.zeros((m, a))))
         self._cycle = FleetCycle(self)
+        self._limits: tuple[bytes, F64] | None = None  # finish's limits of its last rows
 
     def __len__(self) -> int:
         return len(self.maps)
@@ -343,11 +344,13 @@ class ChainBatch:
                                    strict=True):
                 unit[first:first + last + 1] = f
         self.t_si = self.t_values * unit
-        # each value's difference to the table's next one (0 at a table's end): the fleet
-        # cycle interpolates as value + u · difference
-        self.t_diff = np.zeros(len(values))
+        # each value beside its difference to the table's next one (0 at a table's end):
+        # the fleet cycle interpolates value + u · difference and fetches both from one
+        # cache line (the gather is bound by cache misses, not arithmetic)
+        self.t_pair = np.zeros((len(values), 2))
+        self.t_pair[:, 0] = self.t_si
         for first, last in zip(self.t_first.ravel(), self.t_last.ravel(), strict=True):
-            self.t_diff[first:first + last] = np.diff(self.t_si[first:first + last + 1])
+            self.t_pair[first:first + last, 1] = np.diff(self.t_si[first:first + last + 1])
 
     def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
         """Fold machine ``machine``'s thermal records at these temperatures (°C, keyed by
@@ -635,7 +638,17 @@ class ChainBatch:
 
     def finish(self, idx: I64, c: F64, directions: NDArray[np.generic] | None = None) -> F64:
         """Corrections ``c`` (N, K) as applied: clamped, rounded, reversal added."""
-        c = np.clip(c, -self.limit[idx], self.limit[idx])
+        key = idx.tobytes()  # a PLC fleet finishes the same rows every cycle
+        if self._limits is None or self._limits[0] != key:
+            self._limits = (key, self.limit[idx])
+        limit = self._limits[1]
+        c = np.minimum(np.maximum(c, -limit), limit)
+        if not self.int32.any():  # float32 maps only (Siemens-style): no increments
+            out: F64 = c.astype(np.float32).astype(np.float64)
+            if directions is not None:
+                out += np.where(np.asarray(directions, dtype=float) < 0,
+                                self.reversal[idx], 0.0)
+            return out
         inc = self.increment[idx][:, None]
         int32 = self.int32[idx][:, None]
         rounded = np.where(int32, np.rint(c / inc),
@@ -643,7 +656,7 @@ class ChainBatch:
         if directions is not None:
             neg = np.asarray(directions, dtype=float) < 0
             rounded = rounded + np.where(neg, self.reversal[idx], 0.0)
-        out: F64 = np.where(int32, rounded * inc, rounded)
+        out = np.where(int32, rounded * inc, rounded)
         return out
 
     def _check(self, idx: I64 | None, q: F64) -> tuple[I64, F64]:

@@ -87,11 +87,9 @@ class ChainArrays(Protocol):
     weights: F64  # (M, S, 6)
     t_first: I64  # (M, A, 6)
     t_last: I64
-    t_cap: I64
     t_start: F64
     t_step: F64
-    t_si: F64  # every table value, mm or rad
-    t_diff: F64  # its difference to the next value of its table (0 at the end)
+    t_pair: F64  # (values, 2) every table value (mm, rad), its difference to the next
     thermal0: F64  # (M, A) µm
     thermal1: F64  # (M, A) µm per mm
     thermal_on: bool
@@ -104,8 +102,7 @@ class _Rows:
     R residual rows)."""
 
     key: bytes
-    first: I64  # (A, 6, N) index of each table's first value in t_si
-    cap: F64  # (A, 6, N) last interval's start (count - 2, at least 0)
+    first: I64  # (A, 6, N) index of each table's first value in t_pair
     last: F64  # (A, 6, N) count - 1
     start: F64  # (A, 6, N) mm or degrees
     inv_step: F64  # (A, 6, N)
@@ -129,27 +126,24 @@ class _Rows:
 
 @dataclass(frozen=True)
 class _Solver:
-    """The least squares of one cycle's rows, ``dq = -(M⁻¹ (aᵀ w r)) / scale`` with a the
-    column-normalised weighted Jacobian and M = aᵀa factored as L D Lᵀ."""
+    """The least squares of one cycle's rows, ``dq = -M⁻¹ Jwᵀ (w r)`` with Jw the weighted
+    Jacobian and M = JwᵀJw factored as L D Lᵀ."""
 
     jw: F64  # (R, K, N) weighted Jacobian (not normalised)
-    ldl: F64  # (K, K, N) below the diagonal L's multipliers
+    ldl: F64  # (K, K, N) below the diagonal L's multipliers (the rest is spent)
     pivots: F64  # (K, N) D
-    scale: F64  # (K, N) column norms (1 for a zero column)
     bad: I64  # rows solved by SVD
     g_bad: F64  # (K, R, len(bad)) their pseudo-inverse, residual in mm and rad
 
     def step(self, wres: F64) -> F64:
         """The corrections' change (K, N) for weighted residuals ``w r`` (R, N)."""
         x: F64 = np.einsum("rkN,rN->kN", self.jw, wres)
-        x /= self.scale
         k = x.shape[0]
         for j in range(k - 1):  # L z = x
             x[j + 1:] -= self.ldl[j + 1:, j] * x[j]
         x /= self.pivots  # D w = z
         for j in range(k - 2, -1, -1):  # Lᵀ y = w
             x[j] -= np.einsum("kN,kN->N", self.ldl[j + 1:, j], x[j + 1:])
-        x /= self.scale
         if self.bad.size:
             x[:, self.bad] = np.einsum("krn,rn->kn", self.g_bad, wres[:, self.bad])
         return x
@@ -221,8 +215,7 @@ class FleetCycle:
         if b.g_const is not None:
             g_const = last(b.g_const[idx] * self.unit)
         rows = _Rows(
-            key, last(b.t_first[idx]), last(b.t_cap[idx].astype(float)),
-            last(b.t_last[idx].astype(float)),
+            key, last(b.t_first[idx]), last(b.t_last[idx].astype(float)),
             last(b.t_start[idx]), last(1.0 / b.t_step[idx]), last(b.pivot[idx]),
             last(direction), last(direction[:, :, _YZX]), last(direction[:, :, _ZXY]),
             last(b.frame[idx]) if any(b.spindle_axis) else None,
@@ -240,24 +233,26 @@ class FleetCycle:
         u *= g.inv_step
         np.maximum(u, 0.0, out=u)
         np.minimum(u, g.last, out=u)
-        i0 = np.floor(u)  # interval starts as floats: no conversion of every entry
-        np.minimum(i0, g.cap, out=i0)
+        # interval starts as floats (no conversion of every entry); u = count - 1 (the
+        # table's end and beyond) starts the last node, whose difference is 0
+        i0 = np.floor(u)
         u -= i0
         # the values at the interval starts and their differences to the next: a machine
         # moves far less than a node spacing per cycle, so only the intervals that changed
         # since the last call are gathered (the gather's cache misses were most of its cost)
         at = g.gathered.get("at")
         if at is None:
-            where = i0.astype(np.int64) + g.first
-            val, dif = self.b.t_si.take(where), self.b.t_diff.take(where)
+            pair = self.b.t_pair[i0.astype(np.int64) + g.first]
+            val, dif = pair[..., 0].copy(), pair[..., 1].copy()
             g.gathered["val"], g.gathered["dif"] = val, dif
         else:
             val, dif = g.gathered["val"], g.gathered["dif"]
             moved = np.flatnonzero(i0 != at)
             if moved.size:
-                where = i0.reshape(-1)[moved].astype(np.int64) + g.first.reshape(-1)[moved]
-                val.reshape(-1)[moved] = self.b.t_si.take(where)
-                dif.reshape(-1)[moved] = self.b.t_diff.take(where)
+                pair = self.b.t_pair[i0.reshape(-1)[moved].astype(np.int64)
+                                     + g.first.reshape(-1)[moved]]
+                val.reshape(-1)[moved] = pair[:, 0]
+                dif.reshape(-1)[moved] = pair[:, 1]
         g.gathered["at"] = i0
         e: F64 = dif * u
         e += val
@@ -284,25 +279,25 @@ class FleetCycle:
         for s, links in enumerate(b.links):
             p = g.tool[s]
             met: list[tuple[int, F64, F64]] = []
-            filled = False
+            filled: list[int] = []
             for j in reversed(links):
                 k = self.out_of[j]
                 if b.rotary[j]:
                     i, c, sn = self.base[j], cos[self.sub[j]], sin[self.sub[j]]
                     if jac is not None and filled:  # the columns of the links after j
-                        _turn_block(jac[s], i, c, sn)
+                        _turn_block(jac[s], i, c, sn, filled)
                     arm = _turn(p - g.pivot[j], i, c, sn)
                     p = arm + g.pivot[j]
                     if jac is not None and k >= 0:
                         jac[s, 0, :, k] = g.d_yzx[j] * arm[_ZXY] - g.d_zxy[j] * arm[_YZX]
                         if blocks == 2:
                             jac[s, 1, :, k] = g.direction[j]
-                        filled = True
+                        filled.append(k)
                     met.append((i, c, sn))
                 else:
                     if jac is not None and k >= 0:
                         jac[s, 0, :, k] = g.direction[j]
-                        filled = True
+                        filled.append(k)
                     p = p + q[j] * g.direction[j]
             tips.append(p)
             turns.append(met)
@@ -371,32 +366,36 @@ class FleetCycle:
         """The least squares of the nominal Jacobian (R, K, N) without its units."""
         jw = jac * g.w_jac
         k, n = jw.shape[1], jw.shape[2]
-        m = np.einsum("rkN,rlN->klN", jw, jw)
+        m = np.empty((k, k, n))  # its upper triangle: all the factorisation reads
+        for j in range(k):
+            np.einsum("rN,rlN->lN", jw[:, j], jw[:, j:], out=m[j, j:])
+        # the reference normalises the columns first; the solution is the same without,
+        # and a pivot of the normalised matrix is this one's over its column's squared
+        # norm (the Schur complements scale as the diagonal), so the test is scaled
         diag = m.reshape(k * k, n)[::k + 1]
-        norms = np.sqrt(diag)
-        zero = norms == 0
-        scale = norms + zero  # a zero column (an unobservable axis) keeps a unit scale
-        m /= scale[:, None] * scale[None, :]  # column-normalised: unit diagonal
-        diag += zero  # a zero column's unit pivot: it gets 0
+        zero = diag == 0
+        diag += zero  # a zero column (an unobservable axis): a unit pivot, so it gets 0
+        limit = diag * PIVOT  # the squared norms (1 for a zero column) times PIVOT
         pivots = np.empty((k, n))
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for j in range(k):  # L D Lᵀ without exchanges: M is positive definite
                 pivots[j] = m[j, j]
-                if j + 1 < k:
-                    low = m[j + 1:, j] / m[j, j]
-                    m[j + 1:, j + 1:] -= low[:, None] * m[j, j + 1:]
+                if j + 1 < k:  # row j right of the pivot is D_j L[j+1:, j]ᵀ
+                    low = m[j, j + 1:] / m[j, j]
+                    m[j + 1:, j + 1:] -= low[:, None] * m[j, j + 1:]  # upper part is right
                     m[j + 1:, j] = low
-        ok = (pivots > PIVOT).all(axis=0)  # NaN after a bad pivot counts as bad
+        ok = (pivots > limit).all(axis=0)  # NaN after a bad pivot counts as bad
         bad = np.flatnonzero(~ok) if not ok.all() else np.zeros(0, dtype=np.int64)
         g_bad = np.zeros((k, jw.shape[0], 0))
         if bad.size:  # rank-deficient rows: the SVD with the README's tolerance
-            a = jw[:, :, bad] / scale[:, bad]
+            scale = np.sqrt(limit[:, bad] / PIVOT)
+            a = jw[:, :, bad] / scale
             u, sv, vt = np.linalg.svd(np.moveaxis(a, -1, 0), full_matrices=False)
             keep = sv > RCOND * sv[:, :1]
             si = np.where(keep, 1.0 / np.where(keep, sv, 1.0), 0.0)
             g_bad = np.einsum("nji,nj,nkj->ikn", vt, si, u)
-            g_bad /= scale[:, None, bad]
-        return _Solver(jw, m, pivots, scale, bad, g_bad)
+            g_bad /= scale[:, None, :]
+        return _Solver(jw, m, pivots, bad, g_bad)
 
     def corrections(self, idx: I64, q: F64, start: F64 | None, max_steps: int) -> F64:
         """Unrounded, unclamped corrections (K, N) of rows (machine idx (N,), positions q
@@ -441,7 +440,8 @@ def _rotations(w: F64) -> F64:
         t = np.sqrt(np.where(pos, t2, 1.0))
         a = np.where(pos, np.sin(t) / t, 1.0)
         b = np.where(pos, (1.0 - np.cos(t)) / (t * t), 0.5)
-    out: F64 = np.einsum("aiN,ajN->aijN", b[:, None] * w, w)
+    bw = b[:, None] * w
+    out: F64 = bw[:, :, None] * w[:, None]  # b w wᵀ (an einsum outer product is ~2x slower)
     flat = out.reshape(w.shape[0], 9, -1)
     flat[:, _DIAG] += (1.0 - b * t2)[:, None]
     aw = a[:, None] * w
@@ -463,15 +463,18 @@ def _turn(v: F64, i: int, c: F64, s: F64) -> F64:
     return out
 
 
-def _turn_block(x: F64, i: int, c: F64, s: F64) -> None:
-    """Turn, in place, the columns x (B, 3, K, N) about base axis i (components on axis
-    1)."""
+def _turn_block(x: F64, i: int, c: F64, s: F64, cols: list[int]) -> None:
+    """Turn, in place, the columns ``cols`` of x (B, 3, K, N) about base axis i
+    (components on axis 1): the columns of the links met so far, a slice when they are
+    contiguous (outputs in chain order), as they usually are."""
     u, w = _PLANE[i]
-    xu = x[:, u].copy()
-    x[:, u] *= c
-    x[:, u] -= s * x[:, w]
-    x[:, w] *= c
-    x[:, w] += s * xu
+    lo, hi = min(cols), max(cols) + 1
+    block = x[:, :, lo:hi] if hi - lo == len(cols) else x
+    xu = block[:, u].copy()
+    block[:, u] *= c
+    block[:, u] -= s * block[:, w]
+    block[:, w] *= c
+    block[:, w] += s * xu
 
 
 def _undo_turn(r: F64, i: int, c: F64, s: F64) -> F64:
