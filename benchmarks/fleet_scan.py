@@ -13,11 +13,12 @@ clamp, step limit).
 axis six ISO 230-1 component tables of 33 points over its travel, the location errors,
 orientation weighed on a 5-axis chain. The fleet is a mix of chains (``--mix``: chain and
 share, comma separated; ``--chain`` is a mix of one); machines of one chain structure
-share one :class:`machine_sim.chaineval.ChainBatch`, so a cycle is one call per chain:
-table lookups, the exact chain, the weighted least-squares solve refined at q + dq, clamp
-and float32 rounding. Each machine starts its refinement from its previous cycle's
-correction (as its PLC would; ``--cold`` starts from zero). ``--plc-every n`` runs each
-machine's lookup every n-th cycle in n staggered groups (Siemens' PLC-to-IPO ratio).
+share one :class:`machine_sim.chaineval.ChainBatch`, so a cycle is one call per chain
+(:class:`machine_sim.chaineval_cycle.FleetCycle`): table lookups, the exact chain, the
+weighted least-squares solve refined at q + dq, clamp and float32 rounding. Each machine
+starts its refinement from its previous cycle's correction (as its PLC would; ``--cold``
+starts from zero). ``--plc-every n`` runs each machine's lookup every n-th cycle in n
+staggered groups (Siemens' PLC-to-IPO ratio).
 
 Every machine moves along its own path. A cycle is *missed* when it finishes after the end
 of its slot (an overrun, whether from its own work or a late wake-up), and every slot that
@@ -115,7 +116,7 @@ def tables_cycle(args: argparse.Namespace, rng: np.random.Generator
     """The fleet's cycle ``cycle(k, q, reference)``, the travel centre and half-range of
     each machine (M, A_max) and a description of the mix."""
     mix = parse_mix(args.mix or args.chain, args.machines)
-    batches: list[tuple[ChainBatch, NDArray[np.int64], list[NDArray[np.int64]]]] = []
+    batches: list[tuple[ChainBatch, int, list[tuple[NDArray[np.int64], slice]]]] = []
     width = max(len(c.split()) - 3 for c, _ in mix)
     lo = np.zeros((args.machines, width))
     hi = np.ones((args.machines, width))
@@ -127,20 +128,23 @@ def tables_cycle(args: argparse.Namespace, rng: np.random.Generator
         a = len(batch.axes)
         lo[rows, :a] = [x.travel[0] for x in maps[0].axes]
         hi[rows, :a] = [x.travel[1] for x in maps[0].axes]
-        groups = [np.arange(g, n, args.plc_every) for g in range(args.plc_every)]
-        batches.append((batch, rows, groups))
+        # each PLC group: its machines' indices in the batch and, as a slice, their rows
+        # of the fleet's positions and of the batch's last corrections (views, no copies)
+        groups = [(np.arange(g, n, args.plc_every), slice(g, n, args.plc_every))
+                  for g in range(args.plc_every)]
+        batches.append((batch, first, groups))
         first += n
     last = [np.zeros((len(b), len(b.outputs))) for b, _, _ in batches]
 
     def cycle(k: int, q: F64, reference: bool = False) -> None:
-        for (batch, rows, groups), prev in zip(batches, last, strict=True):
-            idx = groups[k % len(groups)]
-            start = None if args.cold or k < len(groups) else prev[idx]
+        for (batch, at, groups), prev in zip(batches, last, strict=True):
+            idx, sel = groups[k % len(groups)]
+            start = None if args.cold or k < len(groups) else prev[sel]
             steps = 6 if start is None else args.steps
-            qi = q[rows[idx], :len(batch.axes)]
+            qi = q[at:at + len(batch)][sel, :len(batch.axes)]
             solve = batch.corrections_reference if reference else batch.corrections
             c = solve(idx, qi, start, steps)
-            prev[idx] = c
+            prev[sel] = c
             batch.finish(idx, c)
 
     what = ", ".join(f"{n} x {c!r}" for c, n in mix)

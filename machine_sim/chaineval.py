@@ -344,13 +344,10 @@ class ChainBatch:
                                    strict=True):
                 unit[first:first + last + 1] = f
         self.t_si = self.t_values * unit
-        # each value beside its difference to the table's next one (0 at a table's end):
-        # the fleet cycle interpolates value + u · difference and fetches both from one
-        # cache line (the gather is bound by cache misses, not arithmetic)
-        self.t_pair = np.zeros((len(values), 2))
-        self.t_pair[:, 0] = self.t_si
-        for first, last in zip(self.t_first.ravel(), self.t_last.ravel(), strict=True):
-            self.t_pair[first:first + last, 1] = np.diff(self.t_si[first:first + last + 1])
+        # the fleet cycle reads each interval's two values side by side (one cache line:
+        # its gather is bound by cache misses); at a table's end it reads one past the
+        # last value with u = 0, so one more value ends the array
+        self.t_next = np.append(self.t_si, 0.0)
 
     def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
         """Fold machine ``machine``'s thermal records at these temperatures (°C, keyed by

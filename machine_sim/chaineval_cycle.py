@@ -89,7 +89,7 @@ class ChainArrays(Protocol):
     t_last: I64
     t_start: F64
     t_step: F64
-    t_pair: F64  # (values, 2) every table value (mm, rad), its difference to the next
+    t_next: F64  # every table value (mm, rad) in table order, and one 0 after
     thermal0: F64  # (M, A) µm
     thermal1: F64  # (M, A) µm per mm
     thermal_on: bool
@@ -102,7 +102,7 @@ class _Rows:
     R residual rows)."""
 
     key: bytes
-    first: I64  # (A, 6, N) index of each table's first value in t_pair
+    first: I64  # (A, 6, N) index of each table's first value in t_next
     last: F64  # (A, 6, N) count - 1
     start: F64  # (A, 6, N) mm or degrees
     inv_step: F64  # (A, 6, N)
@@ -234,25 +234,28 @@ class FleetCycle:
         np.maximum(u, 0.0, out=u)
         np.minimum(u, g.last, out=u)
         # interval starts as floats (no conversion of every entry); u = count - 1 (the
-        # table's end and beyond) starts the last node, whose difference is 0
+        # table's end and beyond) starts at the last value and reads one past it, times 0
         i0 = np.floor(u)
         u -= i0
-        # the values at the interval starts and their differences to the next: a machine
-        # moves far less than a node spacing per cycle, so only the intervals that changed
-        # since the last call are gathered (the gather's cache misses were most of its cost)
+        # the values at the interval starts and their differences to the next, as the
+        # reference computes them: a machine moves far less than a node spacing per cycle,
+        # so only the intervals that changed since the last call are gathered (the gather's
+        # cache misses were most of its cost)
         at = g.gathered.get("at")
+        table = self.b.t_next
         if at is None:
-            pair = self.b.t_pair[i0.astype(np.int64) + g.first]
-            val, dif = pair[..., 0].copy(), pair[..., 1].copy()
+            where = i0.astype(np.int64) + g.first
+            val = table.take(where)
+            dif = table.take(where + 1) - val
             g.gathered["val"], g.gathered["dif"] = val, dif
         else:
             val, dif = g.gathered["val"], g.gathered["dif"]
             moved = np.flatnonzero(i0 != at)
             if moved.size:
-                pair = self.b.t_pair[i0.reshape(-1)[moved].astype(np.int64)
-                                     + g.first.reshape(-1)[moved]]
-                val.reshape(-1)[moved] = pair[:, 0]
-                dif.reshape(-1)[moved] = pair[:, 1]
+                where = i0.reshape(-1)[moved].astype(np.int64) + g.first.reshape(-1)[moved]
+                lo = table.take(where)
+                val.reshape(-1)[moved] = lo
+                dif.reshape(-1)[moved] = table.take(where + 1) - lo
         g.gathered["at"] = i0
         e: F64 = dif * u
         e += val
@@ -279,20 +282,24 @@ class FleetCycle:
         for s, links in enumerate(b.links):
             p = g.tool[s]
             met: list[tuple[int, F64, F64]] = []
-            filled: list[int] = []
+            filled: list[int] = []  # columns of the links met so far (after j)
+            turning: list[int] = []  # those with an orientation row (rotary axes)
             for j in reversed(links):
                 k = self.out_of[j]
                 if b.rotary[j]:
                     i, c, sn = self.base[j], cos[self.sub[j]], sin[self.sub[j]]
-                    if jac is not None and filled:  # the columns of the links after j
-                        _turn_block(jac[s], i, c, sn, filled)
+                    if jac is not None and filled:
+                        _turn_columns(jac[s, 0], i, c, sn, filled)
+                        if turning:
+                            _turn_columns(jac[s, 1], i, c, sn, turning)
                     arm = _turn(p - g.pivot[j], i, c, sn)
                     p = arm + g.pivot[j]
                     if jac is not None and k >= 0:
                         jac[s, 0, :, k] = g.d_yzx[j] * arm[_ZXY] - g.d_zxy[j] * arm[_YZX]
+                        filled.append(k)
                         if blocks == 2:
                             jac[s, 1, :, k] = g.direction[j]
-                        filled.append(k)
+                            turning.append(k)
                     met.append((i, c, sn))
                 else:
                     if jac is not None and k >= 0:
@@ -463,18 +470,17 @@ def _turn(v: F64, i: int, c: F64, s: F64) -> F64:
     return out
 
 
-def _turn_block(x: F64, i: int, c: F64, s: F64, cols: list[int]) -> None:
-    """Turn, in place, the columns ``cols`` of x (B, 3, K, N) about base axis i
-    (components on axis 1): the columns of the links met so far, a slice when they are
-    contiguous (outputs in chain order), as they usually are."""
+def _turn_columns(x: F64, i: int, c: F64, s: F64, cols: list[int]) -> None:
+    """Turn, in place, the columns ``cols`` of x (3, K, N) about base axis i: a slice
+    when they are contiguous (outputs in chain order), as they usually are."""
     u, w = _PLANE[i]
     lo, hi = min(cols), max(cols) + 1
-    block = x[:, :, lo:hi] if hi - lo == len(cols) else x
-    xu = block[:, u].copy()
-    block[:, u] *= c
-    block[:, u] -= s * block[:, w]
-    block[:, w] *= c
-    block[:, w] += s * xu
+    block = x[:, lo:hi] if hi - lo == len(cols) else x
+    xu = block[u].copy()
+    block[u] *= c
+    block[u] -= s * block[w]
+    block[w] *= c
+    block[w] += s * xu
 
 
 def _undo_turn(r: F64, i: int, c: F64, s: F64) -> F64:
