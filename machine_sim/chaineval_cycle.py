@@ -19,13 +19,11 @@ large arrays and few multiply-adds per row:
   series below θ² = 1e-4, which are exact to double precision there), one every rotary
   axis's tilted turn;
 - the chain is walked once per spindle, one matrix-vector product per link step; the
-  orientation is multiplied along only when the batch weighs it, and the nominal
-  orientation is taken off it by turning its columns (turns about base axes), not by a
-  3x3 product;
-- the nominal tool tip and Jacobian come from one backward pass: a rotary axis's column
-  is its axis crossed with the arm it turns (the tool tip seen from before it, minus its
-  pivot), and the columns of the links after it turn with it, so no forward pass of
-  orientation products is needed;
+  orientation is multiplied along only when the batch weighs it;
+- the nominal tool tip and Jacobian come from one backward pass with the base turns of
+  all rotary axes built at once: a rotary axis's column is its axis crossed with the arm
+  it turns (the tool tip seen from before it, minus its pivot), and the columns of the
+  links after it turn with it, so no forward pass of orientation products is needed;
 - the weighted least squares is solved in closed form for all rows at once: the
   column-normalised normal matrix is factored as L D Lᵀ (K pivots, each one update of
   the trailing block of all rows; its pivots are the squares of the reference's Cholesky
@@ -54,8 +52,6 @@ _PLANE: Final = ((1, 2), (2, 0), (0, 1))  # the components a turn about x, y, z 
 _DIAG: Final = slice(0, 9, 4)
 _SKEW_PLUS: Final = [7, 2, 3]  # (2,1) (0,2) (1,0): +w0 +w1 +w2
 _SKEW_MINUS: Final = [5, 6, 1]  # (1,2) (2,0) (0,1): -w0 -w1 -w2
-_YZX: Final = [1, 2, 0]
-_ZXY: Final = [2, 0, 1]
 # Rodrigues coefficients sin θ/θ and (1 - cos θ)/θ² as series in θ², rows a and b
 _SERIES_C: Final = (np.array([1.0, 0.5])[:, None, None],
                     np.array([-1.0 / 6.0, -1.0 / 24.0])[:, None, None],
@@ -108,8 +104,8 @@ class _Rows:
     inv_step: F64  # (A, 6, N)
     pivot: F64  # (A, 3, N) mm
     direction: F64  # (A, 3, N)
-    d_yzx: F64  # (A, 3, N): d x v = d_yzx * v[ZXY] - d_zxy * v[YZX]
-    d_zxy: F64
+    cross: F64  # (Ar, 3, 3, N) [d]x of the rotary axes: [d]x v = d x v
+    lin_direction: F64  # (Al, 3, N)
     frame: F64 | None  # (A, 3, 3, N), spindle axes' own frames (None: none has one)
     turn_at: F64  # (Ar, 3, N) pivot + offset: the actual rotary axis's point, mm
     k1: F64  # (Ar, 3, 3, N) [n]x of the tilted axis n
@@ -195,6 +191,19 @@ class FleetCycle:
         self.jac_unit = np.tile(np.vstack([np.broadcast_to(col, (3, k)),
                                            np.full((self.per - 3, k), 1e6 * DEG)]),
                                 (len(batch.links), 1))  # (R, K)
+        # a base turn about axis i: 1 at (i, i), cos at (u, u) and (w, w), sin at (w, u),
+        # -sin at (u, w); per kind of entry the rotary axes and flat positions it fills
+        self.turn_template = np.zeros((len(self.rot), 9, 1))
+        fill: list[tuple[list[int], list[int]]] = [([], []), ([], []), ([], [])]
+        for at, j in enumerate(self.rot.tolist()):
+            i = self.base[j]
+            u, w = _PLANE[i]
+            self.turn_template[at, 4 * i] = 1.0
+            for kind, flat in enumerate(([4 * u, 4 * w], [3 * w + u], [3 * u + w])):
+                fill[kind][0].extend([at] * len(flat))
+                fill[kind][1].extend(flat)
+        self.turn_fill = [(np.array(a, dtype=np.int64), np.array(f, dtype=np.int64))
+                          for a, f in fill]
         self._cache: _Rows | None = None
 
     def rows(self, idx: I64) -> _Rows:
@@ -217,7 +226,8 @@ class FleetCycle:
         rows = _Rows(
             key, last(b.t_first[idx]), last(b.t_last[idx].astype(float)),
             last(b.t_start[idx]), last(1.0 / b.t_step[idx]), last(b.pivot[idx]),
-            last(direction), last(direction[:, :, _YZX]), last(direction[:, :, _ZXY]),
+            last(direction), last(_skew(direction[:, self.rot])),
+            last(direction[:, self.lin]),
             last(b.frame[idx]) if any(b.spindle_axis) else None,
             last((b.pivot + b.offset)[idx][:, self.rot]), last(b.k1t[idx][:, self.rot]),
             last(b.k2t[idx][:, self.rot]), last(b.zero[idx][:, self.rot]),
@@ -265,53 +275,65 @@ class FleetCycle:
         return e
 
     # -- step 2: the poses
-    def nominal(self, g: _Rows, q: F64) -> tuple[list[F64], list[list[tuple[int, F64, F64]]],
-                                                  F64 | None]:
-        """Nominal tool tip (3, N) of each spindle at q (A, N), its turns in the order the
-        tool tip meets them (base axis, cos, sin), and the nominal Jacobian (R, K, N)
-        without its units (None for linear-only chains, whose pseudo-inverse is fixed)."""
+    def nominal(self, g: _Rows, q: F64) -> tuple[list[F64], list[list[F64]], F64 | None]:
+        """Nominal tool tip (3, N) of each spindle at q (A, N), its turns (3, 3, N) in the
+        order the tool tip meets them, and the nominal Jacobian (R, K, N) without its units
+        (None for linear-only chains, whose pseudo-inverse is fixed)."""
         b = self.b
         n = q.shape[1]
-        want_jac = g.g_const is None
-        angle = q[self.rot] * DEG
-        cos, sin = np.cos(angle), np.sin(angle)
+        turn = self.base_turns(q)
+        moves = q[self.lin][:, None, :] * g.lin_direction if self.lin.size else None
         blocks = self.per // 3
-        jac = np.zeros((len(b.links), blocks, 3, len(b.outputs), n)) if want_jac else None
+        jac = (np.zeros((len(b.links), blocks, 3, len(b.outputs), n))
+               if g.g_const is None else None)
         tips: list[F64] = []
-        turns: list[list[tuple[int, F64, F64]]] = []
+        turns: list[list[F64]] = []
         for s, links in enumerate(b.links):
             p = g.tool[s]
-            met: list[tuple[int, F64, F64]] = []
+            met: list[F64] = []
             filled: list[int] = []  # columns of the links met so far (after j)
             turning: list[int] = []  # those with an orientation row (rotary axes)
             for j in reversed(links):
-                k = self.out_of[j]
+                k, at = self.out_of[j], self.sub[j]
                 if b.rotary[j]:
-                    i, c, sn = self.base[j], cos[self.sub[j]], sin[self.sub[j]]
-                    if jac is not None and filled:
-                        _turn_columns(jac[s, 0], i, c, sn, filled)
-                        if turning:
-                            _turn_columns(jac[s, 1], i, c, sn, turning)
-                    arm = _turn(p - g.pivot[j], i, c, sn)
+                    t = turn[at]
+                    if jac is not None:  # the links after j turn with it
+                        _turn_columns(jac[s, 0], t, filled)
+                        if blocks == 2:
+                            _turn_columns(jac[s, 1], t, turning)
+                    arm = np.einsum("ijN,jN->iN", t, p - g.pivot[j])
                     p = arm + g.pivot[j]
                     if jac is not None and k >= 0:
-                        jac[s, 0, :, k] = g.d_yzx[j] * arm[_ZXY] - g.d_zxy[j] * arm[_YZX]
+                        np.einsum("ijN,jN->iN", g.cross[at], arm, out=jac[s, 0, :, k])
                         filled.append(k)
                         if blocks == 2:
                             jac[s, 1, :, k] = g.direction[j]
                             turning.append(k)
-                    met.append((i, c, sn))
+                    met.append(t)
                 else:
                     if jac is not None and k >= 0:
                         jac[s, 0, :, k] = g.direction[j]
                         filled.append(k)
-                    p = p + q[j] * g.direction[j]
+                    assert moves is not None
+                    p = p + moves[at]
             tips.append(p)
             turns.append(met)
         return tips, turns, None if jac is None else jac.reshape(-1, len(b.outputs), n)
 
+    def base_turns(self, q: F64) -> F64:
+        """The nominal turns (Ar, 3, 3, N) of the rotary axes at q (A, N): about base x, y
+        or z, built entry by entry from one template."""
+        n = q.shape[1]
+        angle = q[self.rot] * DEG
+        cos, sin = np.cos(angle), np.sin(angle)
+        out = np.empty((len(self.rot), 9, n))
+        out[...] = self.turn_template
+        for (axis, at), value in zip(self.turn_fill, (cos, sin, -sin), strict=True):
+            out[axis, at] = value[axis]
+        return out.reshape(len(self.rot), 3, 3, n)
+
     def residual(self, g: _Rows, idx: I64, q: F64, tips: list[F64],
-                 turns: list[list[tuple[int, F64, F64]]]) -> F64:
+                 turns: list[list[F64]]) -> F64:
         """Tool-tip errors (R, N) at positions q (A, N) against the nominal tips, mm and
         rad (rows: per spindle x y z, then the orientation's rotation vector when
         weighed)."""
@@ -363,8 +385,8 @@ class FleetCycle:
             if self.per == 6:
                 if r is None:
                     r = np.broadcast_to(np.eye(3)[:, :, None], (3, 3, q.shape[1]))
-                for i, c, sn in turns[s]:  # r Rnomᵀ, Rnom = the turns met, first last
-                    r = _undo_turn(r, i, c, sn)
+                for t in turns[s]:  # r Rnomᵀ, Rnom = the turns met, the first last
+                    r = np.einsum("ijN,kjN->ikN", r, t)
                 _log_into(r, res[at + 3:at + 6])
         return res
 
@@ -431,6 +453,14 @@ class FleetCycle:
 
 # --- small rows-last helpers --------------------------------------------------------------
 
+def _skew(d: F64) -> F64:
+    """Cross-product matrices (..., 3, 3) of vectors d (..., 3)."""
+    out = np.zeros((*d.shape, 3))
+    out[..., 2, 1], out[..., 0, 2], out[..., 1, 0] = d[..., 0], d[..., 1], d[..., 2]
+    out[..., 1, 2], out[..., 2, 0], out[..., 0, 1] = -d[..., 0], -d[..., 1], -d[..., 2]
+    return out
+
+
 def _rotations(w: F64) -> F64:
     """Rotation matrices (A, 3, 3, N) of rotation vectors w (A, 3, N), exact Rodrigues:
     ``(1 - b θ²) I + a [w]x + b w wᵀ`` with a = sin θ/θ, b = (1 - cos θ)/θ² (their
@@ -457,42 +487,14 @@ def _rotations(w: F64) -> F64:
     return out
 
 
-def _turn(v: F64, i: int, c: F64, s: F64) -> F64:
-    """Vectors v (3, N) turned by the angle of cosines c and sines s (N,) about base axis
-    i (A, B, C turn about x, y, z)."""
-    u, w = _PLANE[i]
-    out = np.empty_like(v)
-    out[i] = v[i]
-    np.multiply(c, v[u], out=out[u])
-    out[u] -= s * v[w]
-    np.multiply(s, v[u], out=out[w])
-    out[w] += c * v[w]
-    return out
-
-
-def _turn_columns(x: F64, i: int, c: F64, s: F64, cols: list[int]) -> None:
-    """Turn, in place, the columns ``cols`` of x (3, K, N) about base axis i: a slice
-    when they are contiguous (outputs in chain order), as they usually are."""
-    u, w = _PLANE[i]
+def _turn_columns(x: F64, t: F64, cols: list[int]) -> None:
+    """Turn, in place, the columns ``cols`` of x (3, K, N) by the turns t (3, 3, N): a
+    slice when they are contiguous (outputs in chain order), as they usually are."""
+    if not cols:
+        return
     lo, hi = min(cols), max(cols) + 1
-    block = x[:, lo:hi] if hi - lo == len(cols) else x
-    xu = block[u].copy()
-    block[u] *= c
-    block[u] -= s * block[w]
-    block[w] *= c
-    block[w] += s * xu
-
-
-def _undo_turn(r: F64, i: int, c: F64, s: F64) -> F64:
-    """``r @ Tᵀ`` (3, 3, N) for T the turn about base axis i by the angle of c and s."""
-    u, w = _PLANE[i]
-    out = np.empty(r.shape)
-    out[:, i] = r[:, i]
-    np.multiply(r[:, u], c, out=out[:, u])
-    out[:, u] -= r[:, w] * s
-    np.multiply(r[:, u], s, out=out[:, w])
-    out[:, w] += r[:, w] * c
-    return out
+    at: slice | list[int] = slice(lo, hi) if hi - lo == len(cols) else cols
+    x[:, at] = np.einsum("ijN,jkN->ikN", t, x[:, at])
 
 
 def _log_into(r: F64, out: F64) -> None:
