@@ -14,6 +14,7 @@ starts:
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 from numpy.typing import NDArray
@@ -27,6 +28,7 @@ from tests.support.sim_tables import (
     random_weights,
     tables_payload,
 )
+from volumetric.compensate.solver import Weights
 from volumetric.model.components import location_names
 from volumetric.model.machine import Machine
 
@@ -145,3 +147,28 @@ def test_row_sets_that_change_between_calls_are_gathered_anew() -> None:
     for idx in (np.array([0, 1] * 4), np.array([2, 3] * 4), np.array([0, 1] * 4)):
         np.testing.assert_allclose(batch.corrections(idx, q),
                                    reference(maps, temps, idx, q, None, 6), rtol=0, atol=TOL)
+
+
+@pytest.mark.parametrize("size", [0.2, 3e4])
+def test_tiny_and_huge_errors_agree_too(size: float) -> None:
+    # tiny errors: every orientation residual below 1e-4 rad, where the fleet cycle takes
+    # the rotation vector's series without the arctangent; huge ones (tens of mrad): the
+    # exact Rodrigues coefficients instead of their series
+    rng = np.random.default_rng(11)
+    m = random_machine("w C A X Y b Z t", rng)
+    _, tables = random_tables(m, rng, size)
+    weighed = Weights(np.ones((1, 3)), np.ones((1, 3)))  # orientation counts
+    batch = ChainBatch([tables_payload(m, tables, {}, weighed)])
+    q = rng.uniform(m.travel_lo, m.travel_hi, (40, len(m.axes)))
+    ori = np.abs(batch.errors(None, q)[:, 3:6])  # µrad
+    if size < 1:
+        assert ori.max() < 99.0
+    else:
+        assert ori.max() > 1e4
+    for steps in (1, 6):
+        want = batch.corrections_reference(None, q, None, steps)
+        # rounding is relative: the huge errors ask for corrections of ~200 mm (no real
+        # machine), which the two evaluations round alike to 1e-13 of their size
+        atol = SAME_ROWS if size < 1 else 1e-13 * float(np.abs(want).max())
+        np.testing.assert_allclose(batch.corrections(None, q, None, steps), want,
+                                   rtol=0, atol=atol)
