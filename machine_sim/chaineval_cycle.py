@@ -48,14 +48,22 @@ F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
 _DIRS: Final = "XYZABC"
 _PLANE: Final = ((1, 2), (2, 0), (0, 1))  # the components a turn about x, y, z changes
-# flat (row-major) indices of a 3x3 matrix: its diagonal, and where [w]x has +w and -w
+# flat (row-major) indices of a 3x3 matrix: its diagonal, where [w]x has +w and -w, its
+# upper and lower off-diagonal entries
 _DIAG: Final = slice(0, 9, 4)
 _SKEW_PLUS: Final = [7, 2, 3]  # (2,1) (0,2) (1,0): +w0 +w1 +w2
 _SKEW_MINUS: Final = [5, 6, 1]  # (1,2) (2,0) (0,1): -w0 -w1 -w2
+_UPPER: Final = [1, 2, 5]  # (0,1) (0,2) (1,2), where [w]x has -w2 +w1 -w0
+_LOWER: Final = [3, 6, 7]  # (1,0) (2,0) (2,1), their mirror images
+_SKEW_SIGN: Final = np.array([-1.0, 1.0, -1.0])[:, None]
 # Rodrigues coefficients sin θ/θ and (1 - cos θ)/θ² as series in θ², rows a and b
 _SERIES_C: Final = (np.array([1.0, 0.5])[:, None, None],
                     np.array([-1.0 / 6.0, -1.0 / 24.0])[:, None, None],
                     np.array([1.0 / 120.0, 1.0 / 720.0])[:, None, None])
+# sin φ / φ and (1 - cos φ) / φ² as series in φ², rows: the two, columns: powers 0..3
+_TURN_C: Final = tuple(np.array(c)[:, None, None] for c in
+                       ((1.0, 0.5), (-1.0 / 6.0, -1.0 / 24.0), (1.0 / 120.0, 1.0 / 720.0),
+                        (-1.0 / 5040.0, -1.0 / 40320.0)))
 _ERROR, _TURN, _MOVE = 0, 1, 2
 
 
@@ -192,18 +200,8 @@ class FleetCycle:
                                            np.full((self.per - 3, k), 1e6 * DEG)]),
                                 (len(batch.links), 1))  # (R, K)
         # a base turn about axis i: 1 at (i, i), cos at (u, u) and (w, w), sin at (w, u),
-        # -sin at (u, w); per kind of entry the rotary axes and flat positions it fills
-        self.turn_template = np.zeros((len(self.rot), 9, 1))
-        fill: list[tuple[list[int], list[int]]] = [([], []), ([], []), ([], [])]
-        for at, j in enumerate(self.rot.tolist()):
-            i = self.base[j]
-            u, w = _PLANE[i]
-            self.turn_template[at, 4 * i] = 1.0
-            for kind, flat in enumerate(([4 * u, 4 * w], [3 * w + u], [3 * u + w])):
-                fill[kind][0].extend([at] * len(flat))
-                fill[kind][1].extend(flat)
-        self.turn_fill = [(np.array(a, dtype=np.int64), np.array(f, dtype=np.int64))
-                          for a, f in fill]
+        # -sin at (u, w)
+        self.turn_planes = [(self.base[j], *_PLANE[self.base[j]]) for j in self.rot.tolist()]
         self._cache: _Rows | None = None
 
     def rows(self, idx: I64) -> _Rows:
@@ -275,13 +273,15 @@ class FleetCycle:
         return e
 
     # -- step 2: the poses
-    def nominal(self, g: _Rows, q: F64) -> tuple[list[F64], list[list[F64]], F64 | None]:
-        """Nominal tool tip (3, N) of each spindle at q (A, N), its turns (3, 3, N) in the
+    def nominal(self, g: _Rows, q: F64, angles: tuple[F64, F64, F64]
+                ) -> tuple[list[F64], list[list[F64]], F64 | None]:
+        """Nominal tool tip (3, N) of each spindle at q (A, N) (``angles``: the rotary axes'
+        angles in rad, their cosines and sines, (Ar, N) each), its turns (3, 3, N) in the
         order the tool tip meets them, and the nominal Jacobian (R, K, N) without its units
         (None for linear-only chains, whose pseudo-inverse is fixed)."""
         b = self.b
         n = q.shape[1]
-        turn = self.base_turns(q)
+        turn = self.base_turns(angles[1], angles[2])
         moves = q[self.lin][:, None, :] * g.lin_direction if self.lin.size else None
         blocks = self.per // 3
         jac = (np.zeros((len(b.links), blocks, 3, len(b.outputs), n))
@@ -320,23 +320,22 @@ class FleetCycle:
             turns.append(met)
         return tips, turns, None if jac is None else jac.reshape(-1, len(b.outputs), n)
 
-    def base_turns(self, q: F64) -> F64:
-        """The nominal turns (Ar, 3, 3, N) of the rotary axes at q (A, N): about base x, y
-        or z, built entry by entry from one template."""
-        n = q.shape[1]
-        angle = q[self.rot] * DEG
-        cos, sin = np.cos(angle), np.sin(angle)
-        out = np.empty((len(self.rot), 9, n))
-        out[...] = self.turn_template
-        for (axis, at), value in zip(self.turn_fill, (cos, sin, -sin), strict=True):
-            out[axis, at] = value[axis]
-        return out.reshape(len(self.rot), 3, 3, n)
+    def base_turns(self, cos: F64, sin: F64) -> F64:
+        """The nominal turns (Ar, 3, 3, N) of the rotary axes by the angles of cosines and
+        sines (Ar, N): about base x, y or z, built entry by entry."""
+        out = np.zeros((len(self.rot), 3, 3, cos.shape[-1]))
+        for k, (i, u, w) in enumerate(self.turn_planes):
+            out[k, i, i] = 1.0
+            out[k, u, u] = out[k, w, w] = cos[k]
+            out[k, w, u] = sin[k]
+            np.negative(sin[k], out=out[k, u, w])
+        return out
 
     def residual(self, g: _Rows, idx: I64, q: F64, tips: list[F64],
-                 turns: list[list[F64]]) -> F64:
+                 turns: list[list[F64]], nominal: tuple[F64, F64, F64]) -> F64:
         """Tool-tip errors (R, N) at positions q (A, N) against the nominal tips, mm and
         rad (rows: per spindle x y z, then the orientation's rotation vector when
-        weighed)."""
+        weighed); ``nominal`` as the angles of :meth:`nominal`."""
         b = self.b
         e = self.components(g, idx, q)
         delta, eps = e[:, :3], e[:, 3:]
@@ -345,11 +344,7 @@ class FleetCycle:
             eps = np.einsum("aijN,ajN->aiN", g.frame, eps)
         rots = _rotations(eps)  # (A, 3, 3, N)
         if self.rot.size:
-            theta = q[self.rot] * DEG
-            theta += g.zero
-            sin = np.sin(theta)
-            omc = np.cos(theta)
-            np.subtract(1.0, omc, out=omc)
+            sin, omc = _turned(q[self.rot], g.zero, nominal)
             m = g.k1 * sin[:, None, None]  # I + sin θ [n]x + (1 - cos θ) [n]x²
             m += g.k2 * omc[:, None, None]
             m.reshape(-1, 9, q.shape[1])[:, _DIAG] += 1.0
@@ -430,14 +425,16 @@ class FleetCycle:
         """Unrounded, unclamped corrections (K, N) of rows (machine idx (N,), positions q
         (A, N) rows last, contiguous), refined from ``start`` (K, N) or 0."""
         g = self.rows(idx)
-        tips, turns, jac = self.nominal(g, q)
+        angle = q[self.rot] * DEG
+        nominal = (angle, np.cos(angle), np.sin(angle))
+        tips, turns, jac = self.nominal(g, q, nominal)
         solve = None if jac is None else self.solver(g, jac)
         out_col = self.b.out_col
         dq = np.zeros_like(q)
         if start is not None:
             dq[out_col] = start
         for step in range(max_steps):
-            res = self.residual(g, idx, q + dq, tips, turns)
+            res = self.residual(g, idx, q + dq, tips, turns, nominal)
             if solve is None:
                 assert g.g_const is not None
                 delta = np.einsum("krN,rN->kN", g.g_const, res)
@@ -477,14 +474,52 @@ def _rotations(w: F64) -> F64:
         t = np.sqrt(np.where(pos, t2, 1.0))
         a = np.where(pos, np.sin(t) / t, 1.0)
         b = np.where(pos, (1.0 - np.cos(t)) / (t * t), 0.5)
+    n_ax, n = w.shape[0], w.shape[2]
+    out = np.empty((n_ax, 9, n))
     bw = b[:, None] * w
-    out: F64 = bw[:, :, None] * w[:, None]  # b w wᵀ (an einsum outer product is ~2x slower)
-    flat = out.reshape(w.shape[0], 9, -1)
-    flat[:, _DIAG] += (1.0 - b * t2)[:, None]
-    aw = a[:, None] * w
-    flat[:, _SKEW_PLUS] += aw
-    flat[:, _SKEW_MINUS] -= aw
-    return out
+    diag = out[:, _DIAG]
+    np.multiply(bw, w, out=diag)
+    diag += (1.0 - b * t2)[:, None]
+    sym = bw[:, [0, 0, 1]] * w[:, [1, 2, 2]]  # b w wᵀ above the diagonal
+    skew = a[:, None] * w[:, [2, 1, 0]]
+    skew *= _SKEW_SIGN  # a [w]x above the diagonal (below: its negative)
+    out[:, _UPPER] = sym + skew
+    out[:, _LOWER] = sym - skew
+    rot: F64 = out.reshape(n_ax, 3, 3, n)
+    return rot
+
+
+def _turned(q: F64, zero: F64, nominal: tuple[F64, F64, F64]) -> tuple[F64, F64]:
+    """sin θ and 1 - cos θ (Ar, N) of θ = q·DEG + zero (q in degrees), from the nominal
+    angle's (``nominal``: angle, cos, sin) by the angle-addition formulas: θ is within a
+    correction (at most the map's limit) and a location error of it, so the difference φ
+    is small and its sine and 1 - cosine are their series, exact to double precision
+    below |φ| = 0.01 rad (no sine or cosine of a whole array, ~9 ns an element); beyond,
+    sin and cos of θ."""
+    angle, cos0, sin0 = nominal
+    phi = q * DEG
+    phi -= angle
+    phi += zero
+    p2 = phi * phi
+    if float(p2.max(initial=0.0)) >= 1e-4:
+        theta = q * DEG
+        theta += zero
+        return np.sin(theta), 1.0 - np.cos(theta)
+    series = _TURN_C[3] * p2  # sin φ / φ and (1 - cos φ) / φ², Horner in φ²
+    series += _TURN_C[2]
+    series *= p2
+    series += _TURN_C[1]
+    series *= p2
+    series += _TURN_C[0]
+    sin_phi = series[0] * phi
+    omc_phi = series[1] * p2
+    sin = cos0 * sin_phi  # sin(θ0 + φ) = sin θ0 (1 - (1 - cos φ)) + cos θ0 sin φ
+    sin -= sin0 * omc_phi
+    sin += sin0
+    omc = cos0 * omc_phi  # 1 - cos(θ0 + φ) = (1 - cos θ0) + cos θ0 (1 - cos φ) + sin θ0 sin φ
+    omc += sin0 * sin_phi
+    omc += 1.0 - cos0
+    return sin, omc
 
 
 def _turn_columns(x: F64, t: F64, cols: list[int]) -> None:
