@@ -47,7 +47,7 @@ from numpy.typing import NDArray
 from protocol.codes import MapEncoding
 from protocol.maptables import THERMAL_DRIFT, ComponentTable, TablesPayload
 
-from .chaineval_cycle import FleetCycle
+from .chaineval_cycle import ROW_SETS, FleetCycle
 from .chaineval_rules import DEG, MAX_STEPS, PIVOT, RCOND, SERIES, STEP_TOL
 
 __all__ = ["MAX_STEPS", "PIVOT", "RCOND", "STEP_TOL", "ChainBatch", "StructureError",
@@ -281,7 +281,7 @@ class ChainBatch:
             idx = np.arange(m)
             self.g_const = self._pinv(idx, self.jacobian(idx, np.zeros((m, a))))
         self._cycle = FleetCycle(self)
-        self._limits: tuple[bytes, F64] | None = None  # finish's limits of its last rows
+        self._limits: dict[bytes, F64] = {}  # finish's limits by row set
 
     def __len__(self) -> int:
         return len(self.maps)
@@ -636,10 +636,12 @@ class ChainBatch:
 
     def finish(self, idx: I64, c: F64, directions: NDArray[np.generic] | None = None) -> F64:
         """Corrections ``c`` (N, K) as applied: clamped, rounded, reversal added."""
-        key = idx.tobytes()  # a PLC fleet finishes the same rows every cycle
-        if self._limits is None or self._limits[0] != key:
-            self._limits = (key, self.limit[idx])
-        limit = self._limits[1]
+        key = idx.tobytes()  # a PLC fleet finishes the same row sets cycle after cycle
+        limit = self._limits.get(key)
+        if limit is None:
+            if len(self._limits) >= ROW_SETS:
+                self._limits.clear()
+            limit = self._limits[key] = self.limit[idx]
         c = np.minimum(np.maximum(c, -limit), limit)
         if not self.int32.any():  # float32 maps only (Siemens-style): no increments
             out: F64 = c.astype(np.float32).astype(np.float64)

@@ -42,11 +42,14 @@ from numpy.typing import NDArray
 
 from .chaineval_rules import DEG, PIVOT, RCOND, SERIES, STEP_TOL
 
-__all__ = ["FleetCycle"]
+__all__ = ["ROW_SETS", "FleetCycle"]
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
 _DIRS: Final = "XYZABC"
+ROW_SETS: Final = 16
+"""Row sets whose constants are kept at once (a PLC with a PLC/IPO ratio of n asks for n
+groups in turn)."""
 _PLANE: Final = ((1, 2), (2, 0), (0, 1))  # the components a turn about x, y, z changes
 # flat (row-major) indices of a 3x3 matrix: its diagonal, where [w]x has +w and -w, its
 # upper and lower off-diagonal entries
@@ -202,14 +205,15 @@ class FleetCycle:
         # a base turn about axis i: 1 at (i, i), cos at (u, u) and (w, w), sin at (w, u),
         # -sin at (u, w)
         self.turn_planes = [(self.base[j], *_PLANE[self.base[j]]) for j in self.rot.tolist()]
-        self._cache: _Rows | None = None
+        self._cache: dict[bytes, _Rows] = {}  # by row set: a PLC's groups take turns
 
     def rows(self, idx: I64) -> _Rows:
         """The per-machine constants of these rows, rows last, cached: a PLC fleet asks for
-        the same rows (its groups) every cycle."""
+        the same row sets (its groups) cycle after cycle."""
         key = idx.tobytes()
-        if self._cache is not None and self._cache.key == key:
-            return self._cache
+        found = self._cache.get(key)
+        if found is not None:
+            return found
         b = self.b
 
         def last(x: NDArray[Any]) -> NDArray[Any]:  # (N, ...) → (..., N), contiguous
@@ -231,7 +235,9 @@ class FleetCycle:
             last(b.k2t[idx][:, self.rot]), last(b.zero[idx][:, self.rot]),
             last(b.line[idx][:, self.lin]), last(b.tool[idx]), last(sw * self.unit),
             last(sw[:, :, None] * self.jac_unit), g_const)
-        self._cache = rows
+        if len(self._cache) >= ROW_SETS:  # a caller that changes its rows every call
+            self._cache.clear()
+        self._cache[key] = rows
         return rows
 
     # -- step 1: the component errors
