@@ -52,6 +52,7 @@ from typing import Final, Literal
 from . import _check as check
 from .codes import MapEncoding
 from .limits import MAX_MAP_BYTES, MAX_NAME_BYTES
+from .mapfactored import FACTORED_FORMAT_VERSION, FactoredPayload, decode_factored
 from .mapformat import (
     _OUT,
     _THERMAL,
@@ -469,16 +470,19 @@ def encode_payload(p: ErrorMapPayload | TablesPayload) -> bytes:
     return encode_map(p)
 
 
-def payload_kind(p: ErrorMapPayload | TablesPayload) -> Literal["grid", "tables"]:
-    """``"grid"`` (format version 1, or 3 with thermal records) or ``"tables"`` (format
-    version 2)."""
+def payload_kind(p: ErrorMapPayload | TablesPayload | FactoredPayload
+                 ) -> Literal["grid", "tables", "factored"]:
+    """``"grid"`` (format version 1, or 3 with thermal records), ``"tables"`` (format
+    version 2) or ``"factored"`` (format version 4)."""
+    if isinstance(p, FactoredPayload):
+        return "factored"
     return "tables" if isinstance(p, TablesPayload) else "grid"
 
 
 # --- decoding -------------------------------------------------------------------------
 
-def decode_payload(data: bytes) -> ErrorMapPayload | TablesPayload:
-    """Parse either map kind, by the format version at offset 4.
+def decode_payload(data: bytes) -> ErrorMapPayload | TablesPayload | FactoredPayload:
+    """Parse any map kind, by the format version at offset 4.
 
     Raises
     ------
@@ -495,8 +499,10 @@ def decode_payload(data: bytes) -> ErrorMapPayload | TablesPayload:
         return decode_map(data)
     if fmt == TABLES_FORMAT_VERSION:
         return decode_tables(data)
+    if fmt == FACTORED_FORMAT_VERSION:
+        return decode_factored(data)
     raise MapFormatError(f"map format version {fmt} at offset 4, this end reads 1 (grid), "
-                         f"2 (tables) and 3 (grid with thermal records)")
+                         f"2 (tables), 3 (grid with thermal records) and 4 (factored)")
 
 
 def decode_tables(data: bytes) -> TablesPayload:

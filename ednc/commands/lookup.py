@@ -26,7 +26,7 @@ from ednc.inputs import parse_number
 from machine_sim.chaineval import StructureError, sensor_key
 from machine_sim.lookup import FactoredLadder, GridMap, TablesMap
 from protocol.codes import MapEncoding
-from protocol.mapfactored import FACTORED_FORMAT_VERSION, FactoredPayload, decode_factored
+from protocol.mapfactored import FactoredPayload
 from protocol.mapformat import ErrorMapPayload, MapFormatError
 from protocol.maptables import TablesPayload, decode_payload
 
@@ -42,8 +42,6 @@ def read_map(path: Path) -> Payload:
     except OSError as exc:
         raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
     try:
-        if data[4:6] == FACTORED_FORMAT_VERSION.to_bytes(2, "little"):
-            return decode_factored(data)
         return decode_payload(data)
     except MapFormatError as exc:
         raise UserError(f"{path}: not an EDNC map payload: {exc}") from None

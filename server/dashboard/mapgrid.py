@@ -2,10 +2,12 @@
 
 A grid payload (protocol README §6) holds values of shape ``(count_1, ..., count_D, K)``;
 the slice spans two grid axes ``u`` and ``v`` and holds every other grid axis at its node
-nearest the middle of its range. A tables payload holds no grid: its corrections are
-evaluated (as the center evaluates them, :func:`server.mapcodec.tables_from_payload`) on a
-display grid of ``DISPLAY_NODES`` per axis over two machine axes, the others at
-mid-travel. Values come out in µm for linear output axes and µrad for rotary ones.
+nearest the middle of its range. A tables or factored payload holds no grid: its
+corrections are evaluated (as the center evaluates them,
+:func:`server.mapcodec.tables_from_payload`, :func:`server.mapcodec.factored_from_payload`;
+a factored map before the ladder's rounding) on a display grid of ``DISPLAY_NODES`` per
+axis over two machine axes, the others at mid-travel. Values come out in µm for linear
+output axes and µrad for rotary ones.
 """
 
 from __future__ import annotations
@@ -14,11 +16,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
+from protocol.mapfactored import FactoredPayload
 from protocol.mapformat import ErrorMapPayload, MapFormatError
 from protocol.maptables import TablesPayload, decode_payload
 from server.dashboard.schemas import GridAxisView, MapGrid, MapSlice
 from server.dashboard.telemetry import ROTARY, UM_PER_MM, URAD_PER_DEG
-from server.mapcodec import tables_from_payload
+from server.mapcodec import factored_from_payload, tables_from_payload
 from volumetric.compensate.maps import MapBuildError
 from volumetric.compensate.solver import CompensationError
 from volumetric.model.machine import Machine
@@ -39,8 +42,8 @@ def _scale(name: str) -> float:
     return URAD_PER_DEG if _is_rotary(name) else UM_PER_MM
 
 
-def decode_stored(payload: bytes) -> ErrorMapPayload | TablesPayload:
-    """Decode a stored payload; :class:`MapSliceError` names what is wrong."""
+def decode_stored(payload: bytes) -> ErrorMapPayload | TablesPayload | FactoredPayload:
+    """Decode a stored payload of any kind; :class:`MapSliceError` names what is wrong."""
     try:
         return decode_payload(payload)
     except MapFormatError as exc:
@@ -128,10 +131,10 @@ def slice_map(payload: ErrorMapPayload, u: str | None = None, v: str | None = No
 
 
 
-def slice_tables(payload: TablesPayload, machine: Machine, u: str | None = None,
-                 v: str | None = None) -> MapGrid:
-    """The corrections of a tables map over machine axes ``u`` and ``v`` (by default the
-    first two linear axes), on a display grid, the other axes at mid-travel.
+def slice_tables(payload: TablesPayload | FactoredPayload, machine: Machine,
+                 u: str | None = None, v: str | None = None) -> MapGrid:
+    """The corrections of a tables or factored map over machine axes ``u`` and ``v`` (by
+    default the first two linear axes), on a display grid, the other axes at mid-travel.
 
     Raises
     ------
@@ -151,9 +154,13 @@ def slice_tables(payload: TablesPayload, machine: Machine, u: str | None = None,
     if u == v:
         raise MapSliceError(f"u and v are both {u!r}; choose two different axes")
     try:
-        content = tables_from_payload(payload, machine)
+        content = (factored_from_payload(payload) if isinstance(payload, FactoredPayload)
+                   else tables_from_payload(payload, machine))
     except MapBuildError as exc:
         raise MapSliceError(str(exc)) from None
+    if content.outputs != machine.axis_names:
+        raise MapSliceError(f"the map's axes {' '.join(content.outputs)} are not those of "
+                            f"{machine.name!r} ({' '.join(machine.axis_names)})")
     axes = {a.name: a for a in machine.axes}
     views, fixed, nodes = [], {}, {}
     for a in machine.axes:  # every axis is offered for the plot: list them all
@@ -181,15 +188,20 @@ def slice_tables(payload: TablesPayload, machine: Machine, u: str | None = None,
     except CompensationError as exc:
         raise MapSliceError(f"the map's corrections cannot be evaluated: {exc}") from None
     slices = []
-    for k, out in enumerate(payload.outputs):
-        scale = URAD_PER_DEG if axes[out.name].kind == "rotary" else UM_PER_MM
+    for k, (name, rev) in enumerate(zip(content.outputs, content.reversal, strict=True)):
+        rotary = axes[name].kind == "rotary"
+        scale = URAD_PER_DEG if rotary else UM_PER_MM
         grid_values = dq[:, k].reshape(gu.shape) * scale
-        reversal = None if out.reversal is None else float(out.reversal) * scale
         slices.append(MapSlice(
-            output=out.name, unit="µrad" if axes[out.name].kind == "rotary" else "µm",
-            reversal=reversal, values=np.round(grid_values, 4).tolist(),
+            output=name, unit="µrad" if rotary else "µm",
+            reversal=None if rev is None else float(rev) * scale,
+            values=np.round(grid_values, 4).tolist(),
             min=float(grid_values.min()), max=float(grid_values.max()),
         ))
+    if isinstance(payload, FactoredPayload):  # a ladder's: whole increments
+        return MapGrid(machine=payload.machine, version=payload.version, kind="factored",
+                       encoding="int32", increment_mm=payload.increment_mm, grid=views, u=u,
+                       v=v, fixed=fixed, outputs=slices)
     return MapGrid(
         machine=payload.machine, version=payload.version, kind="tables",
         encoding="int32" if payload.encoding == MapEncoding.INT32_INCREMENTS else "float32",

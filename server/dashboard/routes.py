@@ -28,6 +28,7 @@ from fastapi import APIRouter, HTTPException, Query, Request, status
 from fastapi.responses import FileResponse, HTMLResponse, StreamingResponse
 from sqlalchemy.orm import Session
 
+from protocol.mapfactored import FactoredPayload
 from protocol.maptables import TablesPayload
 from server.api.deps import CenterDep, DatabaseDep, MachineDep, ReportId, Version
 from server.api.errors import NOT_FOUND, Problem, unprocessable
@@ -147,7 +148,7 @@ async def _grid(db: DatabaseDep, machine: MachineRow, version: int | None,
         raise HTTPException(status.HTTP_409_CONFLICT,
                             f"map v{row.version} of {machine.name!r}: {exc}") from None
     try:
-        if isinstance(payload, TablesPayload):
+        if isinstance(payload, TablesPayload | FactoredPayload):
             try:
                 described = parse_machine(machine.description)
             except MachineSpecError as exc:

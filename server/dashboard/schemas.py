@@ -183,9 +183,10 @@ class MapGrid(BaseModel):
 
     machine: str
     version: int
-    kind: Literal["grid", "tables"] = Field(
+    kind: Literal["grid", "tables", "factored"] = Field(
         default="grid", description="grid: the map's own nodes; tables: the corrections "
-                                    "the machine computes, on a display grid.")
+                                    "the machine computes, on a display grid; factored: "
+                                    "the same, before the ladder rounds them.")
     encoding: Literal["int32", "float32"]
     increment_mm: float
     grid: list[GridAxisView]
