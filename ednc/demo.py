@@ -98,8 +98,8 @@ def prepare(fm: FleetMachine, console: Console) -> Prepared:
     temps = None
     if model.sensors:
         temps = {s: float(readings.temperatures[s[2:-2]].mean()) for s in model.sensors}
-    # the kind its controller evaluates: tables for a Siemens-style endpoint, a grid for a
-    # Fanuc-style PMC ladder; the tightest tolerance that fits its map memory
+    # the kind its controller evaluates: tables for a Siemens-style endpoint, the smaller of
+    # a factored map and a grid for a Fanuc-style PMC ladder
     emap = build_for(m, model, temps, tolerance_um=0.5, max_tolerance_um=4.0)
     assert emap.report is not None
     payload = encode(emap)

@@ -31,7 +31,7 @@ from rich.table import Table
 from ednc.demo import DIAGONALS, Prepared
 from machine_sim.campaign import map_compensation, run_campaign
 from machine_sim.link import MqttTarget, SimulatedCNC
-from machine_sim.lookup import ActiveMap, TablesMap
+from machine_sim.lookup import ActiveMap, FactoredLadder, TablesMap
 from machine_sim.runtime import MachineRuntime
 from machine_sim.testprograms import diagonal_test
 from machine_sim.thermal import default_thermal
@@ -201,6 +201,8 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
 
 
 def _kind(active: ActiveMap) -> str:
+    if isinstance(active, FactoredLadder):
+        return "factored"
     return "tables" if isinstance(active, TablesMap) else "grid"
 
 

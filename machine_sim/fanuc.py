@@ -96,7 +96,8 @@ class FanucConfig:
         The ladder applies the thermal records of grid maps (declares
         ``MapEncoding.THERMAL``); False: a ladder that takes version-1 grids only.
     factored : bool
-        The ladder evaluates factored maps (declares ``MapEncoding.FACTORED``).
+        The ladder evaluates factored maps (declares ``MapEncoding.FACTORED``); False: an
+        older ladder that takes grids only.
     """
 
     scan_s: float = 0.008
@@ -108,7 +109,7 @@ class FanucConfig:
     layout: RLayout = RLayout()
     expiry_ramp_s: float = 2.0
     thermal_records: bool = True
-    factored: bool = False
+    factored: bool = True
 
     def __post_init__(self) -> None:
         if self.on_jump not in ("ramp", "alarm"):

@@ -329,10 +329,10 @@ def declared_kinds(formats: MapEncoding) -> tuple[MapKind, ...]:
 
 def default_formats(controller: str) -> MapEncoding:
     """What a machine of a controller family evaluates when it has not said (the
-    simulated Siemens-style endpoint evaluates tables, the Fanuc-style one grids and
-    applies their thermal records; factored maps only when it declares them)."""
+    simulated Siemens-style endpoint evaluates tables, the Fanuc-style one grids with
+    their thermal records and factored maps)."""
     if controller.lower() == "fanuc":
-        return MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
+        return MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL | MapEncoding.FACTORED
     return MapEncoding.FLOAT32_MM | MapEncoding.TABLES
 
 

@@ -19,14 +19,15 @@ def test_the_demo_runs_the_whole_loop_and_says_where_the_dashboard_is() -> None:
                          text=True, timeout=600, env={"COLUMNS": "200", "PATH": "/usr/bin:/bin"})
     assert out.returncode == 0, out.stderr[-3000:]
     text = out.stdout
-    kinds = {"vmc-01": "tables", "gantry-02": "grid", "hmc-03": "grid", "5ax-04": "tables",
-             "arch-05": "grid"}  # Siemens-style endpoints evaluate tables, Fanuc PMCs grids
+    # Siemens-style endpoints evaluate tables, Fanuc PMCs factored maps (smaller than grids)
+    kinds = {"vmc-01": "tables", "gantry-02": "factored", "hmc-03": "factored",
+             "5ax-04": "tables", "arch-05": "factored"}
     for name, kind in kinds.items():
         assert re.search(rf"{name} \(127\.0\.2\.\d\): {kind} map version \d+ received",
                          text), name
     # the numeric loop says, per machine, the kind, bytes and worst error of its map
-    assert len(re.findall(r"map: (tables|grid), [\d,]+ bytes, worst tool-tip error \d+\.\d+ µm",
-                          text)) == 5
+    assert len(re.findall(r"map: (tables|grid|factored), [\d,]+ bytes, worst tool-tip "
+                          r"error \d+\.\d+ µm", text)) == 5
     assert "diagnosis: thermal_drift z T_spindle_C" in text
     assert "diagnosis: backlash y" in text
     # ISO 230-6 with the maps the machines received: at least 90 % better each

@@ -7,6 +7,10 @@ Fanuc ladders.)"""
 
 from __future__ import annotations
 
+import asyncio
+from contextlib import AsyncExitStack
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -17,7 +21,16 @@ from machine_sim.testprograms import diagonal_test
 from protocol.maptransfer import split_into_chunks
 from protocol.messages import MapAck
 from server.mapcodec import encode
-from tests.support.integration import campaign
+from tests.support.integration import (
+    DEADLINE_S,
+    FANUC_5AX,
+    Plant,
+    campaign,
+    center,
+    cnc,
+    require_loopback_aliases,
+    until,
+)
 from volumetric.compensate.factoredmap import build_factored_map
 from volumetric.model.model import MachineModel
 from volumetric.verify.iso230_6 import diagonal_ranges, improvement
@@ -54,3 +67,39 @@ def test_a_fanuc_ladder_with_a_factored_map_cuts_the_diagonals() -> None:
     for k in range(200):
         pmc.scan(0.008 * k, q)
     assert np.array_equal(pmc.shifts(), received.counts(q[None, :])[0])
+
+
+async def _acked(plant: Plant, name: str) -> bool:
+    st = await plant.status(name)
+    latest = st["map_version_latest"]
+    return latest is not None and st["map_version_applied"] == latest
+
+
+async def test_a_five_axis_fanuc_machine_gets_a_factored_map_over_tcp(tmp_path: Path) -> None:
+    require_loopback_aliases()
+    s = FANUC_5AX
+    sim, _, _ = await asyncio.to_thread(campaign, s.name)
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        plant = await stack.enter_async_context(center(f"sqlite:///{tmp_path / 'c.db'}"))
+        await plant.register(s)
+        machine = await stack.enter_async_context(cnc(s, plant.port))
+        await machine.ready.wait()
+        assert await plant.fit_from_campaign(s.name) == 1
+        await until(lambda: _acked(plant, s.name))
+        pmc = machine.runtime.controller
+        await until(lambda: pmc.store.version == 1)
+        received = pmc.store.active
+        events = [e.kind for e in pmc.store.events]
+    assert isinstance(received, FactoredLadder), type(received)
+    assert events == ["applied"]
+    m = sim.machine
+    programs = [diagonal_test(m, d, points=20, runs=2) for d in DIAGONALS]
+    before = diagonal_ranges(run_campaign(sim, programs).measurements)
+    comp = map_compensation(m, received, increment_mm=0.001)
+    after = diagonal_ranges(run_campaign(sim, programs, compensation=comp).measurements)
+    gain = improvement(before, after)
+    print(f"\n{m.name} (fanuc, {m.chain}) factored over TCP: ranges before "
+          f"{ {k: round(v, 1) for k, v in before.items()} } µm, after "
+          f"{ {k: round(v, 2) for k, v in after.items()} } µm")
+    assert max(before.values()) > 20.0
+    assert gain["overall"] >= 0.95, gain

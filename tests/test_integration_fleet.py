@@ -4,7 +4,8 @@ REST API; every machine gets its map, acknowledges it, applies it in its PLC loo
 map it actually received, applied the way its controller applies it, cuts its ISO 230-6
 diagonal ranges by 95 % (the arch machine: both spindles' errors shrink under the weighted
 compensation of shared axes). Siemens-style machines declare that they evaluate tables maps
-and get one (the chain evaluated in the machine); Fanuc-style PMC ladders get grids."""
+and get one (the chain evaluated in the machine); Fanuc-style PMC ladders declare factored
+maps and grids and get the smaller."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ import numpy as np
 import pytest
 
 from machine_sim.campaign import map_compensation, run_campaign
-from machine_sim.lookup import ActiveMap, GridMap, TablesMap
+from machine_sim.lookup import ActiveMap, FactoredLadder, GridMap, TablesMap
 from machine_sim.testprograms import diagonal_test
 from tests.support.integration import (
     DEADLINE_S,
@@ -76,7 +77,7 @@ async def test_six_machines_get_identified_maps_that_compensate_them(tmp_path: P
             version = st["map_version_applied"]
             store = sims[s.name].runtime.controller.store
             await until(lambda st_=store, v=version: st_.version == v)
-            assert [e.kind for e in store.events] == ["applied"]
+            assert [e.kind for e in store.events] == ["applied"], store.events
             delivered = await plant.deliveries(s.name)
             assert [(d["map_version"], d["state"]) for d in delivered] == [(version, "applied")]
             # the PLC applies it: nonzero shifts, and the center hears them in Telemetry
@@ -86,14 +87,20 @@ async def test_six_machines_get_identified_maps_that_compensate_them(tmp_path: P
                 "map_version") == v)
         grids = {s.name: sims[s.name].runtime.controller.store.active for s in FLEET}
 
+    kinds = {}
     for s in FLEET:
         grid = grids[s.name]
-        # the kind the machine's controller evaluates, chosen by the center from its Hello
-        assert isinstance(grid, TablesMap if s.machine.controller == "siemens" else GridMap)
+        # the kind the machine's controller evaluates, chosen by the center from its Hello:
+        # tables for a Siemens-style NC, the smaller of factored and grid for a ladder
+        assert isinstance(grid, TablesMap if s.machine.controller == "siemens"
+                          else (GridMap, FactoredLadder))
+        kinds[s.name] = type(grid).__name__
         if s.name == "arch-05":
             _check_arch(s.name, grid)
         else:
             _check_diagonals(s.name, grid)
+    # the Siemens machines got tables, at least one ladder a factored map: each measured
+    assert "FactoredLadder" in kinds.values() and "TablesMap" in kinds.values(), kinds
 
 
 def _increment(controller: str) -> float | None:

@@ -1,7 +1,8 @@
 """A Fanuc-style machine whose spindle grows with heat, end to end: the center's diagnosis
 model (a thermal drift along z on ``T_spindle_C``, found by ``volumetric.diagnose.diagnosis``
-in a simulated campaign) is uploaded through the REST API; the machine gets one grid map
-that carries the term (format version 3: its ladder applies it by multiply-add), at once,
+in a simulated campaign) is uploaded through the REST API; the machine gets one map that
+carries the term (a factored map, format version 4, or for a ladder that takes grids only a
+grid of format version 3: either way its ladder applies it by multiply-add), at once,
 without waiting for a temperature; spindle temperatures published on MQTT reach it through
 the center's Temperatures messages, and its z correction moves by the model's
 coefficient × ΔT per step while the map version stays 1 (no rebuild, one push); the
@@ -10,7 +11,7 @@ machine stays compensated as it warms."""
 from __future__ import annotations
 
 import asyncio
-import dataclasses
+import copy
 import uuid
 from contextlib import AsyncExitStack
 from pathlib import Path
@@ -19,7 +20,7 @@ import aiomqtt
 import numpy as np
 import pytest
 
-from machine_sim.lookup import GridMap
+from machine_sim.lookup import ActiveMap, FactoredLadder, GridMap
 from protocol.backoff import Backoff
 from server.numeric import plain_json
 from tests.support.integration import (
@@ -52,8 +53,27 @@ def _thermal_term(model: MachineModel) -> ThermalTerm:
     return terms[0]
 
 
+def _before_rounding(active: ActiveMap, q: np.ndarray) -> np.ndarray:
+    """The ladder's corrections before it rounds them, mm (N, K)."""
+    if isinstance(active, FactoredLadder):
+        d = len(active.outputs)
+        out: np.ndarray = active.fields(q)[:, :d] + active.thermal_mm[0] + \
+            active.thermal_mm[1] * q
+        return out
+    assert isinstance(active, GridMap)
+    return active.lookup(q)
+
+
+def _snapshot(active: ActiveMap) -> ActiveMap:
+    """The map as it is now: its thermal constants change in place with every temperature."""
+    snap = copy.copy(active)
+    object.__setattr__(snap, "thermal_mm", active.thermal_mm.copy())
+    return snap
+
+
+@pytest.mark.parametrize("factored", [True, False], ids=["factored", "grid"])
 async def test_mqtt_temperature_moves_the_map_by_the_model(
-        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+        tmp_path: Path, mqtt_broker: tuple[str, int], factored: bool) -> None:
     require_loopback_aliases()
     model = await asyncio.to_thread(diagnosed_model)
     term = _thermal_term(model)
@@ -64,7 +84,8 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
     ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
     z = m.axis_names.index("Z")
     seen: list[float] = []
-    snapshots: list[GridMap] = []
+    snapshots: list[ActiveMap] = []
+    kind = FactoredLadder if factored else GridMap
     temps: list[float] = []
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
         plant = await stack.enter_async_context(center(
@@ -76,14 +97,16 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
         await plant.services.mqtt.connected.wait()
         await plant.register(THERMAL)
         await plant.post_model(name, plain_json(model.to_json()))
-        sim = await stack.enter_async_context(cnc(THERMAL, plant.port))
+        sim = await stack.enter_async_context(cnc(THERMAL, plant.port, factored=factored))
         ctl = sim.runtime.controller
         store = ctl.store
         await sim.ready.wait()
-        # the grid carries the term: built at its reference, it needs no temperature
+        # the map carries the term: built at its reference, it needs no temperature
         await until(lambda: store.version == 1)
         await until(plant.applied(name, 1))
-        assert isinstance(store.active, GridMap) and store.active.thermal
+        assert isinstance(store.active, kind)
+        assert (store.active.payload.thermal if isinstance(store.active, FactoredLadder)
+                else store.active.thermal)
         # steps of 1.5 K, a second apart: within the intake's plausible rate of change
         for k in range(3):
             celsius = round(term.t_ref_C + 1.5 * (k + 1), 3)  # as published
@@ -92,10 +115,11 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
                 "T_spindle_C", -1e9) - c) < 1e-6)
             await asyncio.sleep(0.1)  # a few 20 ms cycles: the next one folds it in
             active = store.active
-            assert isinstance(active, GridMap) and active.version == 1
-            seen.append(float(active.lookup(ref[:, [m.axis_names.index(a)
-                                                    for a in active.inputs]])[0, z]) * 1e3)
-            snapshots.append(dataclasses.replace(active, thermal_mm=active.thermal_mm.copy()))
+            assert isinstance(active, kind) and active.version == 1
+            seen.append(float(_before_rounding(active, ref[:, [m.axis_names.index(a)
+                                                               for a in active.inputs]])[0, z])
+                        * 1e3)
+            snapshots.append(_snapshot(active))
             temps.append(celsius)
             await asyncio.sleep(1.0)
         maps = await plant.maps(name)
@@ -103,7 +127,7 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
     assert len(maps) == 1 and len(pushed) == 1  # one map, one push, three temperatures
     steps = np.diff(seen)  # µm of z correction per temperature step
     expected = -term.coefficient * np.diff(temps)  # the correction opposes the growth
-    print(f"\nthermal in the grid: k = {term.coefficient:.3f} µm/K; z correction moved "
+    print(f"\nthermal in the {kind.__name__}: k = {term.coefficient:.3f} µm/K; z correction moved "
           f"{steps.round(3)} µm per 1.5 K step (expected {expected.round(3)})")
     assert abs(expected[0]) > 2.0  # a move the test can see
     # exact before the ladder's rounding (the term is added, not interpolated)
@@ -112,14 +136,13 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
     _check_still_compensated(snapshots[0], snapshots[-1], temps[0], temps[-1])
 
 
-def _check_shift(grid1: GridMap, grid2: GridMap, term: ThermalTerm, dt_K: float) -> None:
+def _check_shift(grid1: ActiveMap, grid2: ActiveMap, term: ThermalTerm, dt_K: float) -> None:
     """The same map at two temperatures differs by the drift term alone, everywhere: z by
     -k·ΔT, x and y not at all (each within one Fanuc increment, the ladder's rounding)."""
     assert grid1.grid == grid2.grid and grid1.outputs == grid2.outputs
     rng = np.random.default_rng(3)
-    lo = grid1.start
-    hi = grid1.start + grid1.step * (grid1.count - 1)
-    q = rng.uniform(lo, hi, size=(500, lo.size))
+    travel = {a.name: a.travel for a in THERMAL.machine.axes}
+    q = np.column_stack([rng.uniform(*travel[a], 500) for a in grid1.inputs])
     delta = (np.rint(grid2.lookup(q) * 1e3) - np.rint(grid1.lookup(q) * 1e3))  # counts = µm
     expected_z = -term.coefficient * dt_K  # the correction opposes the tool's growth
     z = grid1.outputs.index("Z")
@@ -133,7 +156,8 @@ def _check_shift(grid1: GridMap, grid2: GridMap, term: ThermalTerm, dt_K: float)
     np.testing.assert_allclose(delta[:, others], 0.0, rtol=0, atol=increment_um)
 
 
-def _check_still_compensated(grid1: GridMap, grid2: GridMap, t1: float, t2: float) -> None:
+def _check_still_compensated(grid1: ActiveMap, grid2: ActiveMap, t1: float, t2: float
+                             ) -> None:
     """On the true machine: warmed from t1 to t2, the tool tip drifts along z; with the
     map's terms at t2 the compensated tool tip stays where they held it at t1."""
     from machine_sim.campaign import map_compensation
@@ -145,7 +169,7 @@ def _check_still_compensated(grid1: GridMap, grid2: GridMap, t1: float, t2: floa
     still = np.zeros(q.shape, dtype=np.int8)
     start = {"spindle": 20.0}  # the drift's reference (THERMAL's effect)
 
-    def z_bias(grid: GridMap, t: float) -> float:
+    def z_bias(grid: ActiveMap, t: float) -> float:
         shift = map_compensation(m, grid, increment_mm=0.001)(q, still)
         e = sim.true_error(q, temperatures={"spindle": t}, start_temperatures=start,
                            compensation=shift).position_um

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from protocol.codes import MapEncoding
+from protocol.mapfactored import FactoredPayload
 from protocol.maptables import decode_payload, payload_kind
-from server.dashboard.mapgrid import MapSliceError, slice_tables
+from server.dashboard.mapgrid import MapSliceError, decode_stored, slice_tables
 from server.mapcodec import (
     build_for,
     carries_thermal,
@@ -21,6 +22,7 @@ from server.mapcodec import (
     tables_to_payload,
 )
 from tests.support.kinematics import machine, random_errors, random_q
+from volumetric.compensate.factoredmap import FactoredMap
 from volumetric.compensate.maps import MapBuildError
 from volumetric.compensate.tablesmap import TablesMap, build_tables_map
 from volumetric.model.machine import Machine
@@ -63,8 +65,15 @@ def test_auto_picks_the_smallest_kind_the_machine_evaluates() -> None:
     model = MachineModel(five.name, random_errors(five, np.random.default_rng(4), 5.0))
     siemens = build_for(five, model, tolerance_um=1.0, controller="siemens")
     assert kind_of(siemens) == "tables" and len(encode(siemens)) < 16_000
+    # a Fanuc ladder takes factored maps: smaller than its grid and closer as sent (the
+    # grid's rotary corrections are rounded to 0.001° over a lever of hundreds of mm)
     fanuc = build_for(five, model, tolerance_um=2.0, controller="fanuc")
-    assert kind_of(fanuc) == "grid"
+    old_ladder = build_for(five, model, tolerance_um=2.0, controller="fanuc",
+                           formats=MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL)
+    assert kind_of(fanuc) == "factored" and kind_of(old_ladder) == "grid"
+    assert fanuc.report is not None and old_ladder.report is not None
+    assert len(encode(fanuc)) < len(encode(old_ladder))
+    assert fanuc.report.worst_error_um <= 2.0 < old_ladder.report.worst_error_um
     with pytest.raises(MapBuildError, match="does not evaluate tables maps"):
         build_for(five, model, kind="tables", controller="fanuc")
     # a machine that declared grids only gets a grid whatever its controller family
@@ -99,16 +108,46 @@ def test_the_dashboard_shows_a_tables_map_as_the_machine_computes_it() -> None:
         slice_tables(payload, mach, "Q", None)  # type: ignore[arg-type]
 
 
+def test_the_dashboard_shows_a_factored_map_as_the_ladder_computes_it() -> None:
+    mach = machine("w C X Y b Z t", controller="fanuc",
+                   travel_mm={"x": [0, 400], "y": [0, 300], "z": [-300, 0], "c": [-180, 180]},
+                   pivots_mm={"C": [200.0, 150.0, -100.0]})
+    model = MachineModel(mach.name, random_errors(mach, np.random.default_rng(8), 4.0))
+    fm = build_for(mach, model, tolerance_um=1.0, kind="factored")
+    assert isinstance(fm, FactoredMap)
+    payload = decode_stored(encode(fm))
+    assert isinstance(payload, FactoredPayload)
+    view = slice_tables(payload, mach, "X", "C")
+    assert view.kind == "factored" and view.encoding == "int32"
+    gx = next(g for g in view.grid if g.name == "X")
+    gc = next(g for g in view.grid if g.name == "C")
+    q = np.array([[view.fixed.get(a.name, 0.0) for a in mach.axes]])
+    q[0, mach.axis_names.index("X")] = gx.start + 4 * gx.step
+    q[0, mach.axis_names.index("C")] = gc.start + 7 * gc.step
+    want = fm.corrections(q)[0]
+    for out in view.outputs:
+        k = mach.axis_names.index(out.output)
+        scale = 1e6 * np.pi / 180 if out.output == "C" else 1e3
+        assert out.values[7][4] == pytest.approx(want[k] * scale, abs=1e-3)
+    other = machine("w X Y b Z t", controller="fanuc")
+    with pytest.raises(MapSliceError, match="not those of"):
+        slice_tables(payload, other, "X", "Y")
+
+
 def test_a_thermal_model_without_temperatures_still_gets_its_tables() -> None:
     mach = five_axis()
     model = thermal_model(mach.name)
     got = build_for(mach, model, {}, tolerance_um=1.0, controller="siemens")
     assert kind_of(got) == "tables"
-    # a ladder that applies thermal records gets them in its grid, built at reference
+    # a ladder gets them in its factored map, or (one that takes grids only) in its grid,
+    # built at reference
     fanuc = build_for(mach, model, {}, tolerance_um=4.0, controller="fanuc")
-    assert kind_of(fanuc) == "grid" and fanuc.thermal and carries_thermal(fanuc)
-    assert carries_thermal(encode(fanuc)) and not carries_thermal(encode(
-        dataclasses.replace(fanuc, thermal=())))
+    assert kind_of(fanuc) == "factored" and fanuc.thermal and carries_thermal(fanuc)
+    grid = build_for(mach, model, {}, tolerance_um=4.0, controller="fanuc",
+                     formats=MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL)
+    assert kind_of(grid) == "grid" and grid.thermal and carries_thermal(grid)
+    assert carries_thermal(encode(grid)) and not carries_thermal(encode(
+        dataclasses.replace(grid, thermal=())))
     # one that takes version-1 grids only still needs today's temperatures
     with pytest.raises(MapBuildError, match="temperatures"):
         build_for(mach, model, {}, tolerance_um=4.0, controller="fanuc",

@@ -140,7 +140,8 @@ def test_fanuc_scan_adds_the_thermal_records_and_rounds_once() -> None:
     assert isinstance(refused, MapReject)
     assert refused.reason is MapRejectReason.UNSUPPORTED_ENCODING
     ctl = fanuc(max_step_counts=1000)
-    assert ctl.store.assembler.accepted == MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
+    assert ctl.store.assembler.accepted == \
+        MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL | MapEncoding.FACTORED
     assert isinstance(push(ctl, p), MapAck)
     pos = {"x": 237.0, "y": 161.0, "z": -50.0}
     cold = ctl.scan(0.0, pos).copy()  # no temperature yet: the records add nothing

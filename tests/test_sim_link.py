@@ -82,7 +82,8 @@ async def push(s: Session, p: ErrorMapPayload, chunk: int = 64) -> Message:
 async def test_session_map_telemetry_heartbeat_release(center: MiniCenter, controller: str,
                                                        encoding: MapEncoding) -> None:
     m = machine(controller)
-    formats = encoding | (MapEncoding.TABLES if controller == "siemens" else MapEncoding.THERMAL)
+    formats = encoding | (MapEncoding.TABLES if controller == "siemens"
+                          else MapEncoding.THERMAL | MapEncoding.FACTORED)
     async with asyncio.timeout(DEADLINE_S), cnc(m, center.port) as sim:
         s = await center.sessions.get()
         assert s.hello is not None and s.hello.name == m.name
@@ -198,7 +199,8 @@ async def test_a_generated_fleet_all_connect_and_sum_up(center: MiniCenter) -> N
             s = await center.sessions.get()
             assert s.hello is not None
             names.add(s.hello.name)
-            formats = {"fanuc": MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL,
+            formats = {"fanuc": MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
+                       | MapEncoding.FACTORED,
                        "siemens": MapEncoding.FLOAT32_MM | MapEncoding.TABLES}
             kind = next(e.machine.controller for e in entries if e.machine.name == s.hello.name)
             assert s.hello.map_formats == formats[kind]

@@ -117,8 +117,15 @@ THERMAL_TABLES = Spec({**THERMAL.description, "name": "hot-08", "controller": "s
 the thermal terms, and its temperatures come from MQTT through the center."""
 
 
+FANUC_5AX = Spec({**next(s for s in FLEET if s.name == "5ax-04").description,
+                  "name": "5ax-09", "controller": "fanuc", "ip": "127.0.2.9"},
+                 "secret-of-5ax-09-0123456789", 19)
+"""The fleet's 5-axis chain and pivots under a Fanuc-style ladder (it gets a factored map:
+its grid's rotary corrections, rounded to 0.001°, would miss by micrometres)."""
+
+
 def spec(name: str) -> Spec:
-    for s in (*FLEET, THERMAL, THERMAL_TABLES):
+    for s in (*FLEET, THERMAL, THERMAL_TABLES, FANUC_5AX):
         if s.name == name:
             return s
     raise KeyError(name)
@@ -284,14 +291,17 @@ def machines_file(path: Path, specs: list[Spec]) -> Path:
 
 def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
         host: str = "127.0.0.1", mqtt: MqttTarget | None = None,
-        own_sensors: bool | None = None, thermal_records: bool = True) -> SimulatedCNC:
+        own_sensors: bool | None = None, thermal_records: bool = True,
+        factored: bool = True) -> SimulatedCNC:
     """The simulated CNC of ``s`` connecting to ``host:port`` from its own address;
     ``thermal_records=False``: a Fanuc ladder that takes version-1 grids only (the center
-    rebuilds its map when a temperature moves)."""
+    rebuilds its map when a temperature moves); ``factored=False``: one that takes grids,
+    not factored maps."""
     m = s.machine
     runtime = MachineRuntime(m, seed=s.seed,
                              fanuc=FanucConfig(max_step_counts=1000,
-                                               thermal_records=thermal_records),
+                                               thermal_records=thermal_records,
+                                               factored=factored and thermal_records),
                              own_sensors=own_sensors)
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
                         ip=ip, cycle_s=0.02,

@@ -660,8 +660,10 @@ def build_factored_map(
         As for :func:`volumetric.compensate.gridmap.build_map`.
     tolerance_um : float
         Largest tool-tip error *as sent* (rounded by the endpoint's rule) allowed on the
-        independent check, µm. Below about 0.9 increment it may be out of reach (the
-        linear axes' own rounding).
+        independent check, µm. A tolerance below what whole increments can carry
+        (:func:`as_sent_floor_um`: the linear axes' own rounding plus 0.1 µm) is raised to
+        it, and the report says so in its ``tolerance_um``: a grid's tolerance is its
+        interpolation before rounding, so the center may ask 0.5 µm of every kind.
     controller : {"fanuc"}, optional
         Factored maps are for endpoints that round to ``increment``.
     increment : float
@@ -685,6 +687,8 @@ def build_factored_map(
     if ctrl != "fanuc":
         raise MapBuildError("factored maps are for endpoints that round to whole "
                             "increments (Fanuc); this machine's controller is " + ctrl)
+    n_lin = sum(a.kind != "rotary" for a in machine.axes)
+    tolerance_um = max(tolerance_um, as_sent_floor_um(n_lin, increment))
     names = machine.axis_names
     thermal = tuple(t for t in model.terms if isinstance(t, ThermalTerm)) if thermal_in_map \
         else ()
@@ -771,6 +775,13 @@ def build_factored_map(
     return dataclasses.replace(fm, report=report)
 
 
+def as_sent_floor_um(linear_axes: int, increment: float) -> float:
+    """The smallest as-sent tolerance a factored map is built for, µm: half an increment on
+    each of ``linear_axes`` orthogonal axes (``√L/2`` increments, what rounding alone can
+    leave, 0.87 µm at 0.001 mm on three axes) plus 0.1 µm for the tables themselves."""
+    return 0.5 * math.sqrt(max(linear_axes, 1)) * increment * 1e3 + 0.1
+
+
 def _lever_mm(machine: Machine) -> float:
     """The longest lever a rotary correction can have: workspace diagonal plus tool and
     pivot offsets, mm."""
@@ -820,6 +831,7 @@ __all__ = [
     "FactoredMap",
     "Table1D",
     "Term",
+    "as_sent_floor_um",
     "build_factored_map",
     "fixed_point",
     "payload_bytes",
