@@ -581,7 +581,7 @@ class ChainBatch:
 
         The steps of :meth:`corrections_reference` arranged for a fleet's cycle
         (:class:`~machine_sim.chaineval_cycle.FleetCycle`: the rows as the last axis of
-        every array, few numpy calls per link); equal to it to rounding, within 1e-12 mm
+        every array, few numpy calls per link); equal to it to rounding, within 3e-12 mm
         on the same rows (``tests/test_chaineval_fast.py``).
 
         Parameters
