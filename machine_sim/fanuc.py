@@ -50,6 +50,7 @@ from protocol.codes import MapEncoding
 
 from .controller import Compensator
 from .mapstore import MapStore
+from .temperatures import JUMP_ALLOWANCE_K, MAX_RATE_K_PER_S, PLAUSIBLE_C, TemperatureStore
 
 __all__ = ["ALARM_JUMP", "FanucConfig", "FanucPMC", "RLayout"]
 
@@ -98,6 +99,14 @@ class FanucConfig:
     factored : bool
         The ladder evaluates factored maps (declares ``MapEncoding.FACTORED``); False: an
         older ladder that takes grids only.
+    stale_after_s : float
+        A temperature older than this is stale, s (machine time): the thermal part holds
+        its last good value.
+    plausible_C : (float, float)
+        Temperatures outside are refused, °C.
+    max_temp_rate_K_per_s, temp_jump_allowance_K : float
+        A temperature further from its sensor's last good one than the rate times the
+        time between them plus the allowance is refused (as on the Siemens-style NC).
     """
 
     scan_s: float = 0.008
@@ -110,6 +119,10 @@ class FanucConfig:
     expiry_ramp_s: float = 2.0
     thermal_records: bool = True
     factored: bool = True
+    stale_after_s: float = 60.0
+    plausible_C: tuple[float, float] = PLAUSIBLE_C
+    max_temp_rate_K_per_s: float = MAX_RATE_K_PER_S
+    temp_jump_allowance_K: float = JUMP_ALLOWANCE_K
 
     def __post_init__(self) -> None:
         if self.on_jump not in ("ramp", "alarm"):
@@ -152,6 +165,9 @@ class FanucPMC(Compensator):
         store = MapStore(machine, axes, accepted=accepted,
                          limit_mm=c.limit_counts * c.increment_mm)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)
+        self.temperatures = TemperatureStore(
+            c.stale_after_s, plausible_C=c.plausible_C,
+            max_rate_K_per_s=c.max_temp_rate_K_per_s, jump_allowance_K=c.temp_jump_allowance_K)
         self.r = bytearray(c.r_size)
         self.scans = 0
         self._expired_seen = False

@@ -9,6 +9,7 @@ import logging
 
 import pytest
 
+from machine_sim.fanuc import FanucConfig, FanucPMC
 from machine_sim.runtime import MachineRuntime
 from machine_sim.siemens import SiemensConfig, SiemensNC
 from machine_sim.temperatures import TemperatureStore
@@ -113,6 +114,20 @@ def test_the_siemens_nc_and_the_runtime_configure_their_screen() -> None:
     slow = MachineRuntime(m).controller.temperatures.max_rate_K_per_s
     fast = MachineRuntime(m, thermal_speedup=60.0).controller.temperatures.max_rate_K_per_s
     assert fast == pytest.approx(60.0 * slow)
+
+
+def test_the_fanuc_ladder_configures_its_screen_too() -> None:
+    pmc = FanucPMC("f", ["X", "Y", "Z"], FanucConfig(max_temp_rate_K_per_s=0.2,
+                                                     temp_jump_allowance_K=1.0,
+                                                     stale_after_s=7.0,
+                                                     plausible_C=(0.0, 50.0)))
+    t = pmc.temperatures
+    assert t.stale_after_s == 7.0
+    assert not t.update("spindle", 55.0, 0.0, "sensor")  # outside its range
+    assert t.update("spindle", 22.0, 0.0, "sensor")
+    assert not t.update("spindle", 24.0, 1.0, "sensor")  # 2 K in 1 s > 0.2 K/s + 1 K
+    assert t.update("spindle", 23.0, 1.0, "sensor")
+    assert t.stale(8.5) == frozenset({"spindle"}) and not t.stale(7.5)
 
 
 def test_a_reading_dated_before_the_newest_still_counts_as_a_change() -> None:
