@@ -22,7 +22,7 @@ from hypothesis import strategies as st
 from numpy.typing import NDArray
 
 from machine_sim.chaineval import ChainBatch
-from protocol import TablesPayload, ThermalRecord
+from protocol import ComponentTable, TablesPayload, ThermalRecord
 from tests.support.sim_tables import (
     CHAINS,
     random_machine,
@@ -174,3 +174,29 @@ def test_tiny_and_huge_errors_agree_too(size: float) -> None:
         atol = SAME_ROWS if size < 1 else 1e-13 * float(np.abs(want).max())
         np.testing.assert_allclose(batch.corrections(None, q, None, steps), want,
                                    rtol=0, atol=atol)
+
+
+def test_tables_over_the_travel_as_the_center_builds_them() -> None:
+    # every table of an axis from the start of its travel to its end, node counts of its
+    # own (or one value, or none): the cycle subtracts once per axis and skips the clamp
+    # while every axis is inside its travel; outside it clamps
+    rng = np.random.default_rng(21)
+    m = random_machine("w C A X Y b Z t", rng)
+    tables = []
+    for a in m.axes:
+        start, end = (float(x) for x in a.travel)
+        for name in (f"E{c}{a.name}" for c in "XYZABC"):
+            n = int(rng.choice([0, 1, 2, 9, 33]))
+            if n:
+                vals = rng.normal(0, 8, n).astype(np.float32).astype(float)
+                tables.append(ComponentTable(name, start, (end - start) / max(n - 1, 1),
+                                             tuple(vals)))
+    batch = ChainBatch([tables_payload(m, tables, {"EC0Y": 20.0}, Weights.default(m))])
+    lo, hi = m.travel_lo, m.travel_hi
+    inside = rng.uniform(lo, hi, (40, len(m.axes)))
+    outside = rng.uniform(lo - 0.2 * (hi - lo), hi + 0.2 * (hi - lo), (40, len(m.axes)))
+    idx = np.zeros(40, dtype=np.int64)
+    assert batch._cycle.rows(idx).shared_start is not None
+    for q in (inside, outside, inside):
+        np.testing.assert_allclose(batch.corrections(idx, q), batch.corrections_reference(idx, q),
+                                   rtol=0, atol=SAME_ROWS)
