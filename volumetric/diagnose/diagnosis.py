@@ -5,7 +5,11 @@ Procedure (``ednc diagnose``):
 1. **Base model.** The rigid model (21 errors, smooth polynomial components on every
    axis, rotary ones included, :mod:`volumetric.identify.fit` with ``fourier=False``) is
    identified on the readings; its column set (degrees, identifiable parameters) and
-   weights are then kept fixed.
+   weights are then kept fixed. When effects are named (steps 4-6), the degrees are
+   chosen again on the readings with those effects taken out and the whole diagnosis
+   runs again on that base, up to ``REFITS`` times (:func:`_base_without`): with a
+   12 µm backlash in the readings, BIC takes a cubic straightness for noise, and what
+   the too-smooth base leaves decides between sensors that follow the same shop air.
 2. **Held-out readings**, the split chosen from the data alone, the same way every time
    (the JSON's ``split``):
 
@@ -22,7 +26,9 @@ Procedure (``ednc diagnose``):
      one run gives contiguous stretches of it;
    * ``chronological`` with ``holdout_after`` (expert option): fit before, judge after.
 3. **Candidates**, each a few extra columns of the same least-squares problem, all along
-   one machine axis ``k`` (``u_k`` is the reading's sensing component along k):
+   one machine axis ``k`` (``u_k`` is what the reading senses of 1 µm along axis k's own
+   line of motion, :func:`along_axes`: its component along k, turned by the rotary axes
+   between the reading's frame and the axis, as on an R-test of a rotary table):
 
    ===================  =========================================  ======================
    effect               extra column(s)                            estimate
@@ -95,7 +101,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -108,11 +114,18 @@ from volumetric.diagnose.unexplained import (
     own_correlates,
     residual_structure,
 )
-from volumetric.identify.design import Param, axis_positions, build_design, fourier_axis
-from volumetric.identify.fit import FitError, fit, model_from_parameters
+from volumetric.identify.design import (
+    Param,
+    axis_positions,
+    branch_rows,
+    build_design,
+    fourier_axis,
+)
+from volumetric.identify.fit import FitError, FitResult, fit, model_from_parameters
 from volumetric.identify.thermal import ThermalTerm as ThermalColumn
 from volumetric.identify.thermal import fit_thermal_drift
 from volumetric.measure.measurement import Measurements
+from volumetric.model.linear import sensitivities
 from volumetric.model.machine import Machine
 from volumetric.model.model import (
     BacklashTerm,
@@ -145,6 +158,9 @@ TIE = 0.05
 MIN_READINGS = 50
 MAX_EFFECTS = 3
 """Most effects one diagnosis names (forward selection)."""
+REFITS = 2
+"""Most times the rigid model's degrees are chosen again with the named effects taken out
+(:func:`_base_without`); each time the diagnosis runs again on the new base."""
 
 
 class DiagnosisError(ValueError):
@@ -285,6 +301,43 @@ def _temperature_columns(m: Measurements) -> dict[str, F64]:
     return {m.temperature_columns[s]: v for s, v in m.temperatures.items()}
 
 
+def along_axes(machine: Machine, m: Measurements) -> F64:
+    """What each displacement reading senses of a 1 µm error along each linear axis's own
+    direction of motion (X, Y, Z; 0 for an axis the chain lacks and for angle readings).
+
+    Every candidate acts along an axis's own line of motion, the direction its own
+    positioning error moves the tool tip relative to the workpiece. Readings taken in a
+    frame that turns with a rotary axis (an R-test on a rotary table: the ball moves with
+    the table) see that direction turned by the angle, so the reading's component
+    ``u_k`` is not it: a backlash of Y read at C = 90° shows on the x reading. The
+    sensitivity of the tool tip to the axis's positioning component (the rigid model's
+    first-order chain, the same that builds the base design) is.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        Dimensionless (µm read per µm of error).
+    """
+    out = np.zeros((len(m), 3))
+    q = axis_positions(machine, m)
+    disp = ~m.is_angle
+    for bname, rows in branch_rows(machine, m).items():
+        if rows.size == 0:
+            continue
+        u = m.u[rows]
+        for sens in sensitivities(machine, q[rows], spindle=bname, tool_mm=m.tool_mm[rows]):
+            if sens.column is None:
+                continue
+            axis = machine.axes[sens.column]
+            if axis.kind != "linear" or axis.name not in ("X", "Y", "Z"):
+                continue
+            own = "XYZ".index(axis.name)
+            j = sens.names.index(f"E{'XYZ'[own]}{axis.name}")
+            out[rows, own] = np.einsum("ni,ni->n", u, sens.matrix[:, :3, j])
+    out[~disp] = 0.0
+    return out
+
+
 def candidates(
     machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_],
     base_params: list[Param] | None = None,
@@ -296,7 +349,6 @@ def candidates(
     polynomial columns replaced by harmonics of the angle.
     """
     q = axis_positions(machine, m)
-    disp = ~m.is_angle
     temps = _temperature_columns(m)
     out: list[Candidate] = []
     missing: dict[str, str] = {}
@@ -304,9 +356,10 @@ def candidates(
         missing["thermal"] = "no temperature columns (T_<sensor>_C) in the readings"
     linear = [a for a in machine.axes if a.kind == "linear" and a.name in ("X", "Y", "Z")]
     t_mean = float(m.time_s[train].mean())
+    along = along_axes(machine, m)
     for axis in linear:
         k = "XYZ".index(axis.name)
-        uk = np.where(disp, m.u[:, k], 0.0)
+        uk = along[:, k]
         sensed = np.abs(uk) > 1e-6
         key = axis.key
         if not sensed.any():
@@ -583,6 +636,8 @@ def diagnose(
     m: Measurements,
     *,
     holdout_after: float | None = None,
+    base: FitResult | None = None,
+    refits: int = REFITS,
 ) -> Diagnosis:
     """Find what the rigid model misses (see the module docstring).
 
@@ -593,6 +648,13 @@ def diagnose(
     holdout_after : float, optional
         Judge on readings with ``time_s >= holdout_after`` after fitting on the earlier
         ones, instead of the default folds.
+    base : FitResult, optional
+        The rigid model to extend (its parameters and weights; fitted on the training
+        readings, polynomials on every axis). By default identified here by BIC.
+    refits : int
+        How many times the rigid model's degrees may be chosen again on the readings with
+        the named effects taken out (step 1; :func:`_base_without`), the diagnosis then
+        run again on that base. 0 keeps the first choice.
 
     Raises
     ------
@@ -631,7 +693,7 @@ def diagnose(
     try:
         # the smooth model (polynomials on every axis): a periodic rotary error motion is
         # one of the candidates, named when its harmonics make the held-out gain
-        base_fit = fit(machine, m.select(train), fourier=False)
+        base_fit = base if base is not None else fit(machine, m.select(train), fourier=False)
     except FitError as exc:
         raise DiagnosisError(f"the rigid model cannot be identified: {exc}") from None
     design = build_design(machine, m, fourier=False)
@@ -837,8 +899,86 @@ def diagnose(
     details["effects"] = effects
     if split == "forward":
         details["blocks"] = _block_table(folds, judge, base_heldout, fold_ids, current.heldout)
+    if refits > 0:
+        # the base's degrees were chosen with these effects still in the readings, which
+        # made them look like noise: chosen again without them, and everything judged
+        # again on that base when it differs
+        again = _base_without(machine, m, train, a0, w, chosen, base_fit)
+        if again is not None:
+            return diagnose(machine, m, holdout_after=holdout_after, base=again,
+                            refits=refits - 1)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, model, details, base_heldout, current.heldout, judge)
+
+
+def _base_without(
+    machine: Machine, m: Measurements, train: NDArray[np.bool_], a0: F64, w: F64,
+    chosen: list[Candidate], base_fit: FitResult,
+) -> FitResult | None:
+    """The rigid model identified again on the training readings minus the named effects,
+    or None when it keeps the same parameters.
+
+    The base's degrees are chosen by BIC on readings that still hold the effects: a
+    12 µm backlash or a drift of several µm is residual variance no polynomial
+    explains, so the criterion takes the higher degrees' gain for noise and keeps
+    components too smooth. Their leftover shape then decides between candidates that
+    differ by less (screw sensors that follow the same shop air: a wrong one that fits
+    a straightness component's leftover wins). The effects' fitted contribution (joint
+    fit with the base, training readings) is taken out, the degrees chosen again, and
+    the parameters' values fitted on the readings as they are (the effects beside them
+    are the diagnosis's job).
+
+    Parameters
+    ----------
+    machine : Machine
+    m : Measurements
+    train : ndarray of bool, shape (N,)
+    a0 : ndarray, shape (N, P)
+        The current base design.
+    w : ndarray, shape (N,)
+        Weights of the readings.
+    chosen : list of Candidate
+        The effects named; a replacing candidate (a rotary axis's harmonics) is fitted
+        but not taken out (the base it replaces is what is chosen again).
+    base_fit : FitResult
+        The current base.
+
+    Returns
+    -------
+    FitResult or None
+    """
+    extra = [c for c in chosen if not c.drop]
+    k = sum(c.columns.shape[1] for c in extra)
+    if k == 0:
+        return None
+    a = _combined(a0, chosen)
+    x = _pinv_solve(a[train].T @ (a[train] * w[train, None]),
+                    (a[train] * w[train, None]).T @ m.value[train])
+    effect = np.column_stack([c.columns for c in extra]) @ x[-k:]
+    trained = m.select(train)
+    cleaned = replace(trained, value=trained.value - effect[train])
+    try:
+        again = fit(machine, cleaned, fourier=False)
+    except FitError:
+        return None
+    if [p.name for p in again.params] == [p.name for p in base_fit.params]:
+        return None
+    # the values on the readings as they are, with the weights found without the effects
+    design = build_design(machine, trained, fourier=False)
+    at = design.matrix[:, design.columns([p.name for p in again.params])]
+    wt = again.weights
+    values = _pinv_solve(at.T @ (at * wt[:, None]), (at * wt[:, None]).T @ trained.value)
+    resid = trained.value - at @ values
+    rms = {label: _rms(resid[sel]) for label, sel in
+           (("displacement_um", ~trained.is_angle), ("angle_urad", trained.is_angle))
+           if sel.any()}
+    info = {**again.model.info, "rms": rms, "offsets_um": _offsets(again.params, values),
+            "parameters": [{**p, "value": float(v)} for p, v in
+                           zip(again.model.info["parameters"], values, strict=True)]}
+    model = MachineModel(machine.name, model_from_parameters(machine, again.params,
+                                                             values).geometry, (), info)
+    return replace(again, values=values, model=model, rms=rms,
+                               residual=resid)
 
 
 def _unexplained_entry(left: list[Structure], nearest: list[dict[str, Any]],
@@ -888,7 +1028,7 @@ def _periodic_again(machine: Machine, m: Measurements, c: Candidate, resid: F64,
     (the residual of the model with every other effect in)."""
     axis = machine.axis(c.axis)
     k = "XYZ".index(axis.name)
-    uk = np.where(~m.is_angle, m.u[:, k], 0.0)
+    uk = along_axes(machine, m)[:, k]
     sensed = np.abs(uk) > 1e-6
     qk = axis_positions(machine, m)[:, machine.axis_names.index(axis.name)]
     period = _best_period(qk, uk, resid, sensed & train, float(np.ptp(qk[sensed])))
