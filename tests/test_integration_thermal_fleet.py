@@ -1,0 +1,161 @@
+"""Several machines warm up at once, end to end over Mosquitto and TCP (issue 13, done
+when): a Fanuc-style ladder with a factored map and a Siemens-style NC with a tables map,
+each carrying its spindle-growth term, one center between them. Their spindle temperatures
+are published on MQTT, interleaved; the center forwards each in a Temperatures message.
+Every cycle of both machines is recorded: in each one, the map's z correction is the one
+of the temperature the machine held when its latest PLC cycle began (the ladder's scan;
+on the Siemens-style NC the PLC runs every ``plc_every`` interpolation cycles), so a
+temperature takes effect in the first PLC cycle after it arrives; neither machine ever
+gets a second map."""
+
+from __future__ import annotations
+
+import asyncio
+import uuid
+from contextlib import AsyncExitStack
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import aiomqtt
+import numpy as np
+import pytest
+
+from machine_sim.link import SimulatedCNC
+from machine_sim.lookup import FactoredLadder, TablesMap
+from machine_sim.siemens import SiemensNC
+from protocol.backoff import Backoff
+from server.numeric import plain_json
+from tests.support.integration import (
+    DEADLINE_S,
+    THERMAL,
+    THERMAL_TABLES,
+    Spec,
+    campaign,
+    center,
+    cnc,
+    require_loopback_aliases,
+    until,
+)
+from volumetric.diagnose.diagnosis import diagnose
+from volumetric.model.model import MachineModel, ThermalTerm
+
+pytestmark = [pytest.mark.services, pytest.mark.slow]
+
+FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
+COLUMN = "T_spindle_C"
+
+
+def _model(s: Spec) -> tuple[MachineModel, ThermalTerm]:
+    sim, readings, _ = campaign(s.name)
+    d = diagnose(sim.machine, readings)
+    assert (d.effect, d.axis, d.sensor) == ("thermal_drift", "z", COLUMN), d
+    term = next(t for t in d.model.terms if isinstance(t, ThermalTerm))
+    return d.model, term
+
+
+@dataclass
+class Cycles:
+    """Per cycle of one machine: the temperature it held when its latest PLC cycle began
+    and the map's z correction at a fixed point after the cycle (mm), while a map is
+    active."""
+
+    ref: np.ndarray
+    z: int
+    held: list[float] = field(default_factory=list)
+    z_mm: list[float] = field(default_factory=list)
+    plc_held: float | None = None
+
+    def record(self, sim: SimulatedCNC) -> None:
+        rt = sim.runtime
+        step = rt.step
+
+        def recorded(now_s: float) -> np.ndarray:
+            c = rt.controller
+            plc = not isinstance(c, SiemensNC) or c.cycles % c.config.plc_every == 0
+            if plc:
+                self.plc_held = c.temperatures.values().get(COLUMN)
+            out = step(now_s)
+            active = c.store.active
+            if self.plc_held is not None and active is not None:
+                self.held.append(self.plc_held)
+                self.z_mm.append(float(_before_rounding(active, self.ref)[0, self.z]))
+            return out
+
+        rt.step = recorded  # type: ignore[method-assign]
+
+
+def _before_rounding(active: object, q: np.ndarray) -> np.ndarray:
+    """The map's corrections before the ladder rounds them, mm (N, K)."""
+    if isinstance(active, FactoredLadder):
+        d = len(active.outputs)
+        out: np.ndarray = active.fields(q)[:, :d] + active.thermal_mm[0] + \
+            active.thermal_mm[1] * q
+        return out
+    assert isinstance(active, TablesMap)
+    return active.lookup(q)
+
+
+async def test_two_machines_warm_up_and_each_cycle_applies_its_latest_temperature(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    require_loopback_aliases()
+    specs = (THERMAL, THERMAL_TABLES)  # hot-07 Fanuc-style, hot-08 Siemens-style
+    models = {s.name: await asyncio.to_thread(_model, s) for s in specs}
+    top = f"ednc-it-{uuid.uuid4().hex[:12]}"
+    cycles: dict[str, Cycles] = {}
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        plant = await stack.enter_async_context(center(
+            f"sqlite:///{tmp_path / 'center.db'}", mqtt=mqtt_broker, prefix=top,
+            mqtt_options=FAST_MQTT))
+        pub = await stack.enter_async_context(aiomqtt.Client(
+            *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
+        assert plant.services.mqtt is not None
+        await plant.services.mqtt.connected.wait()
+        sims = {}
+        for s in specs:
+            await plant.register(s)
+            await plant.post_model(s.name, plain_json(models[s.name][0].to_json()))
+            # the sensors publish to MQTT: the center forwards them to the machine
+            sims[s.name] = await stack.enter_async_context(cnc(s, plant.port,
+                                                               own_sensors=False))
+        for s in specs:
+            sim = sims[s.name]
+            await sim.ready.wait()
+            await until(lambda st=sim.runtime.controller.store: st.version == 1)
+            await until(plant.applied(s.name, 1))
+            m = s.machine
+            kind = FactoredLadder if m.controller == "fanuc" else TablesMap
+            assert isinstance(sim.runtime.controller.store.active, kind)
+            ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
+            cycles[s.name] = Cycles(ref, m.axis_names.index("Z"))
+            cycles[s.name].record(sim)
+        # interleaved 1 K steps, half a second apart: within the intake's plausible rate
+        for k in range(4):
+            for s in specs:
+                term = models[s.name][1]
+                celsius = round(term.t_ref_C + 1.0 * (k + 1), 3)
+                await pub.publish(f"{top}/{s.name}/temperature/spindle", f"{celsius:.3f}")
+            for s in specs:
+                ctl = sims[s.name].runtime.controller
+                want = round(models[s.name][1].t_ref_C + 1.0 * (k + 1), 3)
+                await until(lambda c=ctl, w=want: abs(c.temperatures.values().get(
+                    COLUMN, -1e9) - w) < 1e-6)
+            await asyncio.sleep(0.5)
+        for s in specs:
+            maps = await plant.maps(s.name)
+            pushed = await plant.events(kind="pushed", machine=s.name)
+            assert len(maps) == 1 and len(pushed) == 1, (s.name, maps, pushed)
+    for s in specs:
+        c = cycles[s.name]
+        term = models[s.name][1]
+        held = np.array(c.held)
+        z_um = np.array(c.z_mm) * 1e3
+        assert len(np.unique(held)) == 4, np.unique(held)  # every step reached the machine
+        # each cycle's correction is that of the temperature held at its start: the same
+        # temperature always gives the same z, and z moves by -k per K between them
+        base = z_um - (-term.coefficient) * (held - held[0])
+        temps = [round(float(t), 3) for t in sorted(set(held))]
+        print(f"\n{s.name}: {len(held)} cycles at {temps} °C; z "
+              f"correction {z_um.min():+.3f} .. {z_um.max():+.3f} µm, off the model's "
+              f"-k·ΔT by at most {np.ptp(base):.4f} µm")
+        assert np.ptp(z_um) > 2.0  # 3 K of a ~-2.5 µm/K growth: a move the test can see
+        assert np.ptp(base) < 0.05, np.ptp(base)
