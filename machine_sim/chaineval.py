@@ -343,11 +343,12 @@ class ChainBatch:
             for first, last in zip(self.t_first[:, :, c].ravel(), self.t_last[:, :, c].ravel(),
                                    strict=True):
                 unit[first:first + last + 1] = f
-        self.t_si = self.t_values * unit
         # the fleet cycle reads each interval's two values side by side (one cache line:
         # its gather is bound by cache misses); at a table's end it reads one past the
-        # last value with u = 0, so one more value ends the array
-        self.t_next = np.append(self.t_si, 0.0)
+        # last value with u = 0, so one more value ends the array (t_si is a view of it)
+        self.t_next = np.zeros(len(values) + 1)
+        np.multiply(self.t_values, unit, out=self.t_next[:-1])
+        self.t_si = self.t_next[:-1]
 
     def set_temperatures(self, machine: int, temperatures: Mapping[str, float]) -> None:
         """Fold machine ``machine``'s thermal records at these temperatures (°C, keyed by
