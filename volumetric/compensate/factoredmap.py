@@ -97,9 +97,12 @@ BASIS_STEP_DEG = 2.0
 tables as interpolated, so that is all it costs."""
 BUDGET_SHARE = 0.1
 """Terms are added to a field until its worst error on the fit samples is at most this
-share of the tolerance at the tool tip (halved in every further round). Five correction
-fields at a tenth each leave more than half the tolerance to the rounding (the linear
-axes' own is up to 0.87 increment)."""
+share of the tolerance asked at the tool tip (halved in every further round), or until
+more tables stop paying (:data:`STALL_TERMS`). Five correction fields at a tenth each
+leave more than half the tolerance to the rounding (the linear axes' own is up to 0.87
+increment)."""
+MIN_BUDGET_UM = 0.01
+"""The smallest per-field budget, µm: below it tables only chase the fit's noise."""
 RIDGE = 1e-7
 """Relative ridge of the normal equations (times the mean squared column norm), so that a
 table nearly inside the span of those already chosen cannot take large opposite values."""
@@ -688,6 +691,10 @@ def build_factored_map(
         raise MapBuildError("factored maps are for endpoints that round to whole "
                             "increments (Fanuc); this machine's controller is " + ctrl)
     n_lin = sum(a.kind != "rotary" for a in machine.axes)
+    # the tables aim at the tolerance asked (a tenth of it per field), the check at what
+    # whole increments can carry: a map asked for 0.1 µm is then the increment's rounding
+    # and little else, as a grid built to 0.1 µm is
+    budget_um = BUDGET_SHARE * max(tolerance_um, MIN_BUDGET_UM / BUDGET_SHARE)
     tolerance_um = max(tolerance_um, as_sent_floor_um(n_lin, increment))
     names = machine.axis_names
     thermal = tuple(t for t in model.terms if isinstance(t, ThermalTerm)) if thermal_in_map \
@@ -734,7 +741,6 @@ def build_factored_map(
                  for r, s in zip(rotary, span, strict=True)]
     rot_step = 7.5
     harmonics = 2
-    budget_um = BUDGET_SHARE * tolerance_um
     rounds = 0
     last = math.inf
     while True:
