@@ -21,12 +21,12 @@ import pytest
 from sqlalchemy import create_engine
 
 from machine_sim.link import SimulatedCNC
-from protocol.backoff import Backoff
 from server.db.tables import Base
 from server.numeric import plain_json
 from tests.support.db import postgres_url  # noqa: F401  (fixture)
 from tests.support.integration import (
     DEADLINE_S,
+    FAST_MQTT,
     THERMAL,
     Plant,
     Relay,
@@ -47,7 +47,6 @@ pytestmark = pytest.mark.slow
 VMC = spec("vmc-01")       # Siemens, 127.0.2.1
 GANTRY = spec("gantry-02")  # Fanuc, 127.0.2.2
 CODES = {"auth": "AUTH_FAILED", "address": "ADDRESS_MISMATCH", "unknown": "UNKNOWN_MACHINE"}
-FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 
 
 def _sqlite(tmp_path: Path) -> str:

@@ -23,7 +23,6 @@ from tests.support.integration import (
     DEADLINE_S,
     FLEET,
     TOLERANCE_UM,
-    Plant,
     campaign,
     center,
     cnc,
@@ -38,12 +37,6 @@ pytestmark = pytest.mark.slow
 
 DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
 FROM_FILE = ("arch-05", "vmc-06")  # registered by EDNC_MACHINES_FILE, the rest by the API
-
-
-async def _acked_current(plant: Plant, name: str) -> bool:
-    st = await plant.status(name)
-    latest = st["map_version_latest"]
-    return latest is not None and st["map_version_applied"] == latest
 
 
 async def test_six_machines_get_identified_maps_that_compensate_them(tmp_path: Path) -> None:
@@ -71,7 +64,7 @@ async def test_six_machines_get_identified_maps_that_compensate_them(tmp_path: P
         for s in FLEET:
             assert await plant.fit_from_campaign(s.name) == 1
         for s in FLEET:
-            await until(lambda n=s.name: _acked_current(plant, n))
+            await until(lambda n=s.name: plant.current_applied(n))
         for s in FLEET:
             st = await plant.status(s.name)
             version = st["map_version_applied"]

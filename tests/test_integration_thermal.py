@@ -21,11 +21,12 @@ import numpy as np
 import pytest
 
 from machine_sim.lookup import ActiveMap, FactoredLadder, GridMap
-from protocol.backoff import Backoff
 from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
+    FAST_MQTT,
     THERMAL,
+    before_rounding,
     campaign,
     center,
     cnc,
@@ -37,7 +38,6 @@ from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
-FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 
 
 def diagnosed_model() -> MachineModel:
@@ -51,17 +51,6 @@ def _thermal_term(model: MachineModel) -> ThermalTerm:
     terms = [t for t in model.terms if isinstance(t, ThermalTerm)]
     assert len(terms) == 1 and terms[0].sensor == "T_spindle_C"
     return terms[0]
-
-
-def _before_rounding(active: ActiveMap, q: np.ndarray) -> np.ndarray:
-    """The ladder's corrections before it rounds them, mm (N, K)."""
-    if isinstance(active, FactoredLadder):
-        d = len(active.outputs)
-        out: np.ndarray = active.fields(q)[:, :d] + active.thermal_mm[0] + \
-            active.thermal_mm[1] * q
-        return out
-    assert isinstance(active, GridMap)
-    return active.lookup(q)
 
 
 def _snapshot(active: ActiveMap) -> ActiveMap:
@@ -116,7 +105,7 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
             await asyncio.sleep(0.1)  # a few 20 ms cycles: the next one folds it in
             active = store.active
             assert isinstance(active, kind) and active.version == 1
-            seen.append(float(_before_rounding(active, ref[:, [m.axis_names.index(a)
+            seen.append(float(before_rounding(active, ref[:, [m.axis_names.index(a)
                                                                for a in active.inputs]])[0, z])
                         * 1e3)
             snapshots.append(_snapshot(active))

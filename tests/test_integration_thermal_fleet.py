@@ -23,13 +23,14 @@ import pytest
 from machine_sim.link import SimulatedCNC
 from machine_sim.lookup import FactoredLadder, TablesMap
 from machine_sim.siemens import SiemensNC
-from protocol.backoff import Backoff
 from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
+    FAST_MQTT,
     THERMAL,
     THERMAL_TABLES,
     Spec,
+    before_rounding,
     campaign,
     center,
     cnc,
@@ -41,7 +42,6 @@ from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
-FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 COLUMN = "T_spindle_C"
 
 
@@ -78,21 +78,10 @@ class Cycles:
             active = c.store.active
             if self.plc_held is not None and active is not None:
                 self.held.append(self.plc_held)
-                self.z_mm.append(float(_before_rounding(active, self.ref)[0, self.z]))
+                self.z_mm.append(float(before_rounding(active, self.ref)[0, self.z]))
             return out
 
         rt.step = recorded  # type: ignore[method-assign]
-
-
-def _before_rounding(active: object, q: np.ndarray) -> np.ndarray:
-    """The map's corrections before the ladder rounds them, mm (N, K)."""
-    if isinstance(active, FactoredLadder):
-        d = len(active.outputs)
-        out: np.ndarray = active.fields(q)[:, :d] + active.thermal_mm[0] + \
-            active.thermal_mm[1] * q
-        return out
-    assert isinstance(active, TablesMap)
-    return active.lookup(q)
 
 
 async def test_two_machines_warm_up_and_each_cycle_applies_its_latest_temperature(

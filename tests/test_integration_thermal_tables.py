@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 
 from machine_sim.lookup import TablesMap
-from protocol.backoff import Backoff
 from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
+    FAST_MQTT,
     THERMAL_TABLES,
     campaign,
     center,
@@ -32,7 +32,6 @@ from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
-FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
 
 
 def diagnosed_model() -> MachineModel:

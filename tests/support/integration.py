@@ -37,6 +37,7 @@ from machine_sim.effects import Effects, Noise, ThermalDrift
 from machine_sim.fanuc import FanucConfig
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.link import MqttTarget, SimulatedCNC
+from machine_sim.lookup import ActiveMap, FactoredLadder
 from machine_sim.runtime import MachineRuntime
 from machine_sim.truth import random_geometry
 from protocol.backoff import Backoff
@@ -58,6 +59,8 @@ TOLERANCE_UM = 1.0
 map (a few kB, well under a second); a 5-axis *grid* at 1 µm would take ~25 s to build."""
 HEARTBEAT_S = 0.5
 NOISE = Noise(0.2, 0.3)
+FAST_MQTT = {"backoff": Backoff(initial_s=0.05, cap_s=0.2), "stale_check_s": 0.05}
+"""The MQTT bridge's options in tests: reconnect and notice staleness within 0.2 s."""
 TRAVEL = {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}
 
 
@@ -246,6 +249,12 @@ class Plant:
 
         return check
 
+    async def current_applied(self, name: str) -> bool:
+        """The machine has applied the newest map built for it."""
+        st = await self.status(name)
+        latest = st["map_version_latest"]
+        return latest is not None and st["map_version_applied"] == latest
+
 
 @asynccontextmanager
 async def center(database_url: str, *, machine_port: int = 0,
@@ -306,6 +315,17 @@ def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
                         ip=ip, cycle_s=0.02,
                         backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.5), mqtt=mqtt)
+
+
+def before_rounding(active: ActiveMap, q: np.ndarray) -> np.ndarray:
+    """A machine's map corrections at positions ``q`` (N, inputs) before its ladder rounds
+    them, with the thermal part it holds now, mm (N, K)."""
+    if isinstance(active, FactoredLadder):
+        d = len(active.outputs)
+        out: np.ndarray = active.fields(q)[:, :d] + active.thermal_mm[0] + \
+            active.thermal_mm[1] * q
+        return out
+    return active.lookup(q)
 
 
 async def until(check: Callable[[], Awaitable[bool]] | Callable[[], bool],
