@@ -91,7 +91,8 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
              "estimate": {"reversal_um": 8.02, "reversal_um_std": 0.09},
              "rms_after_um": 0.9},
             {"effect": "thermal_drift", "axis": "z", "sensor": "T_spindle_C",
-             "estimate": {"um_per_K": -2.5, "um_per_K_std": 0.05}, "rms_after_um": 0.4},
+             "estimate": {"um_per_K": -2.5, "um_per_K_std": 0.05}, "rms_after_um": 0.4,
+             "alternatives": ["T_column_C", "T_z_screw_C"]},
             {"effect": "unexplained", "axis": "y", "sensor": None,
              "estimate": {"correlates_with": "position y", "structure_um": 0.31,
                           "correlates": [{"correlate": "position y"},
@@ -103,6 +104,9 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
     assert "reversal_um is B >= 0" in text and "-B/1000 mm" in text  # the sign convention
     assert "2. thermal_drift z T_spindle_C: um_per_K -2.5 ± 0.05 µm/K" in text
     assert "held-out RMS 0.900 -> 0.400 µm" in text
+    # sensors the data cannot tell from the named one are said beside it, not hidden
+    assert "cannot tell it from: T_column_C, T_z_screw_C (within 5% held-out RMS)" in text
+    assert text.count("cannot tell it from") == 1
     assert "3. unexplained: the residual still follows position y" in text
     assert "also correlates with: time" in text
     empty = dataclasses.replace(d, details={"split": "runs", "effects": []})

@@ -77,7 +77,10 @@ Procedure (``ednc diagnose``):
    the thermal and time candidates of its axis with every other effect in the model
    (:func:`_refine`): forward selection picked it while another effect on that axis still
    distorted the comparison of sensors that move alike. A time drift gives way to a
-   thermal candidate of its axis within ``TIME_TIE`` (:func:`_prefer_physical`).
+   thermal candidate of its axis within ``TIME_TIE`` (:func:`_prefer_physical`). Each
+   named thermal effect lists in its entry the ``alternatives``: sensors of its effect and
+   axis within ``TIE`` of it with every other named effect in the model
+   (:func:`_list_alternatives`).
 7. **Unexplained structure** (:mod:`volumetric.diagnose.unexplained`): the final held-out
    residuals are searched for what they still follow (position, a period along an axis,
    approach direction, time, a temperature). Structure there is reported as an
@@ -907,6 +910,7 @@ def diagnose(
         if again is not None:
             return diagnose(machine, m, holdout_after=holdout_after, base=again,
                             refits=refits - 1)
+    _list_alternatives(chosen, effects, details, scored, a0, judge, heldout)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, model, details, base_heldout, current.heldout, judge)
 
@@ -979,6 +983,46 @@ def _base_without(
                                                              values).geometry, (), info)
     return replace(again, values=values, model=model, rms=rms,
                                residual=resid)
+
+
+def _list_alternatives(
+    chosen: list[Candidate], effects: list[dict[str, Any]], details: dict[str, Any],
+    scored: list[Scored], a0: F64, judge: NDArray[np.bool_], heldout: Callable[[F64], F64],
+) -> None:
+    """Each named thermal effect's ``alternatives`` in its ``effects`` entry: the other
+    sensors of its effect and axis whose held-out RMS, with every other named effect in
+    the model, is within ``TIE`` of its own. Screw sensors that follow the same shop air
+    differ by tenths of a kelvin over a campaign; with a second effect beside a small
+    drift the data may not tell them apart, and the entry says so instead of leaving
+    the user to trust a coin toss. With one effect this is the top level's list; with
+    several, the top level's list is the first entry's (all others in)."""
+    if len(chosen) == 1:
+        if "alternatives" in details and effects and effects[0]["effect"] == chosen[0].effect:
+            effects[0]["alternatives"] = details["alternatives"]
+        return
+    for i, c_i in enumerate(chosen):
+        if c_i.sensor is None or c_i.drop or "lagged" in c_i.extra:
+            continue
+        base = _combined(a0, [c for j, c in enumerate(chosen) if j != i])
+        own = _rms(heldout(c_i.design(base))[judge])
+        alt = sorted({s.candidate.sensor for s in scored
+                      if (s.candidate.effect, s.candidate.axis) == (c_i.effect, c_i.axis)
+                      and s.candidate.sensor not in (None, c_i.sensor)
+                      and not s.candidate.drop and "lagged" not in s.candidate.extra
+                      and _rms(heldout(s.candidate.design(base))[judge]) <= own * (1 + TIE)}
+                     - {None})
+        entry = next((e for e in effects
+                      if (e["effect"], e["axis"], e["sensor"]) == (c_i.effect, c_i.axis,
+                                                                   c_i.sensor)), None)
+        if entry is None:
+            continue
+        if alt:
+            entry["alternatives"] = alt
+        if entry is effects[0]:
+            if alt:
+                details["alternatives"] = alt
+            else:
+                details.pop("alternatives", None)
 
 
 def _unexplained_entry(left: list[Structure], nearest: list[dict[str, Any]],

@@ -8,7 +8,7 @@ import json
 from collections.abc import Mapping
 from typing import Any
 
-from volumetric.diagnose.diagnosis import Diagnosis
+from volumetric.diagnose.diagnosis import TIE, Diagnosis
 
 # Units of the estimate's keys, by suffix (diagnosis.py's naming), longest first.
 UNITS = (("_um_per_m_K", "µm/(m·K)"), ("_um_per_K", "µm/K"), ("_um_per_h", "µm/h"),
@@ -66,6 +66,9 @@ def effects_text(d: Diagnosis) -> list[str]:
         vals = ", ".join(f"{k} {v}" for k, v in estimate_rows(e["estimate"])
                          if k not in ("dynamic", "components"))
         lines.append(f"{i}. {_what(e)}: {vals}")
+        if e.get("alternatives"):
+            lines.append("     the readings cannot tell it from: "
+                         f"{', '.join(e['alternatives'])} (within {TIE:.0%} held-out RMS)")
         if e["effect"] == "backlash":
             # the sign that confuses: stated where the value is read (report.SIGN_NOTES)
             lines.append("     reversal_um is B >= 0, the axis's lost motion; a map carries "
