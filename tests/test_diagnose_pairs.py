@@ -20,7 +20,8 @@ from machine_sim.instruments import SimulatedMachine
 from machine_sim.testprograms import rtest
 from machine_sim.thermal import default_thermal
 from machine_sim.truth import random_geometry
-from volumetric.diagnose.diagnosis import _base_without, along_axes, candidates, diagnose
+from volumetric.diagnose.candidates import along_axes, candidates
+from volumetric.diagnose.diagnosis import _base_without, diagnose
 from volumetric.identify.design import build_design
 from volumetric.identify.fit import fit
 from volumetric.model.machine import Machine, parse_machine

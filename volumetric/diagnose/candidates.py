@@ -1,0 +1,278 @@
+"""The candidate library of the diagnosis: physically motivated extensions of the rigid
+model, each a few extra columns of the same least-squares problem along one machine axis
+(the table of :mod:`volumetric.diagnose.diagnosis`, step 3), and what the readings cannot
+support (``not_assessed``).
+
+Every candidate acts along an axis's own line of motion as the rigid chain maps it into
+the reading's frame (:func:`along_axes`); a periodic error's period comes from a
+least-squares periodogram of a residual along the axis (:func:`_best_period`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from volumetric.identify.design import (
+    Param,
+    axis_positions,
+    branch_rows,
+    build_design,
+    fourier_axis,
+)
+from volumetric.identify.fit import FitError, fit
+from volumetric.measure.measurement import Measurements
+from volumetric.model.linear import sensitivities
+from volumetric.model.machine import Machine
+
+F64 = NDArray[np.float64]
+SCREW_LEAD_MM = 25.0
+"""Longest usual ballscrew lead; positions that cannot resolve it are reported."""
+PERIOD_MAX_MM = 4 * SCREW_LEAD_MM
+"""Longest period of the ``periodic`` candidate: a screw's pitch error repeats every lead
+(<= ``SCREW_LEAD_MM``); a sinusoid of hundreds of mm would only be the nearest fit to
+something else (a step between scale segments), which the search for unexplained
+structure reports with its period instead."""
+
+
+@dataclass(frozen=True)
+class Candidate:
+    """One physically motivated extension: extra columns and how to read them."""
+
+    effect: str
+    axis: str
+    sensor: str | None
+    columns: F64  # (N, k)
+    extra: dict[str, Any] = field(default_factory=dict)  # e.g. the period of a periodic
+    drop: tuple[int, ...] = ()  # base columns the extension replaces (not adds to)
+
+    def design(self, a0: F64) -> F64:
+        """The base design with this extension: ``(N, P - len(drop) + k)``."""
+        base = np.delete(a0, list(self.drop), axis=1) if self.drop else a0
+        return np.column_stack((base, self.columns))
+
+    @property
+    def label(self) -> str:
+        return f"{self.effect}({self.axis}{', ' + self.sensor if self.sensor else ''})"
+
+
+def temperature_columns(m: Measurements) -> dict[str, F64]:
+    """Temperature readings by column name (``T_<sensor>_C``), °C, shape (N,) each."""
+    return {m.temperature_columns[s]: v for s, v in m.temperatures.items()}
+
+
+def along_axes(machine: Machine, m: Measurements) -> F64:
+    """What each displacement reading senses of a 1 µm error along each linear axis's own
+    direction of motion (X, Y, Z; 0 for an axis the chain lacks and for angle readings).
+
+    Every candidate acts along an axis's own line of motion, the direction its own
+    positioning error moves the tool tip relative to the workpiece. Readings taken in a
+    frame that turns with a rotary axis (an R-test on a rotary table: the ball moves with
+    the table) see that direction turned by the angle, so the reading's component
+    ``u_k`` is not it: a backlash of Y read at C = 90° shows on the x reading. The
+    sensitivity of the tool tip to the axis's positioning component (the rigid model's
+    first-order chain, the same that builds the base design) is.
+
+    Returns
+    -------
+    ndarray, shape (N, 3)
+        Dimensionless (µm read per µm of error).
+    """
+    out = np.zeros((len(m), 3))
+    q = axis_positions(machine, m)
+    disp = ~m.is_angle
+    for bname, rows in branch_rows(machine, m).items():
+        if rows.size == 0:
+            continue
+        u = m.u[rows]
+        for sens in sensitivities(machine, q[rows], spindle=bname, tool_mm=m.tool_mm[rows]):
+            if sens.column is None:
+                continue
+            axis = machine.axes[sens.column]
+            if axis.kind != "linear" or axis.name not in ("X", "Y", "Z"):
+                continue
+            own = "XYZ".index(axis.name)
+            j = sens.names.index(f"E{'XYZ'[own]}{axis.name}")
+            out[rows, own] = np.einsum("ni,ni->n", u, sens.matrix[:, :3, j])
+    out[~disp] = 0.0
+    return out
+
+
+def candidates(
+    machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_],
+    base_params: list[Param] | None = None,
+) -> tuple[list[Candidate], dict[str, str]]:
+    """The library of extensions for these readings, and what cannot be assessed.
+
+    ``base_params`` (the base model's parameters, in its design's column order) adds a
+    ``rotary_periodic`` candidate per rotary axis of long travel: its components'
+    polynomial columns replaced by harmonics of the angle.
+    """
+    q = axis_positions(machine, m)
+    temps = temperature_columns(m)
+    out: list[Candidate] = []
+    missing: dict[str, str] = {}
+    if not temps:
+        missing["thermal"] = "no temperature columns (T_<sensor>_C) in the readings"
+    linear = [a for a in machine.axes if a.kind == "linear" and a.name in ("X", "Y", "Z")]
+    t_mean = float(m.time_s[train].mean())
+    along = along_axes(machine, m)
+    for axis in linear:
+        k = "XYZ".index(axis.name)
+        uk = along[:, k]
+        sensed = np.abs(uk) > 1e-6
+        key = axis.key
+        if not sensed.any():
+            missing[key] = f"no displacement reading senses along {key}"
+            continue
+        qk = q[:, machine.axis_names.index(axis.name)]
+        lo = axis.travel[0]
+        for col, values in temps.items():
+            dt = values - float(values[train].mean())
+            if np.ptp(values[sensed]) < 0.05:
+                missing.setdefault(f"thermal {key}", f"{col} hardly changes (< 0.05 K)")
+                continue
+            out.append(Candidate("thermal_drift", key, col, (uk * dt)[:, None]))
+            expansion = uk * dt * (qk - lo) / 1000.0
+            if np.ptp(qk[sensed]) > 1e-6:
+                out.append(Candidate("thermal_expansion", key, col, expansion[:, None]))
+        dirs = m.direction[:, k].astype(float)
+        if np.unique(dirs[sensed & (dirs != 0)]).size >= 2:
+            out.append(Candidate("backlash", key, None, (-0.5 * uk * dirs)[:, None]))
+        else:
+            missing[f"backlash {key}"] = f"one approach direction only along {key}"
+        span = float(np.ptp(qk[sensed]))
+        if span > 0:
+            shortest = _shortest_period(qk[sensed])
+            if shortest > SCREW_LEAD_MM:
+                missing[f"periodic {key}"] = (
+                    f"positions along {key} resolve only periods above {shortest:.0f} mm; a "
+                    f"ballscrew's lead is {SCREW_LEAD_MM:.0f} mm or less (add a fine "
+                    "positioning test)")
+            period = _best_period(qk, uk, base_residual, sensed & train, span)
+            if period is not None:
+                ph = 2 * np.pi * qk / period
+                cols = np.column_stack((uk * np.sin(ph), uk * np.cos(ph)))
+                out.append(Candidate("periodic", key, None, cols, {"period_mm": period}))
+        if np.ptp(m.time_s) > 0:
+            out.append(Candidate("time_drift", key, None,
+                                 (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
+    if base_params is not None:
+        out += _rotary_candidates(machine, m, base_params, missing, train)
+    return out, missing
+
+
+def _rotary_candidates(
+    machine: Machine, m: Measurements, base_params: list[Param],
+    missing: dict[str, str], train: NDArray[np.bool_],
+) -> list[Candidate]:
+    """``rotary_periodic`` per rotary axis of long travel (see :func:`candidates`).
+
+    The candidate is the rigid model as ``ednc fit`` identifies it on the training
+    readings with this axis's components in harmonics of the angle (orders 1 ..
+    :func:`volumetric.identify.design.fourier_order` by BIC; harmonics the readings
+    cannot tell from the rest of the model, such as the part of a once-per-turn radial
+    or tilt motion that is the axis's location error, removed). Adding every harmonic
+    to the base would leave ill-determined directions that inflate the held-out errors.
+    """
+    out: list[Candidate] = []
+    for axis in machine.axes:
+        if axis.kind != "rotary":
+            continue
+        key = f"rotary_periodic {axis.key}"
+        if not fourier_axis(axis):
+            missing[key] = (
+                f"axis {axis.name} travels {axis.travel[1] - axis.travel[0]:g}°: too little "
+                "of a turn to tell harmonics from its smooth component errors")
+            continue
+        angles = np.unique(np.round(axis_positions(machine, m)[
+            train, machine.axis_names.index(axis.name)], 3))
+        if angles.size < 5:
+            missing[key] = f"axis {axis.name} is read at {angles.size} angles: too few"
+            continue
+        design = build_design(machine, m, fourier=frozenset({axis.name}))
+        try:
+            periodic = fit(machine, m.select(train), fourier=frozenset({axis.name}))
+        except FitError:
+            missing[key] = f"the model with harmonics of {axis.name} cannot be identified"
+            continue
+        # the harmonics as `ednc fit` selects them (orders by BIC, confounded ones out)
+        chosen = [p for p in periodic.params if p.basis == "fourier"]
+        if not chosen:
+            missing[key] = f"no harmonic of {axis.name} is identifiable from the readings"
+            continue
+        # the whole refitted model replaces the base: the base's degrees were chosen with
+        # the periodic error distorting them, and keeping them overfits
+        cols = design.columns([p.name for p in periodic.params])
+        out.append(Candidate("rotary_periodic", axis.key, None, design.matrix[:, cols],
+                             {"params": periodic.params}, tuple(range(len(base_params)))))
+    return out
+
+
+def _of_axis(p: Param, axis: str) -> bool:
+    """True for a component coefficient (not a location or offset) of ``axis``."""
+    return p.degree >= 0 and p.component[2:] == axis
+
+
+def _shortest_period(q: F64) -> float:
+    """Twice the typical spacing of distinct positions (mm): the shortest period they
+    resolve (see :func:`_best_period`)."""
+    qs = np.unique(np.round(q, 6))
+    if qs.size < 2:
+        return math.inf
+    return max(2.0, 2.0 * float(np.percentile(np.diff(qs), 20)))
+
+
+def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -> float | None:
+    """The period (mm) whose sinusoid along the axis best explains the residual.
+
+    A least-squares periodogram over periods from twice the typical spacing of the sensed
+    positions (their Nyquist limit; 2 mm at least) to a third of the sensed span or
+    ``PERIOD_MAX_MM``, whichever is shorter, refined
+    on a finer grid around the peak. The typical spacing is the 20th percentile of the
+    gaps between distinct positions: a fine test over part of the travel resolves short
+    periods, a few stray close targets do not.
+    """
+    if np.unique(np.round(q[rows], 6)).size < 8:
+        return None
+    lo = _shortest_period(q[rows])
+    hi = min(span / 3.0, PERIOD_MAX_MM)
+    if hi <= lo:
+        return None
+    qq, uu, rr = q[rows], u[rows], r[rows]
+
+    def power(periods: F64) -> F64:
+        out = np.empty(periods.size)
+        for i, p in enumerate(periods):
+            ph = 2 * np.pi * qq / p
+            a = np.column_stack((uu * np.sin(ph), uu * np.cos(ph)))
+            x, *_ = np.linalg.lstsq(a, rr, rcond=None)
+            out[i] = float(np.sum((a @ x) ** 2))
+        return out
+
+    grid = np.geomspace(lo, hi, 300)
+    pw = power(grid)
+    best = float(grid[int(np.argmax(pw))])
+    fine = np.linspace(best * 0.97, best * 1.03, 61)
+    return float(fine[int(np.argmax(power(fine)))])
+
+
+def periodic_again(machine: Machine, m: Measurements, c: Candidate, resid: F64,
+                   train: NDArray[np.bool_]) -> Candidate | None:
+    """The periodic candidate of ``c``'s axis with its period found again from ``resid``
+    (the residual of the model with every other effect in)."""
+    axis = machine.axis(c.axis)
+    k = "XYZ".index(axis.name)
+    uk = along_axes(machine, m)[:, k]
+    sensed = np.abs(uk) > 1e-6
+    qk = axis_positions(machine, m)[:, machine.axis_names.index(axis.name)]
+    period = _best_period(qk, uk, resid, sensed & train, float(np.ptp(qk[sensed])))
+    if period is None:
+        return None
+    ph = 2 * np.pi * qk / period
+    return Candidate("periodic", c.axis, None, np.column_stack((uk * np.sin(ph), uk * np.cos(ph))),
+                     {"period_mm": period})
