@@ -136,7 +136,8 @@ def candidates(
             if np.ptp(values[sensed]) < 0.05:
                 missing.setdefault(f"thermal {key}", f"{col} hardly changes (< 0.05 K)")
                 continue
-            out.append(Candidate("thermal_drift", key, col, (uk * dt)[:, None]))
+            out.append(Candidate("thermal_drift", key, col, (uk * dt)[:, None],
+                                 {"along": uk}))
             expansion = uk * dt * (qk - lo) / 1000.0
             if np.ptp(qk[sensed]) > 1e-6:
                 out.append(Candidate("thermal_expansion", key, col, expansion[:, None]))

@@ -1031,9 +1031,12 @@ def _dynamic_drift(
     m: Measurements, static: Candidate, resid: F64, train: NDArray[np.bool_],
     order: NDArray[np.intp],
 ) -> Candidate | None:
-    """Lagged-temperature drift along the static candidate's axis (volumetric.identify.thermal)."""
+    """Lagged-temperature drift along the static candidate's axis (volumetric.identify.thermal),
+    sensed as the static candidate senses it (:func:`~volumetric.diagnose.candidates.along_axes`:
+    on an R-test the axis's direction turns with the table)."""
     k = "xyz".index(static.axis)
-    uk = np.where(m.is_angle, 0.0, m.u[:, k])
+    along = static.extra.get("along")
+    uk = np.where(m.is_angle, 0.0, m.u[:, k] if along is None else along)
     rows = order[np.abs(uk[order]) > 0.5]
     if rows.size < 50:
         return None
