@@ -3,6 +3,8 @@
 :func:`machine_services` is a service factory (``create_app(services=[machine_services])``,
 which ``ednc serve`` uses): inside it run, started in this order and stopped in reverse,
 
+0. the :class:`~server.heap.HeapKeeper` (short garbage-collector passes with a thousand
+   sessions: the survivors of each full pass are frozen),
 1. the :class:`~server.push.PushScheduler` (it must listen before any machine arrives),
 2. the :class:`~server.leasing.LeaseKeeper` (this node's machine leases: released after
    the sessions closed) and the :class:`~server.plant.LinkPublisher` (this node's live
@@ -26,6 +28,7 @@ from typing import Any
 
 from server.center import Center
 from server.feed import Feed
+from server.heap import HeapKeeper
 from server.intake import TemperatureIntake
 from server.leasing import LeaseKeeper
 from server.link import LinkTiming, MachineServer
@@ -50,6 +53,7 @@ class MachineServices:
     leases: LeaseKeeper | None = None
     links: LinkPublisher | None = None
     intake: TemperatureIntake | None = None
+    heap: HeapKeeper | None = None
 
 
 @asynccontextmanager
@@ -81,6 +85,7 @@ async def machine_services(
     temperatures = TemperatureBoard(
         settings.temperature_stale_s if stale_after_s is None else stale_after_s)
     async with AsyncExitStack() as stack:
+        heap = await stack.enter_async_context(HeapKeeper())
         push = await stack.enter_async_context(
             PushScheduler(center, feed, temperatures, **(push_options or {})))
         leases = (await stack.enter_async_context(LeaseKeeper(center))
@@ -102,4 +107,5 @@ async def machine_services(
                 prefix=settings.mqtt_topic_prefix, **(mqtt_options or {})))
         else:
             log.info("EDNC_MQTT_HOST is not set: MQTT is off")
-        yield MachineServices(feed, temperatures, push, server, mqtt, leases, links, intake)
+        yield MachineServices(feed, temperatures, push, server, mqtt, leases, links, intake,
+                              heap)
