@@ -120,6 +120,28 @@ def test_map_payload_hash_and_delivery_answers(db: Database) -> None:
     assert [r.acked for r in db.call(maps.list_applied, mid)] == [True, False]
 
 
+def test_latest_versions_of_many_machines_in_one_call(db: Database) -> None:
+    a, b = _machine(db), _machine(db, "vmc-02", "10.0.0.22")
+    _machine(db, "vmc-03", "10.0.0.23")  # registered, never sent a map
+    for mid in (a, b):
+        for i in range(2):
+            db.call(maps.add_map_version, mid, payload=bytes([i]), model_version=None)
+    first = db.call(maps.record_sent, a, 1)
+    assert first is not None
+    db.call(maps.record_answer, first.id, acked=True)
+    db.call(maps.record_sent, a, 2)  # sent, not answered
+    rejected = db.call(maps.record_sent, b, 2)
+    assert rejected is not None
+    db.call(maps.record_answer, rejected.id, acked=False, reject_reason="checksum")
+    names = ["vmc-01", "vmc-02", "vmc-03", "nobody"]
+    got = db.call(maps.latest_versions, names, chunk=2)  # two chunks
+    assert got == {"vmc-01": (2, 1), "vmc-02": (2, None), "vmc-03": (None, None)}
+    for name, mid in (("vmc-01", a), ("vmc-02", b)):  # as the one-machine queries say
+        sent, acked = db.call(maps.latest_sent, mid), db.call(maps.latest_acked, mid)
+        assert got[name] == (sent.map_version if sent else None,
+                             acked.map_version if acked else None)
+
+
 def test_delete_machine_cascades_to_its_rows(db: Database) -> None:
     mid = _machine(db)
     keep = _machine(db, "vmc-02", "10.0.0.22")

@@ -134,6 +134,32 @@ def latest_acked(session: Session, machine_id: int) -> AppliedRow | None:
     return session.scalar(query.order_by(AppliedRow.id.desc()).limit(1))
 
 
+def latest_versions(session: Session, names: list[str], *, chunk: int = 500
+                    ) -> dict[str, tuple[int | None, int | None]]:
+    """Per registered machine of ``names``: the map version of its most recent delivery
+    and of its most recent acknowledged one (:func:`latest_sent`, :func:`latest_acked`),
+    in a few queries for all of them: a thousand machines one by one kept the database
+    thread, and with it the GIL, busy for seconds."""
+    out: dict[str, tuple[int | None, int | None]] = {}
+    for i in range(0, len(names), chunk):
+        ids = dict(session.execute(select(MachineRow.id, MachineRow.name).where(
+            MachineRow.name.in_(names[i:i + chunk]))).all())
+        if not ids:
+            continue
+        found: list[dict[int, int]] = []
+        for acked_only in (False, True):
+            newest = select(func.max(AppliedRow.id)).where(
+                AppliedRow.machine_id.in_(ids)).group_by(AppliedRow.machine_id)
+            if acked_only:
+                newest = newest.where(AppliedRow.acked)
+            rows = session.execute(select(AppliedRow.machine_id, AppliedRow.map_version)
+                                   .where(AppliedRow.id.in_(newest))).all()
+            found.append(dict(rows))
+        for machine_id, name in ids.items():
+            out[name] = (found[0].get(machine_id), found[1].get(machine_id))
+    return out
+
+
 @dataclass(frozen=True)
 class MapState:
     """Where a machine's maps stand: newest built, newest sent, newest applied."""
