@@ -295,7 +295,7 @@ def test_map_command_writes_a_payload_and_reports_it(files: tuple[Path, Path],
     mach, model = files
     out = tmp_path / "vmc.map"
     args = ["map", "--machine", mach, "--model", model, "--out", out,
-            "--temperature", "T_x_C=23.5", "--tolerance-um", "0.4"]
+            "--temperature", "T_x_C=23.5", "--tolerance-um", "0.4", "--kind", "grid"]
     # Fanuc's 1 µm increments leave more than 0.4 µm as sent: at the terminal that stops
     # with the reason and no map written...
     refused = ednc(*args)

@@ -40,6 +40,10 @@ def thermal_model(mach: Machine) -> MachineModel:
                     float(mach.travel_lo[0])))
 
 
+GRID_LADDER = MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL
+"""A Fanuc ladder that takes grids with thermal records (not factored maps)."""
+
+
 def tip_um(mach: Machine, q: F64, ddq: F64) -> F64:
     d = np.einsum("nij,nj->ni", jacobian(mach, q)[:, :3], ddq)
     out: F64 = np.linalg.norm(d, axis=1)
@@ -58,7 +62,7 @@ def test_fanuc_grid_carries_the_terms_and_holds_at_other_temperatures() -> None:
     model = thermal_model(mach)
     tol = 0.5
     m = build_for(mach, model, {"T_spindle_C": 20.0, "T_x_C": 20.0}, tolerance_um=tol,
-                  controller="fanuc")
+                  controller="fanuc", formats=GRID_LADDER)
     assert isinstance(m, ErrorMap) and carries_thermal(m)
     assert {t.sensor for t in m.thermal} == {"T_spindle_C", "T_x_C"}
     assert m.report is not None and m.report.worst_error_um <= tol + INC * 1e3
@@ -113,7 +117,7 @@ def test_a_grid_only_machine_still_gets_a_version_1_grid() -> None:
 def test_machine_gridmap_applies_the_models_terms() -> None:
     mach = vmc()
     model = thermal_model(mach)
-    m = build_for(mach, model, {}, tolerance_um=1.0, controller="fanuc")
+    m = build_for(mach, model, {}, tolerance_um=1.0, controller="fanuc", formats=GRID_LADDER)
     assert isinstance(m, ErrorMap)
     p = decode_map(encode(m))
     cold = GridMap.from_payload(p)
