@@ -386,14 +386,19 @@ class SimulatedCNC:
 
     def telemetry(self) -> Telemetry:
         """The Telemetry message for now (temperatures only where the PLC reads its own
-        sensors: a Siemens-style machine by default)."""
+        sensors: a Siemens-style machine by default): the readings its PLC holds, without
+        the stale ones, so that a sensor that stopped answering ages on the center's board
+        and the dashboard shows it stale (its last value would otherwise look fresh)."""
         rt = self.runtime
         comp = rt.controller.applied_mm()
         axes = tuple(AxisReading(a, float(rt.positions[j]), float(comp[j]))
                      for j, a in enumerate(rt.controller.axes))
         temps: tuple[SensorReading, ...] = ()
-        if isinstance(rt.controller, SiemensNC) and rt.own_sensors:
-            temps = tuple(SensorReading(k, v) for k, v in rt.temperatures(self.now()).items())
+        if isinstance(rt.controller, SiemensNC):
+            store = rt.controller.temperatures
+            stale = store.stale(self.now())
+            temps = tuple(SensorReading(k, r.celsius) for k, r in store.readings().items()
+                          if r.source == "sensor" and k not in stale)
         return Telemetry(int(time.time() * 1000), rt.controller.state,
                          rt.controller.store.version, axes, temps)
 

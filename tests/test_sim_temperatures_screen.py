@@ -141,3 +141,28 @@ def test_a_reading_dated_before_the_newest_still_counts_as_a_change() -> None:
     same = store.updated_s
     assert not store.update("bed", float("nan"), 11.0, "center")  # refused: no change
     assert store.updated_s == same
+
+
+async def test_telemetry_leaves_out_an_own_sensor_that_went_stale() -> None:
+    """A Siemens-style machine reports the readings its PLC holds; one that stopped
+    answering is left out once stale, so it ages on the center's board (which then shows
+    it stale) instead of repeating its last value as if fresh."""
+    import asyncio
+
+    from machine_sim.link import SimulatedCNC
+
+    m = parse_machine({"name": "vmc", "controller": "siemens", "ip": "127.0.0.1",
+                       "chain": "w X Y b Z t", "tool_length_mm": 100.0,
+                       "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}})
+    rt = MachineRuntime(m, siemens=SiemensConfig(stale_after_s=0.2), sensor_period_s=0.01)
+    cnc = SimulatedCNC(m, ("127.0.0.1", 1), b"0123456789abcdef", runtime=rt)
+    assert cnc.telemetry().temperatures == ()  # nothing read yet
+    rt.step(cnc.now())
+    held = {s.name: s.celsius for s in cnc.telemetry().temperatures}
+    assert held and held == {k: r.celsius for k, r in rt.controller.temperatures.readings()
+                             .items()}
+    rt.sensor_period_s = 1e9  # the sensors stop answering; the PLC keeps its last values
+    await asyncio.sleep(0.3)
+    rt.step(cnc.now())
+    assert cnc.telemetry().temperatures == ()
+    assert rt.controller.temperatures.values()  # still used, held at the last good value
