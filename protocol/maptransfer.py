@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from .codes import MapEncoding, MapRejectReason
 from .errors import LocalProtocolError
 from .limits import MAX_CHUNK_BYTES, MAX_MAP_BYTES
-from .mapfactored import FACTORED_FORMAT_VERSION, FactoredPayload, decode_factored
+from .mapfactored import FactoredPayload
 from .mapformat import ErrorMapPayload, MapFormatError
 from .maptables import TablesPayload, decode_payload
 from .messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject, clip_text
@@ -192,10 +192,7 @@ class MapAssembler:
         data = bytes(t.data)
         payload: ErrorMapPayload | TablesPayload | FactoredPayload
         try:
-            if data[4:6] == FACTORED_FORMAT_VERSION.to_bytes(2, "little"):
-                payload = decode_factored(data)
-            else:
-                payload = decode_payload(data)
+            payload = decode_payload(data)
         except MapFormatError as exc:
             return MapRejected(b.version, MapRejectReason.DECODE_ERROR, str(exc))
         if payload.version != b.version:
