@@ -118,7 +118,6 @@ _BASIS_BYTES = 24
 _TERM_BYTES = 16
 _THERMAL_BYTES = 48
 _MAX_ROUNDS = 4
-_TRACE = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -694,7 +693,7 @@ def build_factored_map(
     # the tables aim at the tolerance asked (a tenth of it per field), the check at what
     # whole increments can carry: a map asked for 0.1 µm is then the increment's rounding
     # and little else, as a grid built to 0.1 µm is
-    budget_um = BUDGET_SHARE * max(tolerance_um, MIN_BUDGET_UM / BUDGET_SHARE)
+    budget_um = max(BUDGET_SHARE * tolerance_um, MIN_BUDGET_UM)
     tolerance_um = max(tolerance_um, as_sent_floor_um(n_lin, increment))
     names = machine.axis_names
     thermal = tuple(t for t in model.terms if isinstance(t, ThermalTerm)) if thermal_in_map \
@@ -754,10 +753,6 @@ def build_factored_map(
             raise MapTooLargeError(f"machine {machine.name!r}: a factored map of "
                                    f"{fm.nbytes} bytes is over the {max_bytes}-byte limit")
         worst_dec = _sent_error(full, fm, q_dec, exact_dec, backlash, temps)
-        if _TRACE:
-            print(f"round {rounds}: nodes {lin_nodes} rot {rot_step:.2f}° terms "
-                  f"{len(fm.terms)} bytes {fm.nbytes} worst {worst_dec:.3f} µm "
-                  f"{time.perf_counter() - t0:.1f} s")
         if worst_dec <= tolerance_um or rounds >= _MAX_ROUNDS or worst_dec >= last:
             break
         last = worst_dec
