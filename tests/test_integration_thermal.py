@@ -30,27 +30,14 @@ from tests.support.integration import (
     campaign,
     center,
     cnc,
+    diagnosed_spindle,
     require_loopback_aliases,
     until,
 )
-from volumetric.diagnose.diagnosis import diagnose
-from volumetric.model.model import MachineModel, ThermalTerm
+from volumetric.model.model import ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
-
-
-def diagnosed_model() -> MachineModel:
-    sim, readings, _ = campaign(THERMAL.name)
-    d = diagnose(sim.machine, readings)
-    assert (d.effect, d.axis, d.sensor) == ("thermal_drift", "z", "T_spindle_C"), d
-    return d.model
-
-
-def _thermal_term(model: MachineModel) -> ThermalTerm:
-    terms = [t for t in model.terms if isinstance(t, ThermalTerm)]
-    assert len(terms) == 1 and terms[0].sensor == "T_spindle_C"
-    return terms[0]
 
 
 def _snapshot(active: ActiveMap) -> ActiveMap:
@@ -64,8 +51,7 @@ def _snapshot(active: ActiveMap) -> ActiveMap:
 async def test_mqtt_temperature_moves_the_map_by_the_model(
         tmp_path: Path, mqtt_broker: tuple[str, int], factored: bool) -> None:
     require_loopback_aliases()
-    model = await asyncio.to_thread(diagnosed_model)
-    term = _thermal_term(model)
+    model, term = await asyncio.to_thread(diagnosed_spindle, THERMAL)
     top = f"ednc-it-{uuid.uuid4().hex[:12]}"
     name = THERMAL.name
     topic = f"{top}/{name}/temperature/spindle"

@@ -29,28 +29,17 @@ from tests.support.integration import (
     FAST_MQTT,
     THERMAL,
     THERMAL_TABLES,
-    Spec,
     before_rounding,
-    campaign,
     center,
     cnc,
+    diagnosed_spindle,
     require_loopback_aliases,
     until,
 )
-from volumetric.diagnose.diagnosis import diagnose
-from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
 COLUMN = "T_spindle_C"
-
-
-def _model(s: Spec) -> tuple[MachineModel, ThermalTerm]:
-    sim, readings, _ = campaign(s.name)
-    d = diagnose(sim.machine, readings)
-    assert (d.effect, d.axis, d.sensor) == ("thermal_drift", "z", COLUMN), d
-    term = next(t for t in d.model.terms if isinstance(t, ThermalTerm))
-    return d.model, term
 
 
 @dataclass
@@ -88,7 +77,7 @@ async def test_two_machines_warm_up_and_each_cycle_applies_its_latest_temperatur
         tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
     require_loopback_aliases()
     specs = (THERMAL, THERMAL_TABLES)  # hot-07 Fanuc-style, hot-08 Siemens-style
-    models = {s.name: await asyncio.to_thread(_model, s) for s in specs}
+    models = {s.name: await asyncio.to_thread(diagnosed_spindle, s) for s in specs}
     top = f"ednc-it-{uuid.uuid4().hex[:12]}"
     cycles: dict[str, Cycles] = {}
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:

@@ -21,31 +21,21 @@ from tests.support.integration import (
     DEADLINE_S,
     FAST_MQTT,
     THERMAL_TABLES,
-    campaign,
     center,
     cnc,
+    diagnosed_spindle,
     require_loopback_aliases,
     until,
 )
-from volumetric.diagnose.diagnosis import diagnose
-from volumetric.model.model import MachineModel, ThermalTerm
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
 
 
 
-def diagnosed_model() -> MachineModel:
-    sim, readings, _ = campaign(THERMAL_TABLES.name)
-    d = diagnose(sim.machine, readings)
-    assert (d.effect, d.axis, d.sensor) == ("thermal_drift", "z", "T_spindle_C"), d
-    return d.model
-
-
 async def test_temperatures_move_the_compensation_without_a_new_map(
         tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
     require_loopback_aliases()
-    model = await asyncio.to_thread(diagnosed_model)
-    term = next(t for t in model.terms if isinstance(t, ThermalTerm))
+    model, term = await asyncio.to_thread(diagnosed_spindle, THERMAL_TABLES)
     top = f"ednc-it-{uuid.uuid4().hex[:12]}"
     name = THERMAL_TABLES.name
     topic = f"{top}/{name}/temperature/spindle"

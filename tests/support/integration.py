@@ -48,8 +48,10 @@ from server.link import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
 from tests.support.services import require
+from volumetric.diagnose.diagnosis import diagnose
 from volumetric.measure.measurement import Measurements, write_measurements
 from volumetric.model.machine import Machine, parse_machine
+from volumetric.model.model import MachineModel, ThermalTerm
 
 API_KEY = "integration-api-key-0123"
 WRITE = {"X-API-Key": API_KEY}
@@ -125,6 +127,17 @@ FANUC_5AX = Spec({**next(s for s in FLEET if s.name == "5ax-04").description,
                  "secret-of-5ax-09-0123456789", 19)
 """The fleet's 5-axis chain and pivots under a Fanuc-style ladder (it gets a factored map:
 its grid's rotary corrections, rounded to 0.001°, would miss by micrometres)."""
+
+
+def diagnosed_spindle(s: Spec) -> tuple[MachineModel, ThermalTerm]:
+    """The diagnosis of ``s``'s campaign, which must find its spindle growing along z on
+    ``T_spindle_C``: the model and its one thermal term."""
+    sim, readings, _ = campaign(s.name)
+    d = diagnose(sim.machine, readings)
+    assert (d.effect, d.axis, d.sensor) == ("thermal_drift", "z", "T_spindle_C"), d
+    terms = [t for t in d.model.terms if isinstance(t, ThermalTerm)]
+    assert len(terms) == 1 and terms[0].sensor == "T_spindle_C", terms
+    return d.model, terms[0]
 
 
 def spec(name: str) -> Spec:
