@@ -93,15 +93,19 @@ Also tried on that file and not adopted (blind RMS; the 70 % cut's claim -> its 
 prediction; the 40 h split; today 3.95, 8.63 -> 4.54, 1.73 µm): the CV blocks predicted
 forward only (each from the blocks before it, weights equal or growing, 5 or 8 blocks)
 4.4-5.2, 15-17 -> 3.4-11.6, 2.5-3.7; leave-one-block-out with the later blocks' errors
-weighted more (x k, x k²) 3.77-3.85, 11.8 -> 3.4, 3.1-3.6; candidates chosen by the mean relative
-block gain instead of the summed error 4.21, 14.6 -> 3.20, 2.46; one sign per sensor
-(a sensor's terms may not take opposite signs) 3.85, 8.63 -> 4.54, 1.73, and one term per
-sensor 3.85, 8.25 -> 4.54, 1.73 (0.1 µm, within what chance moves); per sensor a
+weighted more (x k, x k²) 3.77-3.85, 11.8 -> 3.4, 3.1-3.6; candidates chosen by the mean
+relative block gain instead of the summed error 4.21, 14.6 -> 3.20, 2.46; one sign per
+sensor (a sensor's terms may not take opposite signs) 3.85, 8.63 -> 4.54, 1.73, and one
+term per sensor 3.85, 8.25 -> 4.54, 1.73 (0.1 µm, within what chance moves); per sensor a
 non-negative mixture of its level and lag bank (a distributed lag) 8.66, 12.8 -> 7.3, 9.3
 (slow lags take 20-70 µm/K); every lag with the free response ``exp(-(t - t0)/τ)`` of its
-unknown initial state 3.48, 20.6 -> 8.8, 2.23; the final fit weighted toward recent
-rows (e-folding 1, 1/2, 1/4 of the span) 3.86-3.94, 8.9-9.7 -> 4.7-5.1, 1.8-2.9; at most
-2 or 4 terms 4.45 / 4.68; the squared spindle speed (centrifugal growth) as input 7.60.
+unknown initial state 3.48, 20.6 -> 8.8, 2.23; the final fit weighted toward recent rows
+(e-folding 1, 1/2, 1/4 of the span) 3.86-3.94, 8.9-9.7 -> 4.7-5.1, 1.8-2.9; at most 2 or 4
+terms 4.45 / 4.68; the squared spindle speed (centrifugal growth) as input 7.60; a linear
+/ quadratic time trend as nuisance in the selection's fits 8.98 / 6.49; no column that is
+mostly a straight line in time (R² > 0.9 / 0.75 on the training rows) 4.41 / 4.32; the
+principal components of the temperatures as signals 32.2 (with the sensors 6.40);
+candidates chosen by the worst block's relative gain 24.1 (one fold takes nothing).
 
 The regressor builder is separate from the fit so that thermal columns can join a larger
 least-squares problem (geometric model plus thermal terms): build them with
