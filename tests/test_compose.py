@@ -51,6 +51,8 @@ def test_every_part_of_the_plant_is_there(compose: dict[str, Any]) -> None:
     assert services["postgres"]["image"].startswith("postgres")
     conf = _mounted(services["mosquitto"], "/mosquitto/config/mosquitto.conf")
     assert re.search(r"^listener 1883$", conf.read_text(), re.M)
+    # temperatures are not held back for the center's ACK (Nagle, server/mqtt.ack_at_once)
+    assert re.search(r"^set_tcp_nodelay true$", conf.read_text(), re.M)
 
 
 def test_the_center_environment_is_valid_settings(compose: dict[str, Any],

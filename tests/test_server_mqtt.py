@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import socket
 import time
 import uuid
 from pathlib import Path
@@ -16,8 +17,9 @@ import paho.mqtt.client as paho
 import pytest
 
 from protocol.backoff import Backoff
+from server import mqtt as bridge_module
 from server.db import maps as map_repo
-from server.mqtt import PayloadError, parse_temperature
+from server.mqtt import PayloadError, ack_at_once, parse_temperature
 from server.temperatures import TemperatureBoard, column_of
 from tests.support.link import DEADLINE_S, model_body, rig, simulator, until
 from tests.support.mqtt import TcpProxy, publisher
@@ -175,6 +177,56 @@ async def test_a_burst_is_taken_in_one_wake_up_and_nothing_is_lost(
         await until(lambda: bridge.stats.received == 1 + len(values))
         assert seen == pytest.approx(values)
         assert turns <= 5, f"{turns} event-loop turns to take 200 waiting messages"
+
+
+def quickack(sock: socket.socket) -> int:
+    return sock.getsockopt(socket.IPPROTO_TCP, socket.TCP_QUICKACK)
+
+
+@pytest.mark.skipif(not hasattr(socket, "TCP_QUICKACK"), reason="Linux only")
+def test_ack_at_once_takes_a_connection_out_of_delayed_acks() -> None:
+    """The kernel delays ACKs on a connection that answers what it receives (the bridge
+    publishing statuses); the broker's Nagle then holds temperatures up to 40 ms for
+    that ACK. ack_at_once makes the next ones immediate."""
+    with socket.create_server(("127.0.0.1", 0)) as server, \
+            socket.create_connection(server.getsockname()) as ours:
+        theirs, _ = server.accept()
+        with theirs:
+            for _ in range(3):  # an exchange: received, then sent soon after
+                theirs.sendall(b"t")
+                ours.recv(16)
+                ours.sendall(b"s")
+                theirs.recv(16)
+            assert quickack(ours) == 0  # delayed ACKs: what the fix is for
+            ack_at_once(ours)
+            assert quickack(ours) == 1
+
+
+@pytest.mark.skipif(not hasattr(socket, "TCP_QUICKACK"), reason="Linux only")
+async def test_the_bridge_acknowledges_at_once_after_each_read(
+        tmp_path: Path, mqtt_broker: tuple[str, int], monkeypatch: pytest.MonkeyPatch
+        ) -> None:
+    top = prefix()
+    armed: list[int] = []
+
+    def recording(sock: socket.socket) -> None:
+        ack_at_once(sock)
+        armed.append(quickack(sock))
+
+    monkeypatch.setattr(bridge_module, "ack_at_once", recording)
+    async with asyncio.timeout(DEADLINE_S), \
+            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
+            publisher(mqtt_broker) as pub:
+        await r.register(model=model_body(thermal_sensor="T_spindle_C"))
+        bridge = r.services.mqtt
+        assert bridge is not None
+        await bridge.connected.wait()
+        for k in range(3):
+            await pub.publish(f"{top}/vmc-01/temperature/spindle", f"{20 + k}".encode())
+            await until(lambda k=k: r.services.temperatures.readings("vmc-01").get(
+                "T_spindle_C") is not None and r.services.temperatures.readings(
+                "vmc-01")["T_spindle_C"].celsius == 20 + k)
+    assert len(armed) >= 3 and set(armed) == {1}
 
 
 async def test_status_and_events_are_published(
