@@ -314,6 +314,22 @@ class BridgeStats:
     bad_examples: deque[str] = field(default_factory=lambda: deque(maxlen=20))
 
 
+async def _send(client: aiomqtt.Client, topic: str, payload: str, *, retain: bool) -> None:
+    """Publish at QoS 1 and wait for the broker's PUBACK; a cancel is never lost.
+
+    aiomqtt waits for the PUBACK with ``asyncio.wait_for``, which in Python 3.11 returns
+    the result and drops a cancellation that arrives in the same loop turn as the PUBACK
+    (the awaited future is already done). With a thousand statuses republished, PUBACKs
+    arrive every turn: the bridge then went on waiting for work after its connection
+    was cancelled, and held the shutdown (or, after a lost broker, its reconnect). A
+    pending cancel request (``Task.cancelling``) is raised here instead.
+    """
+    await client.publish(topic, payload, qos=1, retain=retain, timeout=PUBLISH_TIMEOUT_S)
+    task = asyncio.current_task()
+    if task is not None and task.cancelling():
+        raise asyncio.CancelledError
+
+
 class MqttBridge:
     """Temperatures from the broker, status and events to it; an async context manager.
 
@@ -621,8 +637,7 @@ class MqttBridge:
                 self._dirty.update(n for n, s in self._status.items() if s.connected)
             while self._events:
                 body = self._events[0]
-                await client.publish(self.topic("events"), json.dumps(body), qos=1,
-                                     timeout=PUBLISH_TIMEOUT_S)
+                await _send(client, self.topic("events"), json.dumps(body), retain=False)
                 self._events.popleft()
                 self.stats.published += 1
             while self._dirty:
@@ -631,9 +646,8 @@ class MqttBridge:
                 if not status.seeded:
                     await self._seed()
                 try:
-                    await client.publish(self.topic(name, "status"),
-                                         json.dumps(self.status_of(name)), qos=1, retain=True,
-                                         timeout=PUBLISH_TIMEOUT_S)
+                    await _send(client, self.topic(name, "status"),
+                                json.dumps(self.status_of(name)), retain=True)
                 except aiomqtt.MqttError:
                     self._dirty.add(name)
                     raise

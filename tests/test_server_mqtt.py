@@ -19,7 +19,7 @@ import pytest
 from protocol.backoff import Backoff
 from server import mqtt as bridge_module
 from server.db import maps as map_repo
-from server.mqtt import PayloadError, ack_at_once, parse_temperature
+from server.mqtt import MqttBridge, PayloadError, ack_at_once, parse_temperature
 from server.temperatures import TemperatureBoard, column_of
 from tests.support.link import DEADLINE_S, model_body, rig, simulator, until
 from tests.support.mqtt import TcpProxy, publisher
@@ -227,6 +227,43 @@ async def test_the_bridge_acknowledges_at_once_after_each_read(
                 "T_spindle_C") is not None and r.services.temperatures.readings(
                 "vmc-01")["T_spindle_C"].celsius == 20 + k)
     assert len(armed) >= 3 and set(armed) == {1}
+
+
+class PubackWithTheCancel:
+    """A client whose PUBACK comes in the same loop turn as a cancel of the publisher: as
+    aiomqtt waits for it (``asyncio.wait_for``), which in Python 3.11 then returns and
+    drops the cancel."""
+
+    def __init__(self) -> None:
+        self.published: list[str] = []
+        self.victim: asyncio.Task[None] | None = None
+
+    async def publish(self, topic: str, payload: str, *, qos: int, retain: bool,
+                      timeout: float) -> None:
+        self.published.append(topic)
+        acked = asyncio.Event()
+        assert self.victim is not None
+        loop = asyncio.get_running_loop()
+        loop.call_soon(lambda: (acked.set(), self.victim.cancel()))  # one turn: both
+        await asyncio.wait_for(acked.wait(), timeout)
+
+
+async def test_a_cancel_that_comes_with_the_puback_still_stops_the_publisher(
+        tmp_path: Path) -> None:
+    """The bridge's publisher, cancelled (shutdown, or a lost broker) in the loop turn of
+    a PUBACK, stops: it once went on waiting for work and held the shutdown 10 s."""
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        bridge = MqttBridge(r.center, r.services.feed, r.services.temperatures,
+                            host="127.0.0.1", status_refresh_s=3600.0)
+        client = PubackWithTheCancel()
+        bridge._events.append({"kind": "connected", "machine": "vmc-01"})
+        bridge._wake.set()
+        task = asyncio.create_task(bridge._publish(client))  # type: ignore[arg-type]
+        client.victim = task
+        done, _ = await asyncio.wait({task}, timeout=2.0)
+        assert task in done, "the publisher lost its cancel and went on waiting"
+        assert task.cancelled() and client.published == ["ednc/events"]
+        task.cancel()  # (without the fix: stop it for the test's own exit)
 
 
 async def test_status_and_events_are_published(
