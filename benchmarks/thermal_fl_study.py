@@ -248,6 +248,31 @@ def cut_and_predict(m: Measurements) -> None:
           f"on {own['rms_um']:.2f} µm")
 
 
+def cut_references(m: Measurements) -> None:
+    """Plain least-squares references on the same cut as :func:`cut_and_predict`, fitted on
+    the first part and judged on the rest: training mean, the best single sensor chosen on
+    the training rows (and, not blind, on the judged rows), all 16 sensors static, and with
+    their rates (K/h). The issue's reference figures are on the 40 h split instead."""
+    t, y = m.time_s, m.value
+    T = np.column_stack([m.temperatures[s] for s in m.temperature_columns])
+    train = t < float(t.min() + CUT * np.ptp(t))
+
+    def judged(X: F64 | None) -> tuple[float, float]:
+        """(training RMS, judged RMS) of an ordinary least-squares fit with intercept."""
+        a = np.ones((y.size, 1)) if X is None else np.column_stack([X, np.ones(y.size)])
+        x, *_ = np.linalg.lstsq(a[train], y[train], rcond=None)
+        r = y - a @ x
+        return rms(r[train]), rms(r[~train])
+
+    singles = [judged(T[:, [j]]) for j in range(T.shape[1])]
+    rates = np.gradient(T, t, axis=0) * 3600.0
+    print(f"  plain references on the same cut (judged on the rest): training mean "
+          f"{judged(None)[1]:.2f}, best single sensor chosen on the training rows "
+          f"{min(singles)[1]:.2f} (chosen on the judged rows, not blind: "
+          f"{min(s[1] for s in singles):.2f}), 16 static {judged(T)[1]:.2f}, 16 static + "
+          f"rates {judged(np.column_stack([T, rates]))[1]:.2f} µm")
+
+
 def main() -> int:
     if not DATA.is_file():
         print(f"missing {DATA}", file=sys.stderr)
@@ -414,6 +439,7 @@ def main() -> int:
     sparse_readings(t, temps, y)
     rank_of_cv_on_first_judged(t, temps, y, blocks)
     cut_and_predict(m)
+    cut_references(m)
     return 0
 
 
