@@ -325,6 +325,14 @@ async def _send(client: aiomqtt.Client, topic: str, payload: str, *, retain: boo
     pending cancel request (``Task.cancelling``) is raised here instead.
     """
     await client.publish(topic, payload, qos=1, retain=retain, timeout=PUBLISH_TIMEOUT_S)
+    _raise_if_cancelled()
+
+
+def _raise_if_cancelled() -> None:
+    """Raise the cancellation of the current task that an ``asyncio.wait_for`` inside
+    aiomqtt dropped. Only for a task that lives as long as one connection (the
+    publisher): the connection loop's own count of cancel requests is not reliable
+    across a lost broker's task group, and it checks the stop flag instead."""
     task = asyncio.current_task()
     if task is not None and task.cancelling():
         raise asyncio.CancelledError
@@ -407,6 +415,8 @@ class MqttBridge:
                     self.stats.connects += 1
                     self._read_in_batches(client)
                     await client.subscribe(self.topic("+", "temperature", "+"))
+                    if self._stopping:  # a cancel dropped with the CONNACK or SUBACK (_send)
+                        raise asyncio.CancelledError
                     self._dirty.update(self._status)  # the broker may have lost retained ones
                     self._wake.set()
                     self.connected.set()
