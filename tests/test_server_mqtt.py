@@ -6,13 +6,16 @@ temperatures (stale) and the bridge comes back by itself."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import socket
 import time
 import uuid
+from collections.abc import AsyncIterator
 from pathlib import Path
 from typing import Any
 
+import aiomqtt
 import paho.mqtt.client as paho
 import pytest
 
@@ -21,7 +24,7 @@ from server import mqtt as bridge_module
 from server.db import maps as map_repo
 from server.mqtt import MqttBridge, PayloadError, ack_at_once, parse_temperature
 from server.temperatures import TemperatureBoard, column_of
-from tests.support.link import DEADLINE_S, model_body, rig, simulator, until
+from tests.support.link import DEADLINE_S, Rig, model_body, rig, simulator, until
 from tests.support.mqtt import TcpProxy, publisher
 
 pytestmark = pytest.mark.services
@@ -85,16 +88,25 @@ def prefix() -> str:
     return f"ednc-test-{uuid.uuid4().hex[:12]}"
 
 
-async def test_published_temperature_gives_the_machine_a_new_map(
-        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
-    top = prefix()
-    async with asyncio.timeout(DEADLINE_S), \
-            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
-            publisher(mqtt_broker) as pub:
+@contextlib.asynccontextmanager
+async def spindle_bridge(tmp_path: Path, broker: tuple[str, int], top: str
+                         ) -> AsyncIterator[tuple[Rig, MqttBridge, aiomqtt.Client, int]]:
+    """A center whose bridge is connected under ``top``, vmc-01 registered (its id last)
+    with a model that has a spindle thermal term (a known sensor), and a publisher."""
+    async with rig(tmp_path, mqtt=broker, prefix=top, mqtt_options=FAST) as r, \
+            publisher(broker) as pub:
         mid = await r.register(model=model_body(thermal_sensor="T_spindle_C"))
         bridge = r.services.mqtt
         assert bridge is not None
         await bridge.connected.wait()
+        yield r, bridge, pub, mid
+
+
+async def test_published_temperature_gives_the_machine_a_new_map(
+        tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
+    top = prefix()
+    async with asyncio.timeout(DEADLINE_S), \
+            spindle_bridge(tmp_path, mqtt_broker, top) as (r, _, pub, mid):
         # a ladder without thermal records: each temperature gives a new map
         async with simulator(r.port, thermal_records=False) as sim:
             await sim.ready.wait()
@@ -112,12 +124,7 @@ async def test_bad_payloads_are_counted_and_the_bridge_goes_on(
         tmp_path: Path, mqtt_broker: tuple[str, int]) -> None:
     top = prefix()
     async with asyncio.timeout(DEADLINE_S), \
-            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
-            publisher(mqtt_broker) as pub:
-        await r.register(model=model_body(thermal_sensor="T_spindle_C"))  # a known sensor
-        bridge = r.services.mqtt
-        assert bridge is not None
-        await bridge.connected.wait()
+            spindle_bridge(tmp_path, mqtt_broker, top) as (r, bridge, pub, _):
         for body in (b"warm", b"nan", b'{"celsius": null}', b"\xff"):
             await pub.publish(f"{top}/vmc-01/temperature/spindle", body)
         await pub.publish(f"{top}/vmc-01/temperature/bad-name!", b"20")
@@ -138,12 +145,7 @@ async def test_a_burst_is_taken_in_one_wake_up_and_nothing_is_lost(
     top = prefix()
     topic = f"{top}/vmc-01/temperature/spindle"
     async with asyncio.timeout(DEADLINE_S), \
-            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
-            publisher(mqtt_broker) as pub:
-        await r.register(model=model_body(thermal_sensor="T_spindle_C"))
-        bridge = r.services.mqtt
-        assert bridge is not None
-        await bridge.connected.wait()
+            spindle_bridge(tmp_path, mqtt_broker, top) as (r, bridge, pub, _):
         await pub.publish(topic, b"20")
         await until(lambda: "T_spindle_C" in r.services.temperatures.readings("vmc-01"))
         seen: list[float] = []
@@ -177,6 +179,11 @@ async def test_a_burst_is_taken_in_one_wake_up_and_nothing_is_lost(
         await until(lambda: bridge.stats.received == 1 + len(values))
         assert seen == pytest.approx(values)
         assert turns <= 5, f"{turns} event-loop turns to take 200 waiting messages"
+
+
+def spindle_celsius(r: Rig) -> float | None:
+    reading = r.services.temperatures.readings("vmc-01").get("T_spindle_C")
+    return None if reading is None else reading.celsius
 
 
 def quickack(sock: socket.socket) -> int:
@@ -215,17 +222,10 @@ async def test_the_bridge_acknowledges_at_once_after_each_read(
 
     monkeypatch.setattr(bridge_module, "ack_at_once", recording)
     async with asyncio.timeout(DEADLINE_S), \
-            rig(tmp_path, mqtt=mqtt_broker, prefix=top, mqtt_options=FAST) as r, \
-            publisher(mqtt_broker) as pub:
-        await r.register(model=model_body(thermal_sensor="T_spindle_C"))
-        bridge = r.services.mqtt
-        assert bridge is not None
-        await bridge.connected.wait()
+            spindle_bridge(tmp_path, mqtt_broker, top) as (r, _, pub, _):
         for k in range(3):
             await pub.publish(f"{top}/vmc-01/temperature/spindle", f"{20 + k}".encode())
-            await until(lambda k=k: r.services.temperatures.readings("vmc-01").get(
-                "T_spindle_C") is not None and r.services.temperatures.readings(
-                "vmc-01")["T_spindle_C"].celsius == 20 + k)
+            await until(lambda k=k: spindle_celsius(r) == 20 + k)
     assert len(armed) >= 3 and set(armed) == {1}
 
 
