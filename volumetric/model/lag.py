@@ -7,6 +7,8 @@ builds its regressors from it.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -126,3 +128,36 @@ def first_order_lag(t_s: ArrayLike, x: ArrayLike, tau_s: float,
         y[s + 1:e + 1] = decay * (y[s] + np.cumsum(u[s:e] / decay, axis=0))
         s = e
     return y
+
+
+def lag_step(y_prev: float, x_prev: float, x_now: float, dt_s: float, tau_s: float) -> float:
+    """One step of :func:`first_order_lag`'s recursion: the output at a new sample.
+
+    For a caller that receives the samples one at a time (the center following a
+    machine's sensor live) and must land exactly where :func:`first_order_lag` over the
+    whole series would.
+
+    Parameters
+    ----------
+    y_prev : float
+        Output at the previous sample.
+    x_prev, x_now : float
+        Input at the previous and at this sample (first-order hold between them).
+    dt_s : float
+        Time since the previous sample, s (``<= 0``: the output is unchanged).
+    tau_s : float
+        Time constant, s (> 0).
+
+    Returns
+    -------
+    float
+        The output at this sample, in the unit of the input.
+    """
+    if not tau_s > 0:
+        raise ValueError(f"tau_s must be > 0, got {tau_s!r}")
+    if dt_s <= 0:
+        return y_prev
+    h = dt_s / tau_s
+    a = math.exp(-h)
+    b = 1.0 + math.expm1(-h) / h  # as first_order_lag: expm1 keeps short steps precise
+    return a * y_prev + (1.0 - a - b) * x_prev + b * x_now

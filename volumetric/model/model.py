@@ -16,8 +16,10 @@ names) fold into the geometry at given temperatures:
   time constant τ_j (``τ dx/dt = T − x``) or the time since ``t0_s`` in hours
   (:class:`DynamicThermalTerm`). Over a time series (``ednc predict``) the lags run from
   the state saved at the end of the fitted readings when the series continues them, else
-  from rest at the first reading; at one set of temperatures (a map, ``ednc compensate
-  --temperature``) every lag is taken at its steady state, the temperature itself.
+  from rest at the first reading; at one set of temperatures (``ednc map``, ``ednc
+  compensate --temperature``) every lag is taken at its steady state, the temperature
+  itself. The center's maps apply it live instead: records on lag states it follows
+  from the machine's readings and sends as temperatures (:mod:`volumetric.model.live`).
 
 ``info["offsets_um"]``, when present, holds the constant tool-tip offsets the fit found
 (``OFFSET_X`` ...: the readings' zero); ``ednc predict`` adds them, since a prediction is
