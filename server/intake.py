@@ -74,6 +74,8 @@ from server.forward import INTERVAL_S, TemperatureForwarder
 from server.link.session import MachineSession
 from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE
 from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor
+from volumetric.model.lag import lag_step
+from volumetric.model.live import LiveLag, LiveNeeds, live_needs
 
 log = logging.getLogger(__name__)
 
@@ -134,14 +136,28 @@ class Refusal:
 class _Known:
     id: int
     columns: frozenset[str]
+    lags: tuple[LiveLag, ...] = ()
+    """The lag states of its model's lagged thermal terms, which the center follows."""
 
 
 def model_columns(body: Mapping[str, Any]) -> frozenset[str]:
     """The temperature columns a stored model's terms use (every term naming a sensor:
-    the thermal ones, and whatever thermal kind is added later)."""
+    the thermal ones, and whatever thermal kind is added later; a lagged thermal
+    model's sensors and the lag states the center sends as ``T_lag1_C`` ...)."""
     terms = body.get("terms") or []
-    return frozenset(column_of(str(t["sensor"])) for t in terms
-                     if isinstance(t, Mapping) and isinstance(t.get("sensor"), str))
+    named = frozenset(column_of(str(t["sensor"])) for t in terms
+                      if isinstance(t, Mapping) and isinstance(t.get("sensor"), str))
+    needs = _live_needs(terms)
+    return named if needs is None else named | needs.inputs | needs.records
+
+
+def _live_needs(terms: Any) -> LiveNeeds | None:
+    """The live needs of a model's terms; None when a lagged term cannot be read (the
+    push refuses that model with the reason; its plain sensors still count)."""
+    try:
+        return live_needs(terms if isinstance(terms, list) else [])
+    except (ValueError, KeyError, TypeError):
+        return None
 
 
 def description_columns(description: Mapping[str, Any]) -> frozenset[str]:
@@ -165,9 +181,12 @@ def load_known(session: Session, name: str | None = None) -> dict[str, _Known]:
     out: dict[str, _Known] = {}
     for machine_id, machine, description, body in session.execute(query):
         columns = description_columns(description or {})
+        lags: tuple[LiveLag, ...] = ()
         if isinstance(body, Mapping):
             columns |= model_columns(body)
-        out[machine] = _Known(machine_id, columns)
+            needs = _live_needs(body.get("terms"))
+            lags = needs.lags if needs is not None else ()
+        out[machine] = _Known(machine_id, columns, lags)
     return out
 
 
@@ -244,6 +263,8 @@ class TemperatureIntake:
         self.refusals: deque[Refusal] = deque(maxlen=200)
         """The latest refusals, newest last (the REST view shows them)."""
         self._known: dict[str, _Known] = {}
+        self._lag_states: dict[tuple[str, str, str, float], tuple[float, float, float]] = {}
+        """(machine, lag column, its sensor, τ) -> (time s, input °C, state °C)."""
         self._reloaded: dict[str, float] = {}
         self._deferred: dict[str, list[tuple[str, float, Source, float]]] = {}
         self._orphans: dict[str, list[NewReading]] = {}
@@ -384,7 +405,9 @@ class TemperatureIntake:
         known = self._known.get(machine)
         row = NewReading(known.id if known else 0, column, float(celsius),
                          dt.datetime.fromtimestamp(r.time, dt.UTC), r.source)
-        if known is None:  # a connected machine being looked up: stored when it is known
+        if r.source == "lag":
+            pass  # derived from stored readings: not stored again
+        elif known is None:  # a connected machine being looked up: stored when it is known
             waiting = self._orphans.setdefault(machine, [])
             if len(waiting) < 1024:
                 waiting.append(row)
@@ -392,6 +415,31 @@ class TemperatureIntake:
             self._store(row)
         if r.source != "telemetry":  # the machine has its own readings already
             self.forwarder.note(machine, column, float(celsius), r.time)
+        if known is not None and known.lags and r.source != "lag":
+            self._follow_lags(machine, known.lags, column, float(celsius), r.time)
+
+    def _follow_lags(self, machine: str, lags: tuple[LiveLag, ...], column: str,
+                     celsius: float, taken: float) -> None:
+        """Step every lag state of ``machine`` that follows ``column`` to this reading and
+        send it on as a reading of its own (source ``lag``, :mod:`volumetric.model.live`).
+
+        A state starts at rest with the first reading it sees (what ``ednc predict`` does
+        for readings without history). A reading older than the state's last one is
+        left out: the lag runs forward in time only."""
+        for lag in lags:
+            if lag.source != column:
+                continue
+            key = (machine, lag.column, lag.source, lag.tau_s)
+            state = self._lag_states.get(key)
+            if state is None:
+                state = (taken, celsius, celsius)
+            elif taken >= state[0]:
+                t0, x0, y0 = state
+                state = (taken, celsius, lag_step(y0, x0, celsius, taken - t0, lag.tau_s))
+            else:
+                continue
+            self._lag_states[key] = state
+            self.board.update(machine, lag.column, state[2], source="lag", at=taken)
 
     def _store(self, row: NewReading) -> None:
         if len(self._buffer) >= MAX_BUFFER:

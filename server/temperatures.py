@@ -23,7 +23,7 @@ from collections.abc import Callable, Iterable
 from dataclasses import dataclass, replace
 from typing import Literal
 
-Source = Literal["mqtt", "telemetry", "rest"]
+Source = Literal["mqtt", "telemetry", "rest", "lag"]
 _SENSOR = re.compile(r"^[A-Za-z0-9_]{1,64}$")
 MAX_READINGS = 100_000
 """Bound on (machine, sensor) pairs kept: topics come from the network, names are free."""
@@ -54,7 +54,9 @@ class Reading:
         When it was measured, s since the Unix epoch (the sender's stamp, else receipt).
     received : float
         When it arrived, ``time.monotonic()`` s (for the staleness check).
-    source : {"mqtt", "telemetry", "rest"}
+    source : {"mqtt", "telemetry", "rest", "lag"}
+        (``lag``: a lag state the center follows for a lagged thermal model,
+        :mod:`volumetric.model.live`)
     stale : bool
     """
 

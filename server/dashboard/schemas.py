@@ -35,9 +35,10 @@ class TemperatureLive(BaseModel):
     name: str
     celsius: float = Field(description="°C.")
     stale: bool = Field(description="The reading is older than the stale limit.")
-    source: Literal["telemetry", "mqtt", "rest"] = Field(
+    source: Literal["telemetry", "mqtt", "rest", "lag"] = Field(
         default="telemetry",
-        description="Where it came from: the machine link, MQTT or the REST API.")
+        description="Where it came from: the machine link, MQTT or the REST API, or a lag "
+                    "state the center follows for a lagged thermal model.")
     age_s: float | None = Field(default=None, description="Age of the reading, s.")
 
 

@@ -13,6 +13,7 @@ from typing import Any, Final
 from protocol import MapEncoding
 from server import mapcodec
 from server.mapcodec import MapContent
+from volumetric.model.live import live_model, live_needs
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
 
@@ -20,12 +21,17 @@ _THERMAL: Final = ("thermal_expansion", "thermal_drift")
 
 
 def thermal_sensors(body: Mapping[str, Any]) -> frozenset[str]:
-    """The temperature columns a model's thermal terms use (``MachineModel.sensors``,
-    read from its JSON without building the model)."""
+    """The temperature columns of the thermal records of a model's map (read from its JSON
+    without building the model): its thermal terms' sensors and, for a lagged thermal
+    model, the lag states the center sends as ``T_lag1_C`` ... (:mod:`volumetric.model.live`)."""
     terms = body.get("terms") or []
-    return frozenset(str(t["sensor"]) for t in terms
-                     if isinstance(t, Mapping) and t.get("effect") in _THERMAL
-                     and "sensor" in t)
+    try:
+        return live_needs(terms).records
+    except (ValueError, KeyError, TypeError):  # ComponentErrorSpecError is a ValueError
+        # a dynamic term that cannot be read: the build says why; the plain ones still count
+        return frozenset(str(t["sensor"]) for t in terms
+                         if isinstance(t, Mapping) and t.get("effect") in _THERMAL
+                         and "sensor" in t)
 
 
 def build_for(description: Mapping[str, Any], controller: str, model_body: Mapping[str, Any],
@@ -41,7 +47,9 @@ def build_for(description: Mapping[str, Any], controller: str, model_body: Mappi
     """
     machine = parse_machine(description)
     try:
-        model = MachineModel.from_json(model_body)
+        # lagged thermal terms as the machine applies them: records on the lag states the
+        # center follows and sends (server/intake.py), not frozen at today's temperatures
+        model = live_model(MachineModel.from_json(model_body))
     except (TypeError, KeyError) as exc:
         raise ValueError(f"stored model cannot be read: {exc}") from None
     # the smallest kind the machine takes; a grid alone is built at the tightest tolerance

@@ -1,0 +1,110 @@
+"""A lagged thermal model, as ``ednc diagnose --out`` saves it, applied live (issue 15,
+item 6): the center follows the lag state of the spindle sensor from the readings it
+receives and sends it on; the machine's map carries a record on it; the correction the
+machine applies follows the model's drift over the readings' history, not the drift at
+steady state. Over real TCP with a simulated Fanuc-style machine (factored map), the
+readings posted through the REST API with their own times."""
+
+from __future__ import annotations
+
+import asyncio
+import datetime as dt
+from contextlib import AsyncExitStack
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from machine_sim.lookup import FactoredLadder, TablesMap
+from server.numeric import plain_json
+from tests.support.integration import (
+    DEADLINE_S,
+    THERMAL,
+    THERMAL_TABLES,
+    Spec,
+    before_rounding,
+    center,
+    cnc,
+    diagnosed_spindle,
+    require_loopback_aliases,
+    until,
+)
+from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel
+
+TAU_S = 600.0
+LEVEL_UM_PER_K = 0.8
+LAG_UM_PER_K = -3.0
+
+
+def lagged(model: MachineModel) -> tuple[MachineModel, DynamicThermalTerm]:
+    """``model``'s geometry with a lagged spindle drift along z instead of its static one."""
+    term = DynamicThermalTerm("z", 0.4, (
+        LagColumn("level", "T_spindle_C", 0.0, LEVEL_UM_PER_K, input_C=20.0),
+        LagColumn("lag", "T_spindle_C", TAU_S, LAG_UM_PER_K, state_C=20.0, input_C=20.0)))
+    return MachineModel(model.machine, model.geometry, (term,), model.info), term
+
+
+@pytest.mark.parametrize("spec", [THERMAL, THERMAL_TABLES], ids=["fanuc", "siemens"])
+async def test_a_lagged_thermal_model_is_applied_with_its_history(tmp_path: Path,
+                                                                 spec: Spec) -> None:
+    """Fanuc-style: a factored map, corrections compared before the ladder's rounding.
+    Siemens-style: a tables map evaluated by the machine (its sensors not on its PLC
+    here, so that the readings' times are the test's)."""
+    require_loopback_aliases()
+    base, _ = await asyncio.to_thread(diagnosed_spindle, THERMAL)
+    model, term = lagged(MachineModel(spec.name, base.geometry, (), base.info))
+    name = spec.name
+    m = spec.machine
+    ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
+    z = m.axis_names.index("Z")
+    # readings a minute apart, in the past: the lag runs on the readings' own times
+    start = dt.datetime.now(dt.UTC) - dt.timedelta(hours=1)
+    t_s = np.arange(8) * 60.0
+    celsius = np.array([20.0, 21.0, 22.0, 23.0, 23.0, 23.0, 23.0, 23.0])
+    applied: list[float] = []
+    lag_sent: list[float] = []
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        plant = await stack.enter_async_context(center(f"sqlite:///{tmp_path / 'c.db'}"))
+        await plant.register(spec)
+        await plant.post_model(name, plain_json(model.to_json()))
+        sim = await stack.enter_async_context(cnc(spec, plant.port, own_sensors=False))
+        ctl = sim.runtime.controller
+        store = ctl.store
+        await sim.ready.wait()
+        await until(lambda: store.version == 1)  # built without temperatures: it carries them
+        kind = FactoredLadder if spec is THERMAL else TablesMap
+        assert isinstance(store.active, kind)
+        sensors = {r.sensor for r in store.active.payload.thermal}
+        assert sensors == {"T_spindle_C", "T_lag1_C"}, sensors
+        for k in range(len(t_s)):
+            when = start + dt.timedelta(seconds=float(t_s[k]))
+            r = await plant.client.post(f"/api/machines/{name}/temperatures", json={
+                "readings": [{"sensor": "spindle", "celsius": float(celsius[k]),
+                              "time": when.isoformat()}]})
+            assert r.status_code == 200 and r.json()["verdicts"][0]["accepted"], r.text
+
+            def holds(k: int = k) -> bool:
+                have = ctl.temperatures.values()
+                return bool(abs(have.get("T_spindle_C", -1e9) - celsius[k]) < 1e-9
+                            and (k == 0 or have.get("T_lag1_C") != lag_sent[-1]))
+
+            await until(holds)
+            lag_sent.append(ctl.temperatures.values()["T_lag1_C"])
+            await asyncio.sleep(0.1)  # a few ladder cycles: the next one folds it in
+            active = store.active
+            at = ref if isinstance(active, TablesMap) else ref[:, [
+                m.axis_names.index(a) for a in active.inputs]]
+            applied.append(float(before_rounding(active, at)[0, z]) * 1e3)
+        assert store.version == 1  # one map; the history moved only its thermal part
+    # what the saved model gives over the same readings, from rest at the first
+    drift = term.series(t_s, {"T_spindle_C": celsius})
+    lag = (drift - term.intercept_um - LEVEL_UM_PER_K * celsius) / LAG_UM_PER_K
+    np.testing.assert_allclose(lag_sent, lag, rtol=0, atol=1e-9)
+    moved = np.array(applied) - applied[0]
+    expected = -(drift - drift[0])  # the correction opposes the drift
+    steady = -(LEVEL_UM_PER_K + LAG_UM_PER_K) * (celsius - celsius[0])
+    print(f"\nz correction moved {moved.round(3)} µm; the lagged model "
+          f"{expected.round(3)}; at steady state it would be {steady.round(3)}")
+    assert np.max(np.abs(expected - steady)) > 1.0  # the history matters here
+    # factored: exact before rounding; tables: as the machine computes it (float32 tables)
+    np.testing.assert_allclose(moved, expected, rtol=0, atol=1e-6 if spec is THERMAL else 0.01)
