@@ -59,6 +59,7 @@ from dataclasses import dataclass
 from types import TracebackType
 from typing import Any, Final
 
+import numpy as np
 from prometheus_client import Counter
 from sqlalchemy import func, select
 from sqlalchemy.exc import SQLAlchemyError
@@ -74,7 +75,7 @@ from server.forward import INTERVAL_S, TemperatureForwarder
 from server.link.session import MachineSession
 from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE
 from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor
-from volumetric.model.lag import lag_step
+from volumetric.model.lag import first_order_lag, lag_step
 from volumetric.model.live import LiveLag, LiveNeeds, live_needs
 
 log = logging.getLogger(__name__)
@@ -106,6 +107,12 @@ database locked by a long write)."""
 
 MAX_BUFFER: Final = 200_000
 """Readings waiting for the database at most (~7 min at 500/s) before the oldest go."""
+
+LAG_HISTORY_TAUS: Final = 5.0
+LAG_HISTORY_ROWS: Final = 50_000
+"""A lag state is warmed from the readings of its last 5 time constants (what is older
+weighs below e^-5 = 0.7 %), at most 50,000 of them (two days at 4 s), one query per lag
+when the center first sees its sensor."""
 
 REASONS: Final = ("not_finite", "out_of_range", "unknown_machine", "unknown_sensor",
                    "too_fast", "too_many_sensors")
@@ -424,8 +431,10 @@ class TemperatureIntake:
         send it on as a reading of its own (source ``lag``, :mod:`volumetric.model.live`).
 
         A state starts at rest with the first reading it sees (what ``ednc predict`` does
-        for readings without history). A reading older than the state's last one is
-        left out: the lag runs forward in time only."""
+        for readings without history) and is then warmed from the readings stored before
+        it (:meth:`_warm_lag`). A reading older than the state's last one is left out:
+        the lag runs forward in time only."""
+        known = self._known.get(machine)
         for lag in lags:
             if lag.source != column:
                 continue
@@ -433,6 +442,8 @@ class TemperatureIntake:
             state = self._lag_states.get(key)
             if state is None:
                 state = (taken, celsius, celsius)
+                if known is not None:
+                    self._spawn(self._warm_lag(key, known.id, taken), f"lag:{machine}")
             elif taken >= state[0]:
                 t0, x0, y0 = state
                 state = (taken, celsius, lag_step(y0, x0, celsius, taken - t0, lag.tau_s))
@@ -440,6 +451,36 @@ class TemperatureIntake:
                 continue
             self._lag_states[key] = state
             self.board.update(machine, lag.column, state[2], source="lag", at=taken)
+
+    async def _warm_lag(self, key: tuple[str, str, str, float], machine_id: int,
+                        before: float) -> None:
+        """Replace a lag state started at rest by one run over the readings stored before
+        it (the last ``LAG_HISTORY_TAUS`` time constants, at most ``LAG_HISTORY_ROWS``
+        rows, from rest at the oldest), stepped on to the state's latest reading: after a
+        restart of the center, a lag of hours is right at once instead of hours later."""
+        machine, column, source, tau_s = key
+        since = dt.datetime.fromtimestamp(before - LAG_HISTORY_TAUS * tau_s, dt.UTC)
+        try:
+            rows = await self.center.db.run(
+                reading_repo.list_readings, machine_id, sensor=source, since=since,
+                until=dt.datetime.fromtimestamp(before, dt.UTC), limit=LAG_HISTORY_ROWS)
+        except SQLAlchemyError as exc:
+            log.warning("%s: lag %s starts at rest, stored readings not read: %s", machine,
+                        column, str(exc).splitlines()[0])
+            return
+        if not rows:
+            return
+        rows.reverse()  # oldest first
+        t = np.array([r.time.timestamp() for r in rows])
+        x = np.array([r.celsius for r in rows])
+        y = float(first_order_lag(t, x, tau_s)[-1])
+        now = self._lag_states.get(key)
+        if now is None:
+            return  # the model changed meanwhile
+        t_now, x_now, _ = now
+        state = (t_now, x_now, lag_step(y, float(x[-1]), x_now, t_now - float(t[-1]), tau_s))
+        self._lag_states[key] = state
+        self.board.update(machine, column, state[2], source="lag", at=t_now)
 
     def _store(self, row: NewReading) -> None:
         if len(self._buffer) >= MAX_BUFFER:

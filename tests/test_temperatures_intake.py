@@ -17,6 +17,7 @@ from pathlib import Path
 from typing import Any
 
 import httpx
+import numpy as np
 import pytest
 
 from protocol import Temperatures
@@ -43,6 +44,7 @@ from tests.support.link import (
     until,
 )
 from tests.support.mqtt import publisher
+from volumetric.model.lag import first_order_lag
 
 
 def intake_of(center: Center) -> TemperatureIntake:
@@ -334,3 +336,52 @@ async def test_a_connected_machines_telemetry_is_taken_at_once_and_stored(
         rows = await r.db.run(reading_repo.list_readings, mid, sensor="T_spindle_C")
         assert rows and {x.source for x in rows} == {"telemetry"}
         assert intake.stats.refused == 0
+
+
+def lagged_body(tau_s: float) -> dict[str, Any]:
+    """vmc-01's model with a lagged spindle drift along z (as ednc diagnose --out saves)."""
+    body = model_body()
+    body["terms"] = [{"effect": "thermal_dynamic", "axis": "z", "intercept_um": 0.0,
+                      "t0_s": 0.0, "t_state_s": None,
+                      "columns": [{"kind": "lag", "sensor": "T_spindle_C", "tau_s": tau_s,
+                                   "coefficient": -2.0}]}]
+    return body
+
+
+async def test_a_lag_state_is_warmed_from_the_stored_readings(tmp_path: Path) -> None:
+    """After a restart the center's first reading of a lag's sensor does not start the lag
+    at rest: the stored readings before it give its state, as first_order_lag over the
+    whole series does; readings after it step it on."""
+    tau = 3600.0
+    t0 = dt.datetime.now(dt.UTC).timestamp() - 6 * tau
+    t = t0 + np.arange(0.0, 5 * tau, 60.0)
+    ramp = 20.0 + 4.0 * (t - t0) / (5 * tau)  # warming 0.8 K/h: the lag trails by ~0.8 K
+    live = [(t[-1] + 60.0, 24.0), (t[-1] + 120.0, 24.5)]
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=lagged_body(tau))
+        intake = intake_of(r.center)
+        await intake.lookup("vmc-01")
+        assert intake.knows("vmc-01") == {"T_spindle_C", "T_lag1_C"}
+        await r.db.run(reading_repo.add_readings, [
+            NewReading(mid, "T_spindle_C", float(c), dt.datetime.fromtimestamp(s, dt.UTC),
+                       "mqtt") for s, c in zip(t, ramp, strict=True)])
+        when, celsius = live[0]
+        assert intake.take("vmc-01", "spindle", celsius, source="mqtt", at=when) is None
+        all_t = np.concatenate((t, [when]))
+        expected = first_order_lag(all_t, np.concatenate((ramp, [celsius])), tau)[-1]
+
+        def lag() -> float:
+            reading = r.services.temperatures.reading("vmc-01", "T_lag1_C")
+            return math.nan if reading is None else reading.celsius
+
+        await until(lambda: bool(abs(lag() - expected) < 1e-9))
+        assert abs(expected - celsius) > 0.5  # at rest it would have been the reading
+        when, celsius = live[1]
+        assert intake.take("vmc-01", "spindle", celsius, source="mqtt", at=when) is None
+        all_t = np.concatenate((all_t, [when]))
+        series = np.concatenate((ramp, [live[0][1], celsius]))
+        assert lag() == pytest.approx(first_order_lag(all_t, series, tau)[-1], abs=1e-9)
+        await intake.flush()
+        stored = {x.sensor for x in await r.db.run(reading_repo.list_readings, mid,
+                                                   limit=10_000)}
+        assert stored == {"T_spindle_C"}  # the lag states are derived: not stored
