@@ -3,11 +3,12 @@
 The real 46 h spindle thermal test is cut at 70 % of its time: ``ednc diagnose --out`` on
 the first part writes the model behind the figure it claims (lagged thermal states with
 their time constants and end states, offsets), and ``ednc predict`` on the rest must land
-within 1.5x of that claim and far below the rigid model. A model from ``ednc fit`` on a
-simulated machine predicts a second campaign of the same machine to the noise, offsets
-included; a dynamic thermal term survives JSON and folds in at its steady state. A
-simulated spindle whose growth is a known lagged function of its temperatures, cut the same
-way, is predicted to the noise by the saved model.
+within 1.5x of that claim and far below the rigid model; the center's live form of the
+saved model (lag states stepped reading by reading) gives the same drift. A model from
+``ednc fit`` on a simulated machine predicts a second campaign of the same machine to the
+noise, offsets included; a dynamic thermal term survives JSON and folds in at its steady
+state. A simulated spindle whose growth is a known lagged function of its temperatures,
+cut the same way, is predicted to the noise by the saved model.
 """
 
 from __future__ import annotations
@@ -29,9 +30,10 @@ from volumetric.diagnose.diagnosis import diagnose
 from volumetric.diagnose.predict import PredictionError, predict
 from volumetric.identify.fit import fit
 from volumetric.measure.measurement import read_measurements, write_measurements
-from volumetric.model.lag import first_order_lag
+from volumetric.model.lag import first_order_lag, lag_step
+from volumetric.model.live import live_lags, live_model
 from volumetric.model.machine import parse_machine
-from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel
+from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel, ThermalTerm
 
 EDNC = str(Path(sys.executable).parent / "ednc")
 FL = {"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
@@ -70,6 +72,39 @@ def test_real_thermal_test_cut_at_70_percent_predicts_what_the_diagnosis_claimed
     assert p["rms_um"] <= 1.5 * d["rms_after_um"], (p, d["rms_after_um"])
     assert p["rms_um"] < 0.5 * p["rms_rigid_um"]
     assert [t["test"] for t in p["tests"]] == ["spindle-thermal"]
+    # the live path (item 6) applies the same term: lag states stepped one reading at a
+    # time over everything the center received, records on them, give the drift predict
+    # continues from the saved state
+    model = MachineModel.from_json(saved)
+    (term,) = model.terms
+    assert isinstance(term, DynamicThermalTerm)
+    temps = {col: readings.temperatures[s] for s, col in readings.temperature_columns.items()}
+    rest = readings.time_s >= cut
+    ahead = term.series(readings.time_s[rest], {c: v[rest] for c, v in temps.items()})
+    live = live_drift(model, readings.time_s, temps)[rest]
+    assert np.ptp(ahead) > 20.0
+    np.testing.assert_allclose(live, ahead, rtol=0, atol=1e-6)
+
+
+def live_drift(model: MachineModel, t_s: np.ndarray, temps: dict[str, np.ndarray]
+               ) -> np.ndarray:
+    """The drift (µm) of ``model``'s live form at every reading, its lag states stepped
+    one reading at a time from rest at the first, as the center does."""
+    lags = live_lags(model)
+    live = live_model(model)
+    out = np.empty(t_s.size)
+    state: dict[str, tuple[float, float, float]] = {}
+    for k in range(t_s.size):
+        values = {c: float(v[k]) for c, v in temps.items()}
+        for g in lags:
+            x = values[g.source]
+            t0, x0, y0 = state.get(g.column, (float(t_s[k]), x, x))
+            state[g.column] = (float(t_s[k]), x, lag_step(y0, x0, x, t_s[k] - t0, g.tau_s))
+            values[g.column] = state[g.column][2]
+        out[k] = sum(r.coefficient * (values[r.sensor] - r.t_ref_C) for r in live.terms
+                     if isinstance(r, ThermalTerm)) + sum(
+            d.intercept_um for d in live.terms if isinstance(d, DynamicThermalTerm))
+    return out
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
