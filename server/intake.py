@@ -423,10 +423,10 @@ class TemperatureIntake:
         if r.source != "telemetry":  # the machine has its own readings already
             self.forwarder.note(machine, column, float(celsius), r.time)
         if known is not None and known.lags and r.source != "lag":
-            self._follow_lags(machine, known.lags, column, float(celsius), r.time)
+            self._follow_lags(machine, known, column, float(celsius), r.time)
 
-    def _follow_lags(self, machine: str, lags: tuple[LiveLag, ...], column: str,
-                     celsius: float, taken: float) -> None:
+    def _follow_lags(self, machine: str, known: _Known, column: str, celsius: float,
+                     taken: float) -> None:
         """Step every lag state of ``machine`` that follows ``column`` to this reading and
         send it on as a reading of its own (source ``lag``, :mod:`volumetric.model.live`).
 
@@ -434,16 +434,14 @@ class TemperatureIntake:
         for readings without history) and is then warmed from the readings stored before
         it (:meth:`_warm_lag`). A reading older than the state's last one is left out:
         the lag runs forward in time only."""
-        known = self._known.get(machine)
-        for lag in lags:
+        for lag in known.lags:
             if lag.source != column:
                 continue
             key = (machine, lag.column, lag.source, lag.tau_s)
             state = self._lag_states.get(key)
             if state is None:
                 state = (taken, celsius, celsius)
-                if known is not None:
-                    self._spawn(self._warm_lag(key, known.id, taken), f"lag:{machine}")
+                self._spawn(self._warm_lag(key, known.id, taken), f"lag:{machine}")
             elif taken >= state[0]:
                 t0, x0, y0 = state
                 state = (taken, celsius, lag_step(y0, x0, celsius, taken - t0, lag.tau_s))
