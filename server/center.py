@@ -22,6 +22,7 @@ from server.state import Registry
 
 if TYPE_CHECKING:  # the intake imports this module
     from server.intake import TemperatureIntake
+    from server.temperatures import TemperatureBoard
 
 
 def _now() -> dt.datetime:
@@ -39,6 +40,9 @@ class Center:
     started_at: dt.datetime = field(default_factory=_now)
     intake: TemperatureIntake | None = None
     """The temperature intake while the machine services run (REST posts go to it)."""
+    temperatures: TemperatureBoard | None = None
+    """The machine services' temperature board while they run (the dashboard shows its
+    readings: MQTT, REST, the center's lag states, and their staleness)."""
 
     def __post_init__(self) -> None:
         self.metrics.track_connected(self.registry.connected_count)

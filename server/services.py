@@ -100,6 +100,8 @@ async def machine_services(
             TemperatureIntake(center, temperatures, feed, sessions=server.sessions))
         center.intake = intake
         stack.callback(setattr, center, "intake", None)
+        center.temperatures = temperatures  # the dashboard's view of the board
+        stack.callback(setattr, center, "temperatures", None)
         mqtt = None
         if settings.mqtt_host is not None:
             mqtt = await stack.enter_async_context(MqttBridge(

@@ -227,7 +227,7 @@ async def test_temperatures_from_the_service_board_join_the_telemetry(
     board = TemperatureBoard(stale_after_s=30.0)
     board.update("vmc-01", "column", 19.25, source="mqtt")
     board.update("vmc-01", "spindle", 21.75, source="mqtt")  # newer than the telemetry's
-    center.temperatures = board  # type: ignore[attr-defined]  # as the services hand it over
+    center.temperatures = board  # as the services hand it over
 
     async def temperatures() -> list[tuple[str, float, bool, str]]:
         card = (await client.get("/api/dashboard")).json()["machines"][0]
@@ -562,7 +562,7 @@ async def test_stale_temperatures_turn_an_applied_machine_warn(
     await db.run(map_repo.record_answer, sent.id, acked=True)
     board = TemperatureBoard(stale_after_s=60.0)
     board.update("vmc-01", "spindle", 24.5, source="rest")  # REST readings show too
-    center.temperatures = board  # type: ignore[attr-defined]  # as the services hand it over
+    center.temperatures = board  # as the services hand it over
 
     async def row() -> tuple[str, str, list[tuple[str, bool, str]]]:
         card = (await client.get("/api/dashboard")).json()["machines"][0]

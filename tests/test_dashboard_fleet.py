@@ -139,8 +139,7 @@ def center_with_fleet(tmp_path: Path) -> Iterator[Live]:
         timing = LinkTiming(heartbeat_s=1.0, telemetry_period_ms=250)
         async with machine_services(center, timing=timing) as svc:
             found["svc"] = svc
-            # What the services would do to show MQTT temperatures on the dashboard.
-            center.temperatures = svc.temperatures  # type: ignore[attr-defined]
+            assert center.temperatures is svc.temperatures  # handed over by the services
             yield
 
     settings = load_settings(database_url=f"sqlite:///{tmp_path / 'center.db'}",

@@ -77,10 +77,9 @@ AxisQuery = Annotated[str | None, Query(pattern=r"^[A-Za-z][A-Za-z0-9]{0,3}$",
 
 
 def temperature_board(center: Center) -> TemperatureBoard | None:
-    """The machine services' temperature board, when they run and hand it to the Center
-    (as ``center.temperatures``); without it the dashboard shows telemetry temperatures."""
-    board = getattr(center, "temperatures", None)
-    return board if isinstance(board, TemperatureBoard) else None
+    """The machine services' temperature board, when they run (they hand it to the Center
+    as ``center.temperatures``); without it the dashboard shows telemetry temperatures."""
+    return center.temperatures
 
 
 async def snapshot_of(center: Center) -> DashboardSnapshot:
