@@ -442,6 +442,8 @@ class TemperatureIntake:
             if state is None:
                 state = (taken, celsius, celsius)
                 self._spawn(self._warm_lag(key, known.id, taken), f"lag:{machine}")
+                self.board.notes[(machine, lag.column)] = (
+                    f"{lag.source} through a {lag.tau_s / 60:.0f} min lag")
             elif taken >= state[0]:
                 t0, x0, y0 = state
                 state = (taken, celsius, lag_step(y0, x0, celsius, taken - t0, lag.tau_s))

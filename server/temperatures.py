@@ -91,6 +91,9 @@ class TemperatureBoard:
         """The intake's check, run before every update (see the module docstring)."""
         self.refused = 0
         """Readings the screen refused."""
+        self.notes: dict[tuple[str, str], str] = {}
+        """What a derived column stands for, by (machine, column): the intake's lag states
+        (``T_lag1_C``: "T_t4_C through a 47 min lag"), for the dashboard."""
 
     def subscribe(self, listener: Listener) -> Callable[[], None]:
         self._listeners.append(listener)

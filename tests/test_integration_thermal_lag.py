@@ -96,6 +96,11 @@ async def test_a_lagged_thermal_model_is_applied_with_its_history(tmp_path: Path
                 m.axis_names.index(a) for a in active.inputs]]
             applied.append(float(before_rounding(active, at)[0, z]) * 1e3)
         assert store.version == 1  # one map; the history moved only its thermal part
+        # the dashboard says what the center's own sensor stands for
+        card = (await plant.client.get(f"/api/machines/{name}/dashboard")).json()["card"]
+        (shown,) = [t for t in card["temperatures"] if t["name"] == "lag1"]
+        assert shown["source"] == "lag"
+        assert shown["follows"] == "T_spindle_C through a 10 min lag"
     # what the saved model gives over the same readings, from rest at the first
     drift = term.series(t_s, {"T_spindle_C": celsius})
     lag = (drift - term.intercept_um - LEVEL_UM_PER_K * celsius) / LAG_UM_PER_K

@@ -40,6 +40,9 @@ class TemperatureLive(BaseModel):
         description="Where it came from: the machine link, MQTT or the REST API, or a lag "
                     "state the center follows for a lagged thermal model.")
     age_s: float | None = Field(default=None, description="Age of the reading, s.")
+    follows: str | None = Field(
+        default=None, description="For a lag state: the sensor it follows and its time "
+                                  "constant (a lagged thermal model's, applied live).")
 
 
 class MapVersions(BaseModel):

@@ -234,7 +234,8 @@ def board_temperatures(board: TemperatureBoard, machine: str, telemetry_stale: b
         stale = r.stale or age > board.stale_after_s or (
             r.source == "telemetry" and telemetry_stale)
         out.append(TemperatureLive(name=name, celsius=r.celsius, stale=stale,
-                                   source=r.source, age_s=age))
+                                   source=r.source, age_s=age,
+                                   follows=board.notes.get((machine, column))))
     return out
 
 

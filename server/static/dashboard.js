@@ -127,7 +127,7 @@
       el("tr", { class: t.stale ? "stale" : null },
         el("th", {}, t.name),
         el("td", { class: "num", "data-field": `temp-${t.name}`,
-          title: `${t.source}${t.age_s === null ? "" : ", " + age(t.age_s)}` },
+          title: `${t.follows ?? t.source}${t.age_s === null ? "" : ", " + age(t.age_s)}` },
         qty(t.celsius, "°C", 1)),
         t.stale ? el("td", { class: "stale-tag" }, "stale") : null))));
   }

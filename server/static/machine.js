@@ -38,7 +38,7 @@
     const temps = card.temperatures.length ? el("table", { class: "terms" },
       el("tr", {}, el("th", {}, "Sensor"), el("th", {}, "Temperature")),
       card.temperatures.map((t) => el("tr", { class: t.stale ? "stale" : null },
-        el("td", {}, t.name),
+        el("td", {}, t.name, t.follows ? el("span", { class: "sub" }, ` (${t.follows})`) : null),
         el("td", { class: "num", "data-field": `temp-${t.name}` },
           qty(t.celsius, "°C", 2), t.stale ? " (stale)" : "")))) : null;
     EDNC.fill(document.getElementById("live-values"),
