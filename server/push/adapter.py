@@ -8,16 +8,14 @@ first into the second, and the only one of the push package that imports the cor
 from __future__ import annotations
 
 from collections.abc import Mapping
-from typing import Any, Final
+from typing import Any
 
 from protocol import MapEncoding
 from server import mapcodec
 from server.mapcodec import MapContent
-from volumetric.model.live import live_model, live_needs
+from volumetric.model.live import live_model, live_needs, plain_thermal_sensors
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
-
-_THERMAL: Final = ("thermal_expansion", "thermal_drift")
 
 
 def thermal_sensors(body: Mapping[str, Any]) -> frozenset[str]:
@@ -29,9 +27,7 @@ def thermal_sensors(body: Mapping[str, Any]) -> frozenset[str]:
         return live_needs(terms).records
     except (ValueError, KeyError, TypeError):  # ComponentErrorSpecError is a ValueError
         # a dynamic term that cannot be read: the build says why; the plain ones still count
-        return frozenset(str(t["sensor"]) for t in terms
-                         if isinstance(t, Mapping) and t.get("effect") in _THERMAL
-                         and "sensor" in t)
+        return plain_thermal_sensors(terms)
 
 
 def build_for(description: Mapping[str, Any], controller: str, model_body: Mapping[str, Any],

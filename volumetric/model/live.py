@@ -24,11 +24,10 @@ structure at rest at the first of them.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from volumetric.model.components import GeometricErrors
 from volumetric.model.model import DynamicThermalTerm, MachineModel, Term, ThermalTerm
 
 LAG_SENSOR = "lag{}"
@@ -61,13 +60,16 @@ class LiveLag:
 def live_lags(model: MachineModel) -> tuple[LiveLag, ...]:
     """The lag states of ``model``'s dynamic thermal terms, numbered as :func:`live_model`
     names them."""
+    return _numbered(t for t in model.terms if isinstance(t, DynamicThermalTerm))
+
+
+def _numbered(terms: Iterable[DynamicThermalTerm]) -> tuple[LiveLag, ...]:
     out: list[LiveLag] = []
-    for term in model.terms:
-        if isinstance(term, DynamicThermalTerm):
-            for c in term.columns:
-                if c.kind == "lag":
-                    column = f"T_{LAG_SENSOR.format(len(out) + 1)}_C"
-                    out.append(LiveLag(column, c.sensor, c.tau_s))
+    for term in terms:
+        for c in term.columns:
+            if c.kind == "lag":
+                column = f"T_{LAG_SENSOR.format(len(out) + 1)}_C"
+                out.append(LiveLag(column, c.sensor, c.tau_s))
     return tuple(out)
 
 
@@ -115,6 +117,14 @@ class LiveNeeds:
     lags: tuple[LiveLag, ...]
 
 
+def plain_thermal_sensors(terms: Sequence[Any]) -> frozenset[str]:
+    """The sensors of a model's JSON ``terms`` that are plain thermal records
+    (``thermal_expansion``, ``thermal_drift``), read without judging the other terms."""
+    return frozenset(str(t["sensor"]) for t in terms if isinstance(t, Mapping)
+                     and t.get("effect") in ("thermal_expansion", "thermal_drift")
+                     and "sensor" in t)
+
+
 def live_needs(terms: Sequence[Any]) -> LiveNeeds:
     """:class:`LiveNeeds` of a model's JSON ``terms`` (without reading its geometry).
 
@@ -123,15 +133,15 @@ def live_needs(terms: Sequence[Any]) -> LiveNeeds:
     ComponentErrorSpecError, KeyError, TypeError, ValueError
         A dynamic term that cannot be read.
     """
-    plain = {str(t["sensor"]) for t in terms if isinstance(t, Mapping)
-             and t.get("effect") in ("thermal_expansion", "thermal_drift") and "sensor" in t}
+    plain = plain_thermal_sensors(terms)
     dynamic = tuple(DynamicThermalTerm.from_json(t) for t in terms
                     if isinstance(t, Mapping) and t.get("effect") == "thermal_dynamic")
-    lags = live_lags(MachineModel("", GeometricErrors({}, {}), dynamic))
+    lags = _numbered(dynamic)
     levels = {c.sensor for d in dynamic for c in d.columns if c.kind == "level"}
     records = frozenset(plain | levels | {lag.column for lag in lags})
     return LiveNeeds(records, frozenset(plain | levels | {lag.source for lag in lags}),
                      lags)
 
 
-__all__ = ["LAG_SENSOR", "LiveLag", "LiveNeeds", "live_lags", "live_model", "live_needs"]
+__all__ = ["LAG_SENSOR", "LiveLag", "LiveNeeds", "live_lags", "live_model", "live_needs",
+           "plain_thermal_sensors"]
