@@ -449,8 +449,7 @@ class TemperatureIntake:
                 state = (taken, celsius, lag_step(y0, x0, celsius, taken - t0, lag.tau_s))
             else:
                 continue
-            self._lag_states[key] = state
-            self.board.update(machine, lag.column, state[2], source="lag", at=taken)
+            self._set_lag(key, state)
 
     async def _warm_lag(self, key: tuple[str, str, str, float], machine_id: int,
                         before: float) -> None:
@@ -479,8 +478,15 @@ class TemperatureIntake:
             return  # the model changed meanwhile
         t_now, x_now, _ = now
         state = (t_now, x_now, lag_step(y, float(x[-1]), x_now, t_now - float(t[-1]), tau_s))
+        self._set_lag(key, state)
+
+    def _set_lag(self, key: tuple[str, str, str, float],
+                 state: tuple[float, float, float]) -> None:
+        """Keep a lag state and put it on the board as its column's reading (which sends it
+        to the machine)."""
         self._lag_states[key] = state
-        self.board.update(machine, column, state[2], source="lag", at=t_now)
+        machine, column, _, _ = key
+        self.board.update(machine, column, state[2], source="lag", at=state[0])
 
     def _store(self, row: NewReading) -> None:
         if len(self._buffer) >= MAX_BUFFER:

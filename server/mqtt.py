@@ -322,17 +322,12 @@ async def _send(client: aiomqtt.Client, topic: str, payload: str, *, retain: boo
     (the awaited future is already done). With a thousand statuses republished, PUBACKs
     arrive every turn: the bridge then went on waiting for work after its connection
     was cancelled, and held the shutdown (or, after a lost broker, its reconnect). A
-    pending cancel request (``Task.cancelling``) is raised here instead.
+    pending cancel request (``Task.cancelling``) is raised here instead. Only for a task
+    that lives as long as one connection (the publisher): the connection loop's own count
+    of cancel requests is not reliable across a lost broker's task group, and it checks the
+    stop flag instead.
     """
     await client.publish(topic, payload, qos=1, retain=retain, timeout=PUBLISH_TIMEOUT_S)
-    _raise_if_cancelled()
-
-
-def _raise_if_cancelled() -> None:
-    """Raise the cancellation of the current task that an ``asyncio.wait_for`` inside
-    aiomqtt dropped. Only for a task that lives as long as one connection (the
-    publisher): the connection loop's own count of cancel requests is not reliable
-    across a lost broker's task group, and it checks the stop flag instead."""
     task = asyncio.current_task()
     if task is not None and task.cancelling():
         raise asyncio.CancelledError

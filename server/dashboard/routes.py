@@ -58,7 +58,6 @@ from server.db import measurements as measurement_repo
 from server.db import reports as report_repo
 from server.db.tables import DiagnosisRow, MachineRow
 from server.plant import plant_view
-from server.temperatures import TemperatureBoard
 from volumetric.errors import MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, read_measurements
 from volumetric.model.machine import parse_machine
@@ -76,17 +75,11 @@ AxisQuery = Annotated[str | None, Query(pattern=r"^[A-Za-z][A-Za-z0-9]{0,3}$",
                                         description="A grid axis of the map, e.g. X.")]
 
 
-def temperature_board(center: Center) -> TemperatureBoard | None:
-    """The machine services' temperature board, when they run (they hand it to the Center
-    as ``center.temperatures``); without it the dashboard shows telemetry temperatures."""
-    return center.temperatures
-
-
 async def snapshot_of(center: Center) -> DashboardSnapshot:
     """The dashboard now."""
     facts = await center.db.run(load_facts)
     return build_snapshot(facts, await plant_view(center), node_id=center.settings.node_id,
-                          temperatures=temperature_board(center))
+                          temperatures=center.temperatures)
 
 
 def live_feed(request: Request, center: Center) -> LiveFeed:
@@ -122,7 +115,7 @@ async def machine_detail(center: CenterDep, machine: MachineDep) -> MachineDetai
     model = await center.db.run(model_repo.get_model, machine.id)
     links = await plant_view(center)
     card = with_board(machine_card(facts, links.get(machine.name),
-                               now=dt.datetime.now(dt.UTC)), temperature_board(center))
+                               now=dt.datetime.now(dt.UTC)), center.temperatures)
     view, problem = None, None
     if model is not None:
         try:
