@@ -21,7 +21,6 @@ import numpy as np
 import pytest
 
 from machine_sim.lookup import ActiveMap, FactoredLadder, GridMap
-from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
     FAST_MQTT,
@@ -29,10 +28,10 @@ from tests.support.integration import (
     before_rounding,
     campaign,
     center,
-    cnc,
     diagnosed_spindle,
     require_loopback_aliases,
     until,
+    with_model,
 )
 from volumetric.model.model import ThermalTerm
 
@@ -70,14 +69,10 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
             *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
         assert plant.services.mqtt is not None
         await plant.services.mqtt.connected.wait()
-        await plant.register(THERMAL)
-        await plant.post_model(name, plain_json(model.to_json()))
-        sim = await stack.enter_async_context(cnc(THERMAL, plant.port, factored=factored))
+        # the map carries the term: built at its reference, it needs no temperature
+        sim = await with_model(stack, plant, THERMAL, model, factored=factored)
         ctl = sim.runtime.controller
         store = ctl.store
-        await sim.ready.wait()
-        # the map carries the term: built at its reference, it needs no temperature
-        await until(lambda: store.version == 1)
         await until(plant.applied(name, 1))
         assert isinstance(store.active, kind)
         assert (store.active.payload.thermal if isinstance(store.active, FactoredLadder)

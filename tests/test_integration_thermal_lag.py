@@ -16,7 +16,6 @@ import numpy as np
 import pytest
 
 from machine_sim.lookup import FactoredLadder, TablesMap
-from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
     THERMAL,
@@ -24,10 +23,10 @@ from tests.support.integration import (
     Spec,
     before_rounding,
     center,
-    cnc,
     diagnosed_spindle,
     require_loopback_aliases,
     until,
+    with_model,
 )
 from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel
 
@@ -65,13 +64,10 @@ async def test_a_lagged_thermal_model_is_applied_with_its_history(tmp_path: Path
     lag_sent: list[float] = []
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
         plant = await stack.enter_async_context(center(f"sqlite:///{tmp_path / 'c.db'}"))
-        await plant.register(spec)
-        await plant.post_model(name, plain_json(model.to_json()))
-        sim = await stack.enter_async_context(cnc(spec, plant.port, own_sensors=False))
+        # built without temperatures: the map carries them
+        sim = await with_model(stack, plant, spec, model, own_sensors=False)
         ctl = sim.runtime.controller
         store = ctl.store
-        await sim.ready.wait()
-        await until(lambda: store.version == 1)  # built without temperatures: it carries them
         kind = FactoredLadder if spec is THERMAL else TablesMap
         assert isinstance(store.active, kind)
         sensors = {r.sensor for r in store.active.payload.thermal}

@@ -16,16 +16,15 @@ import numpy as np
 import pytest
 
 from machine_sim.lookup import TablesMap
-from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
     FAST_MQTT,
     THERMAL_TABLES,
     center,
-    cnc,
     diagnosed_spindle,
     require_loopback_aliases,
     until,
+    with_model,
 )
 
 pytestmark = [pytest.mark.services, pytest.mark.slow]
@@ -50,16 +49,11 @@ async def test_temperatures_move_the_compensation_without_a_new_map(
             *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
         assert plant.services.mqtt is not None
         await plant.services.mqtt.connected.wait()
-        await plant.register(THERMAL_TABLES)
-        await plant.post_model(name, plain_json(model.to_json()))
-        # its sensors are not on its own PLC: they publish to MQTT, the center forwards them
-        sim = await stack.enter_async_context(cnc(THERMAL_TABLES, plant.port,
-                                                  own_sensors=False))
+        # its sensors are not on its own PLC: they publish to MQTT, the center forwards
+        # them; a tables map needs no temperature to be built: it comes at once
+        sim = await with_model(stack, plant, THERMAL_TABLES, model, own_sensors=False)
         ctl = sim.runtime.controller
         store = ctl.store
-        await sim.ready.wait()
-        # a tables map needs no temperature to be built: it comes at once
-        await until(lambda: store.version == 1)
         await until(plant.applied(name, 1))
         assert isinstance(store.active, TablesMap)
         seen: list[float] = []

@@ -45,6 +45,7 @@ from protocol.codes import MessageType
 from server.app import create_app
 from server.center import Center
 from server.link import LinkTiming
+from server.numeric import plain_json
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
 from tests.support.services import require
@@ -328,6 +329,18 @@ def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
                         ip=ip, cycle_s=0.02,
                         backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.5), mqtt=mqtt)
+
+
+async def with_model(stack: contextlib.AsyncExitStack, plant: Plant, s: Spec,
+                     model: MachineModel, **options: Any) -> SimulatedCNC:
+    """``s`` registered with ``model``, its simulated CNC (``cnc`` with ``options``)
+    connected in ``stack`` and holding map version 1."""
+    await plant.register(s)
+    await plant.post_model(s.name, plain_json(model.to_json()))
+    sim = await stack.enter_async_context(cnc(s, plant.port, **options))
+    await sim.ready.wait()
+    await until(lambda: sim.runtime.controller.store.version == 1)
+    return sim
 
 
 def before_rounding(active: ActiveMap, q: np.ndarray) -> np.ndarray:
