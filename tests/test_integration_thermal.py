@@ -16,19 +16,17 @@ import uuid
 from contextlib import AsyncExitStack
 from pathlib import Path
 
-import aiomqtt
 import numpy as np
 import pytest
 
 from machine_sim.lookup import ActiveMap, FactoredLadder, GridMap
 from tests.support.integration import (
     DEADLINE_S,
-    FAST_MQTT,
     THERMAL,
     before_rounding,
     campaign,
-    center,
     diagnosed_spindle,
+    mqtt_plant,
     require_loopback_aliases,
     until,
     with_model,
@@ -62,13 +60,7 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
     kind = FactoredLadder if factored else GridMap
     temps: list[float] = []
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
-        plant = await stack.enter_async_context(center(
-            f"sqlite:///{tmp_path / 'center.db'}", mqtt=mqtt_broker, prefix=top,
-            mqtt_options=FAST_MQTT))
-        pub = await stack.enter_async_context(aiomqtt.Client(
-            *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
-        assert plant.services.mqtt is not None
-        await plant.services.mqtt.connected.wait()
+        plant, pub = await mqtt_plant(stack, tmp_path, mqtt_broker, top)
         # the map carries the term: built at its reference, it needs no temperature
         sim = await with_model(stack, plant, THERMAL, model, factored=factored)
         ctl = sim.runtime.controller

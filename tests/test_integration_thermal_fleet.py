@@ -16,7 +16,6 @@ from contextlib import AsyncExitStack
 from dataclasses import dataclass, field
 from pathlib import Path
 
-import aiomqtt
 import numpy as np
 import pytest
 
@@ -26,13 +25,12 @@ from machine_sim.siemens import SiemensNC
 from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
-    FAST_MQTT,
     THERMAL,
     THERMAL_TABLES,
     before_rounding,
-    center,
     cnc,
     diagnosed_spindle,
+    mqtt_plant,
     require_loopback_aliases,
     until,
 )
@@ -81,13 +79,7 @@ async def test_two_machines_warm_up_and_each_cycle_applies_its_latest_temperatur
     top = f"ednc-it-{uuid.uuid4().hex[:12]}"
     cycles: dict[str, Cycles] = {}
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
-        plant = await stack.enter_async_context(center(
-            f"sqlite:///{tmp_path / 'center.db'}", mqtt=mqtt_broker, prefix=top,
-            mqtt_options=FAST_MQTT))
-        pub = await stack.enter_async_context(aiomqtt.Client(
-            *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
-        assert plant.services.mqtt is not None
-        await plant.services.mqtt.connected.wait()
+        plant, pub = await mqtt_plant(stack, tmp_path, mqtt_broker, top)
         sims = {}
         for s in specs:
             await plant.register(s)

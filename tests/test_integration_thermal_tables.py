@@ -11,17 +11,15 @@ import uuid
 from contextlib import AsyncExitStack
 from pathlib import Path
 
-import aiomqtt
 import numpy as np
 import pytest
 
 from machine_sim.lookup import TablesMap
 from tests.support.integration import (
     DEADLINE_S,
-    FAST_MQTT,
     THERMAL_TABLES,
-    center,
     diagnosed_spindle,
+    mqtt_plant,
     require_loopback_aliases,
     until,
     with_model,
@@ -42,13 +40,7 @@ async def test_temperatures_move_the_compensation_without_a_new_map(
     ref = np.array([[0.5 * (a.travel[0] + a.travel[1]) for a in m.axes]])
     z = m.axis_names.index("Z")
     async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
-        plant = await stack.enter_async_context(center(
-            f"sqlite:///{tmp_path / 'center.db'}", mqtt=mqtt_broker, prefix=top,
-            mqtt_options=FAST_MQTT))
-        pub = await stack.enter_async_context(aiomqtt.Client(
-            *mqtt_broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
-        assert plant.services.mqtt is not None
-        await plant.services.mqtt.connected.wait()
+        plant, pub = await mqtt_plant(stack, tmp_path, mqtt_broker, top)
         # its sensors are not on its own PLC: they publish to MQTT, the center forwards
         # them; a tables map needs no temperature to be built: it comes at once
         sim = await with_model(stack, plant, THERMAL_TABLES, model, own_sensors=False)

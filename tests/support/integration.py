@@ -20,6 +20,7 @@ import functools
 import io
 import socket
 import struct
+import uuid
 import zlib
 from collections.abc import AsyncIterator, Awaitable, Callable
 from contextlib import asynccontextmanager
@@ -27,6 +28,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import aiomqtt
 import httpx
 import numpy as np
 from fastapi import FastAPI
@@ -329,6 +331,20 @@ def cnc(s: Spec, port: int, *, secret: str | None = None, ip: str | None = None,
     return SimulatedCNC(m, (host, port), (secret or s.secret).encode(), runtime=runtime,
                         ip=ip, cycle_s=0.02,
                         backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.5), mqtt=mqtt)
+
+
+async def mqtt_plant(stack: contextlib.AsyncExitStack, tmp_path: Path,
+                     broker: tuple[str, int], prefix: str) -> tuple[Plant, aiomqtt.Client]:
+    """A center on SQLite in ``stack`` whose MQTT bridge is connected under ``prefix``
+    (fast reconnects and stale checks), and a client to publish with."""
+    plant = await stack.enter_async_context(center(
+        f"sqlite:///{tmp_path / 'center.db'}", mqtt=broker, prefix=prefix,
+        mqtt_options=FAST_MQTT))
+    pub = await stack.enter_async_context(aiomqtt.Client(
+        *broker, identifier=f"it-{uuid.uuid4().hex[:8]}"))
+    assert plant.services.mqtt is not None
+    await plant.services.mqtt.connected.wait()
+    return plant, pub
 
 
 async def with_model(stack: contextlib.AsyncExitStack, plant: Plant, s: Spec,
