@@ -473,10 +473,7 @@ class TemperatureIntake:
         t = np.array([r.time.timestamp() for r in rows])
         x = np.array([r.celsius for r in rows])
         y = float(first_order_lag(t, x, tau_s)[-1])
-        now = self._lag_states.get(key)
-        if now is None:
-            return  # the model changed meanwhile
-        t_now, x_now, _ = now
+        t_now, x_now, _ = self._lag_states[key]  # set before this task was spawned
         state = (t_now, x_now, lag_step(y, float(x[-1]), x_now, t_now - float(t[-1]), tau_s))
         self._set_lag(key, state)
 
