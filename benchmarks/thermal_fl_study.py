@@ -15,7 +15,9 @@ the 40 h held-out RMS, the blind RMS (pooled over the judged blocks) and each ju
 then the automated procedure's path, coefficients and run time on the 40 h split; how well
 the training rows' blocked CV ranks the two-term models by what they do on the first judged
 block of the blind split (why no selection reaches 2 µm there); and the 70 % cut of issue 15:
-``ednc diagnose`` on the first part, its saved model applied forward by ``ednc predict``.
+``ednc diagnose`` on the first part, its saved model applied forward by ``ednc predict``;
+last, the procedure alone and with its all-sensor part on every displacement channel of the
+test (``fl_thermal_spindle_caiviac.csv``), of which only ch3 was used in development.
 """
 
 from __future__ import annotations

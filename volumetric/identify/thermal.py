@@ -405,7 +405,8 @@ class ThermalDriftModel:
     train_rms_um : float
         RMS residual on the training rows (µm).
     cv_rms_um : float
-        Blocked-CV RMS of the selected model on the training rows (µm).
+        Blocked-CV RMS of the selected model on the training rows (µm); with the
+        all-sensor part, of the whole average with the selected structure fixed.
     baseline_cv_rms_um : float
         Blocked-CV RMS of the intercept-only model (µm): what selection started from.
     n_train : int
@@ -837,11 +838,12 @@ def _combined_fit(chosen: list[ThermalTerm], cols: list[F64], y: F64, t: F64, te
             np.add.at(out, at, share * np.linalg.lstsq(design[rows], y[rows], rcond=None)[0])
         return out
 
-    ordered = sorted(terms, key=terms.__getitem__)
-    merged = np.column_stack([np.ones(n), *cols, *(
-        levels[:, names.index(term.source)] if term.kind == "level"
-        else first_order_lag(t, temps[:, names.index(term.source)], term.tau_s)[train]
-        for term in ordered[n_sel:])])
+    # the merged design from the parts' own columns (where both parts hold a column, e.g.
+    # a selected level or the intercept, the two are the same)
+    merged = np.empty((n, len(terms) + 1))
+    for at, design in zip(dense_at, denses, strict=True):
+        merged[:, at] = design
+    merged[:, sparse_at] = sparse
     coef = combined(np.ones(n, dtype=bool))
     blocks = _blocks(n, n_blocks)
     leave_out = np.array([combined(blocks != b) for b in range(n_blocks)])
@@ -851,7 +853,8 @@ def _combined_fit(chosen: list[ThermalTerm], cols: list[F64], y: F64, t: F64, te
     u = np.sqrt((n_blocks - 1) / n_blocks * np.sum(spread**2, axis=0))
     residual = y - merged @ coef
     return ThermalDriftModel(
-        terms=tuple(ordered), intercept_um=float(coef[0]), coef=coef[1:],
+        terms=tuple(sorted(terms, key=terms.__getitem__)), intercept_um=float(coef[0]),
+        coef=coef[1:],
         intercept_u_um=float(u[0]), coef_u=u[1:], t0_s=t0,
         train_rms_um=float(np.sqrt(np.mean(residual**2))),
         cv_rms_um=float(np.sqrt(cv_sse / n)), baseline_cv_rms_um=baseline, n_train=n,
