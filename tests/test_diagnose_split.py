@@ -1,18 +1,26 @@
 """The diagnosis chooses its held-out split from the data alone and never judges a reading
-by a model that saw it or anything after it, when the data are a time series."""
+by a model that saw it or anything after it, when the data are a time series; in every
+split, a lagged thermal model's sensors and time constants are chosen without the readings
+it is judged on."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
+from tests.support.thermal_sim import lagged_spindle
 from volumetric.diagnose.diagnosis import (
     FIRST_JUDGED,
     FORWARD_BLOCKS,
+    diagnose,
+    fold_labels,
     forward_blocks,
     forward_residuals,
     time_ordered,
 )
 from volumetric.measure.measurement import Measurements
+from volumetric.model.machine import parse_machine
 
 
 def readings(tests: list[str], times: np.ndarray) -> Measurements:
@@ -46,3 +54,27 @@ def test_forward_residuals_use_only_the_past() -> None:
     assert np.all(np.isnan(r[blocks < FIRST_JUDGED]))
     np.testing.assert_allclose(r[blocks == FORWARD_BLOCKS - 1], 10.0)
     np.testing.assert_allclose(r[(blocks >= FIRST_JUDGED) & (blocks < FORWARD_BLOCKS - 1)], 0.0)
+
+
+def test_a_held_out_run_does_not_shape_the_lagged_model_that_judges_it() -> None:
+    # the simulated spindle as two tests one after the other: not a time series, so the
+    # runs split (contiguous stretches of each test), and a lagged drift is what it finds
+    machine = parse_machine({"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
+                             "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}})
+    m = lagged_spindle(0)
+    m = replace(m, test=np.where(m.time_s >= np.median(m.time_s), "second", "first"))
+    d = diagnose(machine, m)
+    assert d.details["split"] == "runs"
+    assert d.effect == "thermal_drift" and "dynamic" in d.estimate
+    # change what one fold reads: its prediction comes from the other folds alone, so its
+    # held-out residuals move by exactly that change (with the sensors and time constants
+    # chosen on every reading, the fold's own readings would reshape the model)
+    folds = fold_labels(m)
+    held = folds == 2
+    bump = np.where(held, 1.5 * np.sin(m.time_s / 4000.0), 0.0)
+    d2 = diagnose(machine, replace(m, value=m.value + bump))
+    assert [e["effect"] for e in d2.details["effects"]] == [
+        e["effect"] for e in d.details["effects"]]
+    np.testing.assert_allclose(d2.residual_after[held] - bump[held], d.residual_after[held],
+                               rtol=0, atol=1e-8)
+    assert not np.allclose(d2.residual_after[~held], d.residual_after[~held], atol=1e-3)

@@ -49,11 +49,24 @@ class Candidate:
     columns: F64  # (N, k)
     extra: dict[str, Any] = field(default_factory=dict)  # e.g. the period of a periodic
     drop: tuple[int, ...] = ()  # base columns the extension replaces (not adds to)
+    per_fold: tuple[F64, ...] = ()
+    """Columns for each fold of the diagnosis's split, (N, k_f) each, when the extension
+    is selected again from every fold's training readings (a lagged drift: which sensors
+    and time constants is part of what is judged); empty when ``columns`` serve every
+    fold."""
 
     def design(self, a0: F64) -> F64:
         """The base design with this extension: ``(N, P - len(drop) + k)``."""
         base = np.delete(a0, list(self.drop), axis=1) if self.drop else a0
         return np.column_stack((base, self.columns))
+
+    def in_fold(self, f: int) -> Candidate:
+        """The extension as fold ``f`` of the split fits it (itself when it has no
+        per-fold columns)."""
+        if not self.per_fold:
+            return self
+        return Candidate(self.effect, self.axis, self.sensor, self.per_fold[f], self.extra,
+                         self.drop)
 
     @property
     def label(self) -> str:

@@ -17,14 +17,19 @@ Procedure (``ednc diagnose``):
      ``TIME_ORDERED_SPAN`` of the campaign, :func:`time_ordered`: a thermal test, a
      long-term run): ``FORWARD_BLOCKS`` contiguous blocks of equal counts in time; each
      block from ``FIRST_JUDGED`` on is predicted by a model fitted on all blocks before
-     it, never on anything later, and a lagged thermal model's sensors and time
-     constants are selected again in every fold from its past. ``blocks`` reports each
-     judged block, their mean and the worst;
+     it, never on anything later. ``blocks`` reports each judged block, their mean and
+     the worst;
    * ``runs`` otherwise, in ``K = 5`` folds: a test with several runs gives whole runs
      to a fold (so repeated readings of one point never sit on both sides, and a
      time-dependent effect shows as a run that disagrees with the others); a test with
      one run gives contiguous stretches of it;
    * ``chronological`` with ``holdout_after`` (expert option): fit before, judge after.
+
+   In every split, a lagged thermal model's sensors and time constants are selected again
+   in every fold from that fold's training readings (``Candidate.per_fold``), wherever it
+   is judged: alone, with further effects beside it, or when those are chosen again.
+   Selected once on every reading, only its coefficients refitted per fold, it would
+   carry the held-out readings' shape into their prediction.
 3. **Candidates** (:mod:`volumetric.diagnose.candidates`), each a few extra columns of
    the same least-squares problem, all along one machine axis ``k`` (``u_k`` is what the
    reading senses of 1 µm along axis k's own line of motion,
@@ -316,20 +321,50 @@ def forward_residuals(a: F64, y: F64, w: F64, blocks: NDArray[np.intp]) -> F64:
     return r
 
 
-def _forward_dynamic(m: Measurements, static: Candidate, a0: F64, y: F64, w: F64,
-                     blocks: NDArray[np.intp], order: NDArray[np.intp]) -> F64:
-    """Forward-chained residuals of the lagged drift, its terms selected in every fold from
-    that fold's training blocks alone (lags over the whole series use only the inputs)."""
+Fits = list[tuple[NDArray[np.bool_], NDArray[np.bool_]]]
+"""The (fitted, judged) readings of every fold of a split, as boolean masks of shape (N,)."""
+
+
+def fold_fits(split: str, folds: NDArray[np.intp], train: NDArray[np.bool_]) -> Fits:
+    """The fitted and judged readings of every fold of ``split`` (step 2), in the order of
+    a candidate's ``per_fold`` columns."""
+    if split == "chronological":
+        return [(train, ~train)]
+    if split == "forward":
+        return [(folds < k, folds == k)
+                for k in range(FIRST_JUDGED, int(folds.max(initial=0)) + 1)]
+    return [(folds != f, folds == f) for f in np.unique(folds)]
+
+
+def heldout_per_fold(a0: F64, cands: list[Candidate], y: F64, w: F64, fits: Fits) -> F64:
+    """Held-out residuals of the base design extended by ``cands``, each fold fitted with
+    every candidate's columns of that fold (NaN where no fold judges)."""
     r = np.full(len(y), np.nan)
-    for k in range(FIRST_JUDGED, int(blocks.max(initial=0)) + 1):
-        tr = blocks < k
-        rows = blocks == k
+    for f, (tr, te) in enumerate(fits):
+        a = _combined(a0, [c.in_fold(f) for c in cands])
+        x = _pinv_solve(a[tr].T @ (a[tr] * w[tr, None]), (a[tr] * w[tr, None]).T @ y[tr])
+        r[te] = y[te] - a[te] @ x
+    return r
+
+
+def _per_fold_dynamic(m: Measurements, static: Candidate, full: Candidate, a0: F64, y: F64,
+                      w: F64, train: NDArray[np.bool_], fits: Fits,
+                      order: NDArray[np.intp]) -> Candidate:
+    """``full``, the lagged drift selected on all training readings, with its terms selected
+    again in every fold from that fold's training readings alone, on the residual of the
+    base fitted there (lags over the whole series use only the inputs; a fold that selects
+    nothing gets no columns). Which sensors and time constants is part of what a fold
+    judges: selected on every reading, they would carry the held-out readings' shape into
+    the fold, which only refits their coefficients."""
+    per = []
+    for tr, _ in fits:
+        if np.array_equal(tr, train):
+            per.append(full.columns)  # the chronological split: the fold is the whole fit
+            continue
         x0 = _pinv_solve(a0[tr].T @ (a0[tr] * w[tr, None]), (a0[tr] * w[tr, None]).T @ y[tr])
         dyn = _dynamic_drift(m, static, y - a0 @ x0, tr, order)
-        a = a0 if dyn is None else dyn.design(a0)
-        x = _pinv_solve(a[tr].T @ (a[tr] * w[tr, None]), (a[tr] * w[tr, None]).T @ y[tr])
-        r[rows] = y[rows] - a[rows] @ x
-    return r
+        per.append(np.zeros((len(m), 0)) if dyn is None else dyn.columns)
+    return replace(full, per_fold=tuple(per))
 
 
 def _block_table(blocks: NDArray[np.intp], judge: NDArray[np.bool_], before: F64,
@@ -488,6 +523,14 @@ def diagnose(
             return r
         return heldout_residuals(a, y, w, folds)
 
+    fits = fold_fits(split, folds, train)
+
+    def heldout_of(cands: list[Candidate]) -> F64:
+        # a candidate selected again per fold is judged fold by fold with those columns
+        if any(c.per_fold for c in cands):
+            return heldout_per_fold(a0, cands, y, w, fits)
+        return heldout(_combined(a0, cands))
+
     base_heldout = heldout(a0)
     rms_before = _rms(base_heldout[judge])
     full_base_resid = y - a0 @ _pinv_solve(a0[train].T @ (a0[train] * w[train, None]),
@@ -496,7 +539,7 @@ def diagnose(
     order_judge = order[judge[order]]
     scored: list[Scored] = []
     for c in cands:
-        r = heldout(c.design(a0))
+        r = heldout_of([c])
         rms = _rms(r[judge])
         z = _significance(base_heldout, r, order_judge, np.any(c.columns != 0, axis=1))
         scored.append(Scored(c, r, rms, z, (rms_before - rms) / rms_before))
@@ -506,11 +549,9 @@ def diagnose(
         best_drift = min(drift, key=lambda s: s.rms_after_um)
         dyn = _dynamic_drift(m, best_drift.candidate, full_base_resid, train, order)
         if dyn is not None:
-            if split == "forward":
-                # the lags and sensors are chosen again in every fold from its past only
-                r = _forward_dynamic(m, best_drift.candidate, a0, y, w, folds, order)
-            else:
-                r = heldout(dyn.design(a0))
+            # the lags and sensors are chosen again in every fold from its training readings
+            dyn = _per_fold_dynamic(m, best_drift.candidate, dyn, a0, y, w, train, fits, order)
+            r = heldout_of([dyn])
             rms = _rms(r[judge])
             z = _significance(base_heldout, r, order_judge, np.any(dyn.columns != 0, axis=1))
             scored.append(Scored(dyn, r, rms, z, (rms_before - rms) / rms_before))
@@ -598,8 +639,8 @@ def diagnose(
     chosen = [best.candidate]
     current = best
     while len(chosen) < MAX_EFFECTS:
-        nxt = _next_effect(machine, m, a0, w, y, train, judge, order_judge, heldout, scored,
-                           chosen, current)
+        nxt = _next_effect(machine, m, a0, w, y, train, judge, order_judge, heldout_of,
+                           scored, chosen, current)
         if nxt is None:
             break
         found, est2, term2 = nxt
@@ -617,18 +658,15 @@ def diagnose(
             periodic = fit(machine, m.select(train), fourier=frozenset({rotary_axis}))
             model = MachineModel(machine.name, periodic.model.geometry, model.terms,
                                  {**model.info, "fourier_axes": [rotary_axis]})
-    if len(chosen) > 1 and not (split == "forward" and any("lagged" in c.extra
-                                                         for c in chosen)):
-        # (a forward split judges a lagged drift with its lags chosen again per fold, which
-        # the columns of one candidate do not reproduce)
-        swapped = _refine(machine, m, chosen, scored, a0, y, w, train, judge, heldout)
+    if len(chosen) > 1:
+        swapped = _refine(machine, m, chosen, scored, a0, y, w, train, judge, heldout_of)
         if any(a is not b for a, b in zip(swapped, chosen, strict=True)):
             # a sensor (or time) chosen before another effect on its axis was in the model
             # gives way to the alias that explains more with all the effects in; a period
             # taken from a residual that still held a drift, to the one without it
             chosen = swapped
             for i, c_i in enumerate(chosen):
-                r_i = heldout(_combined(a0, chosen[: i + 1]))
+                r_i = heldout_of(chosen[: i + 1])
                 effects[i].update(effect=c_i.effect, axis=c_i.axis, sensor=c_i.sensor,
                                   rms_after_um=round(_rms(r_i[judge]), 4))
             current = Scored(chosen[-1], r_i, _rms(r_i[judge]), current.z, current.gain)
@@ -679,7 +717,7 @@ def diagnose(
         if again is not None:
             return diagnose(machine, m, holdout_after=holdout_after, base=again,
                             refits=refits - 1)
-    _list_alternatives(chosen, effects, details, scored, a0, judge, heldout)
+    _list_alternatives(chosen, effects, details, scored, judge, heldout_of)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, model, details, base_heldout, current.heldout, judge)
 
@@ -756,7 +794,8 @@ def _base_without(
 
 def _list_alternatives(
     chosen: list[Candidate], effects: list[dict[str, Any]], details: dict[str, Any],
-    scored: list[Scored], a0: F64, judge: NDArray[np.bool_], heldout: Callable[[F64], F64],
+    scored: list[Scored], judge: NDArray[np.bool_],
+    heldout_of: Callable[[list[Candidate]], F64],
 ) -> None:
     """Each named thermal effect's ``alternatives`` in its ``effects`` entry: the other
     sensors of its effect and axis whose held-out RMS, with every other named effect in
@@ -772,13 +811,13 @@ def _list_alternatives(
     for i, c_i in enumerate(chosen):
         if c_i.sensor is None or c_i.drop or "lagged" in c_i.extra:
             continue
-        base = _combined(a0, [c for j, c in enumerate(chosen) if j != i])
-        own = _rms(heldout(c_i.design(base))[judge])
+        others = [c for j, c in enumerate(chosen) if j != i]
+        own = _rms(heldout_of([*others, c_i])[judge])
         alt = sorted({s.candidate.sensor for s in scored
                       if (s.candidate.effect, s.candidate.axis) == (c_i.effect, c_i.axis)
                       and s.candidate.sensor not in (None, c_i.sensor)
                       and not s.candidate.drop and "lagged" not in s.candidate.extra
-                      and _rms(heldout(s.candidate.design(base))[judge]) <= own * (1 + TIE)}
+                      and _rms(heldout_of([*others, s.candidate])[judge]) <= own * (1 + TIE)}
                      - {None})
         entry = next((e for e in effects
                       if (e["effect"], e["axis"], e["sensor"]) == (c_i.effect, c_i.axis,
@@ -837,7 +876,7 @@ def _prefer_physical(ranked: list[Scored]) -> Scored:
 
 def _refine(machine: Machine, m: Measurements, chosen: list[Candidate], scored: list[Scored],
             a0: F64, y: F64, w: F64, train: NDArray[np.bool_], judge: NDArray[np.bool_],
-            heldout: Callable[[F64], F64]) -> list[Candidate]:
+            heldout_of: Callable[[list[Candidate]], F64]) -> list[Candidate]:
     """Each thermal or time effect of ``chosen`` chosen again among the thermal and time
     candidates of its axis, with every other chosen effect in the model (forward selection
     picked it before the others were in, when a backlash or a drift on the same axis
@@ -854,8 +893,8 @@ def _refine(machine: Machine, m: Measurements, chosen: list[Candidate], scored: 
                             (base[train] * w[train, None]).T @ y[train])
             again = periodic_again(machine, m, c_i, y - base @ x, train)
             if again is not None:
-                r_old = heldout(c_i.design(base))
-                r_new = heldout(again.design(base))
+                r_old = heldout_of([*others, c_i])
+                r_new = heldout_of([*others, again])
                 if _rms(r_new[judge]) < _rms(r_old[judge]):
                     out[i] = again
             continue
@@ -863,13 +902,12 @@ def _refine(machine: Machine, m: Measurements, chosen: list[Candidate], scored: 
             continue
         others = [c for j, c in enumerate(out) if j != i]
         taken = {(c.effect, c.axis) for c in others}
-        base = _combined(a0, others)
         tried = []
         for s in scored:
             c = s.candidate
             if (c.effect in THERMAL_FAMILY and c.axis == c_i.axis and not c.drop
                     and "lagged" not in c.extra and (c.effect, c.axis) not in taken):
-                r = heldout(c.design(base))
+                r = heldout_of([*others, c])
                 tried.append(Scored(c, r, _rms(r[judge]), 0.0, 0.0))
         if tried:
             tried.sort(key=lambda t: t.rms_after_um)
@@ -889,7 +927,8 @@ def _combined(a0: F64, cands: list[Candidate]) -> F64:
 def _next_effect(
     machine: Machine, m: Measurements, a0: F64, w: F64, y: F64, train: NDArray[np.bool_],
     judge: NDArray[np.bool_], order_judge: NDArray[np.intp],
-    heldout: Callable[[F64], F64], scored: list[Scored], chosen: list[Candidate],
+    heldout_of: Callable[[list[Candidate]], F64], scored: list[Scored],
+    chosen: list[Candidate],
     current: Scored,
 ) -> tuple[Scored, dict[str, Any], Term | None] | None:
     """The strongest further effect given those ``chosen``, or None when none passes.
@@ -915,8 +954,7 @@ def _next_effect(
             continue
         if c.effect == "periodic":
             c = periodic_again(machine, m, c, resid_now, train) or c
-        # a replacing candidate drops the base model's columns, which lead ``base``
-        r = heldout(c.design(base))
+        r = heldout_of([*chosen, c])
         rms = _rms(r[judge])
         tried.append(Scored(c, r, rms, 0.0, (rms0 - rms) / rms0))
     if not tried:
