@@ -71,6 +71,9 @@ def test_real_thermal_test_cut_at_70_percent_predicts_what_the_diagnosis_claimed
     assert p["n_readings"] == int((readings.time_s >= cut).sum())
     assert p["rms_um"] <= 1.5 * d["rms_after_um"], (p, d["rms_after_um"])
     assert p["rms_um"] < 0.5 * p["rms_rigid_um"]
+    # measured 3.00 µm with the selection averaged with the all-sensor part (the selection
+    # alone: 4.54; the target 3.0)
+    assert p["rms_um"] < 3.5
     assert [t["test"] for t in p["tests"]] == ["spindle-thermal"]
     # the live path (item 6) applies the same term: lag states stepped one reading at a
     # time over everything the center received, records on them, give the drift predict
@@ -126,15 +129,19 @@ def test_a_lagged_spindle_cut_at_70_percent_is_predicted_to_the_noise(seed: int)
     assert ahead["rms_um"] <= 1.5 * d.rms_after_um, (ahead, d.rms_after_um)
     assert ahead["rms_um"] < 2.0 * NOISE_UM
     assert ahead["rms_rigid_um"] > 5.0 * ahead["rms_um"]
+    # the selection averaged with the all-sensor part: every sensor's level and lags
+    sensors = {c.sensor for c in dynamic[0].columns}
+    assert sensors == set(first.temperature_columns.values())
     # on the readings it was fitted on, the saved model (offset moved, lags from rest at
-    # the first reading) gives the joint least-squares fit's residual: orthogonal to the
-    # constant and to every saved column, to rounding
+    # the first reading) gives the joint least-squares fit of the constant and the averaged
+    # drift's scale: its residual is orthogonal to both, to rounding
     resid = predict(machine, saved, first).residual
-    columns = [np.ones(len(first))]
+    drift = np.zeros(len(first))
     for c in dynamic[0].columns:
         x = first.temperatures[c.sensor.removeprefix("T_").removesuffix("_C")]
-        columns.append(x if c.kind == "level" else first_order_lag(first.time_s, x, c.tau_s))
-    for col in columns:
+        col = x if c.kind == "level" else first_order_lag(first.time_s, x, c.tau_s)
+        drift += c.coefficient * col
+    for col in (np.ones(len(first)), drift):
         assert abs(col @ resid) < 1e-8 * np.linalg.norm(col) * np.linalg.norm(resid)
     assert float(np.sqrt(np.mean(resid**2))) < 2.0 * NOISE_UM
 

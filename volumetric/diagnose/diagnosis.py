@@ -42,7 +42,10 @@ Procedure (``ednc diagnose``):
    ===================  =========================================  ======================
    thermal_expansion    ``u_k (T_s − T̄_s)(q_k − q_min) / 1000``    α, ``um_per_m_K``
    thermal_drift        ``u_k (T_s − T̄_s)``; refined by lagged      k, ``um_per_K``
-                        temperatures (:mod:`volumetric.identify.thermal`)
+                        temperatures: the selection averaged with
+                        an all-sensor part, one column of fitted
+                        scale (:mod:`volumetric.identify.thermal`,
+                        its step 6)
    backlash             ``−u_k d_k / 2`` (d_k approach direction)  B, ``reversal_um``
    periodic             ``u_k sin(2π q_k/P)``, ``u_k cos(2π q_k/P)``  A, P
                         with P from the base residual's spectrum
@@ -68,8 +71,10 @@ Procedure (``ednc diagnose``):
 5. **Estimate.** The named effect is fitted together with the base model on all readings;
    its coefficient and standard uncertainty are reported in physical units, and it becomes
    a term of the machine's :class:`~volumetric.model.model.MachineModel` (a lagged
-   thermal drift as a ``thermal_dynamic`` term with its time constants and end states;
-   the fit's tool-tip offsets in ``info["offsets_um"]``), so that the saved model applied
+   thermal drift as a ``thermal_dynamic`` term with its time constants and end states,
+   every term of the average with its coefficient times the fitted scale and its
+   block-jackknife uncertainty likewise (the scale's own is not propagated); the fit's
+   tool-tip offsets in ``info["offsets_um"]``), so that the saved model applied
    forward (``ednc predict``) reproduces the figure.
 6. **Further effects** (``effects``): forward selection. With the effects found so far in
    the model, every candidate of another effect or axis is judged again against that
@@ -128,8 +133,8 @@ from volumetric.diagnose.unexplained import (
 )
 from volumetric.identify.design import Param, build_design
 from volumetric.identify.fit import FitError, FitResult, fit, model_from_parameters
+from volumetric.identify.thermal import DENSE_TAUS_S, fit_thermal_drift
 from volumetric.identify.thermal import ThermalTerm as ThermalColumn
-from volumetric.identify.thermal import fit_thermal_drift
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
 from volumetric.model.model import (
@@ -404,18 +409,23 @@ def _dynamic_term(m: Measurements, a0: F64, w: F64, y: F64, train: NDArray[np.bo
     s2 = float(np.sum(wt * r * r) / max(int(train.sum()) - a.shape[1], 1))
     std = np.sqrt(np.clip(np.diag(np.linalg.pinv(g)), 0, None) * s2)
     terms: list[ThermalColumn] = c.extra["terms"]
-    kx = len(terms)
+    kx = c.columns.shape[1]  # one column (a scale) for an averaged model, else one per term
     temps = _temperature_columns(m)
     last = int(order[train[order]][-1])  # the last training reading in time
     t_all = m.time_s[order]
     sig = {s: v[order] for s, v in temps.items()}
     cols = []
+    described = c.extra["description"]["terms"]
     for j, term in enumerate(terms):
         # the block-jackknife uncertainty of the drift model: the residuals of a thermal
         # test are strongly autocorrelated, which the least-squares formula ignores
-        coef = float(x[a.shape[1] - kx + j])
-        u = max(float(std[a.shape[1] - kx + j]),
-                float(c.extra["description"]["terms"][j]["um_per_K_std"]))
+        if c.extra.get("scaled"):
+            scale = float(x[a.shape[1] - 1])
+            coef = scale * float(described[j]["um_per_K"])
+            u = abs(scale) * float(described[j]["um_per_K_std"])
+        else:
+            coef = float(x[a.shape[1] - kx + j])
+            u = max(float(std[a.shape[1] - kx + j]), float(described[j]["um_per_K_std"]))
         if term.kind == "time":
             cols.append(LagColumn("time", "", 0.0, coef, u))
             continue
@@ -1083,7 +1093,7 @@ def _dynamic_drift(
     y = resid[rows] / uk[rows]
     try:
         model = fit_thermal_drift(t, {c: v[rows] for c, v in temps.items()}, y,
-                                  train[rows], time_drift=False)
+                                  train[rows], time_drift=False, dense_taus_s=DENSE_TAUS_S)
     except ValueError:
         return None
     if not model.terms:
@@ -1095,11 +1105,19 @@ def _dynamic_drift(
     cols = np.empty_like(cols_sorted)
     cols[order] = cols_sorted
     # each term also as fields (kind, sensor, time constant), not only as its name's text
-    desc = {"terms": [{"name": term.name, "kind": term.kind, "sensor": term.source or None,
-                       "tau_s": float(term.tau_s), "um_per_K": float(cf),
-                       "um_per_K_std": float(cu)}
-                      for term, cf, cu in zip(model.terms, model.coef, model.coef_u,
-                                              strict=True)]}
+    desc: dict[str, Any] = {
+        "terms": [{"name": term.name, "kind": term.kind, "sensor": term.source or None,
+                   "tau_s": float(term.tau_s), "um_per_K": float(cf), "um_per_K_std": float(cu)}
+                  for term, cf, cu in zip(model.terms, model.coef, model.coef_u, strict=True)]}
+    scaled = bool(model.dense_taus_s)
+    if scaled:
+        # the selection averaged with the all-sensor part (volumetric.identify.thermal,
+        # step 6) is one model: it enters as one column, its shape fixed by that fit and
+        # only its scale fitted with the rigid model (term by term, the joint fit would
+        # undo the average with a hundred free coefficients)
+        desc["selected"] = [term.name for term in model.selected]
+        desc["all_sensor_taus_s"] = [float(tau) for tau in model.dense_taus_s]
+        cols = cols @ model.coef[:, None]
     return Candidate("thermal_drift", static.axis, static.sensor, uk[:, None] * cols,
                      {"lagged": True, "description": desc, "terms": list(model.terms),
-                      "t0_s": float(model.t0_s)})
+                      "t0_s": float(model.t0_s), "scaled": scaled})
