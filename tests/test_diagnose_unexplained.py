@@ -91,7 +91,10 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
              "estimate": {"reversal_um": 8.02, "reversal_um_std": 0.09},
              "rms_after_um": 0.9},
             {"effect": "thermal_drift", "axis": "z", "sensor": "T_spindle_C",
-             "estimate": {"um_per_K": -2.5, "um_per_K_std": 0.05}, "rms_after_um": 0.4,
+             "estimate": {"um_per_K": -2.5, "um_per_K_std": 0.05, "dynamic": {
+                 "terms": [{"name": f"term {j}"} for j in range(13)],
+                 "selected": ["T_spindle_C lag 2180 s", "T_bed_C"],
+                 "all_sensor_taus_s": [600.0, 1200.0, 9600.0]}}, "rms_after_um": 0.4,
              "alternatives": ["T_column_C", "T_z_screw_C"]},
             {"effect": "unexplained", "axis": "y", "sensor": None,
              "estimate": {"correlates_with": "position y", "structure_um": 0.31,
@@ -104,6 +107,10 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
     assert "reversal_um is B >= 0" in text and "-B/1000 mm" in text  # the sign convention
     assert "2. thermal_drift z T_spindle_C: um_per_K -2.5 ± 0.05 µm/K" in text
     assert "held-out RMS 0.900 -> 0.400 µm" in text
+    # the lagged model behind the drift's figure is named, not only its static estimate
+    assert ("lagged model: T_spindle_C lag 2180 s, T_bed_C; averaged with every sensor's "
+            "level and lags of 10 min to 2.7 h (13 terms in all)") in text
+    assert "dynamic" not in text
     # sensors the data cannot tell from the named one are said beside it, not hidden
     assert "cannot tell it from: T_column_C, T_z_screw_C (within 5% held-out RMS)" in text
     assert text.count("cannot tell it from") == 1

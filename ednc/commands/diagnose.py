@@ -74,8 +74,9 @@ def register(app: typer.Typer) -> None:
             typer.echo(line)
         typer.echo("candidates (held-out RMS alone, z):")
         for c in d.candidates[:8]:
+            model = "  (lagged model)" if c.get("model") == "lagged" else ""
             typer.echo(f"  {c['effect']:18s} {c['axis']} {c.get('sensor') or '':14s} "
-                       f"{c['rms_after_um']:8.3f} µm  z={c['z']}")
+                       f"{c['rms_after_um']:8.3f} µm  z={c['z']}{model}")
         for k, v in d.not_assessed.items():
             typer.echo(f"not assessed: {k}: {v}")
         if report is not None:

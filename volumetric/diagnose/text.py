@@ -66,6 +66,8 @@ def effects_text(d: Diagnosis) -> list[str]:
         vals = ", ".join(f"{k} {v}" for k, v in estimate_rows(e["estimate"])
                          if k not in ("dynamic", "components"))
         lines.append(f"{i}. {_what(e)}: {vals}")
+        if "dynamic" in e["estimate"]:
+            lines.append(f"     {_dynamic_text(e['estimate']['dynamic'])}")
         if e.get("alternatives"):
             lines.append("     the readings cannot tell it from: "
                          f"{', '.join(e['alternatives'])} (within {TIE:.0%} held-out RMS)")
@@ -77,3 +79,16 @@ def effects_text(d: Diagnosis) -> list[str]:
         lines.append(f"     held-out RMS {before:.3f} -> {after:.3f} µm")
         before = after
     return lines
+
+
+def _dynamic_text(dyn: Mapping[str, Any]) -> str:
+    """The lagged model behind a thermal drift's figure, in one line: the terms selected,
+    and the all-sensor part averaged with them when it joined."""
+    terms = dyn.get("terms", [])
+    selected = dyn.get("selected", [t["name"] for t in terms])
+    line = f"lagged model: {', '.join(selected)}"
+    taus = dyn.get("all_sensor_taus_s")
+    if taus:
+        line += (f"; averaged with every sensor's level and lags of {min(taus) / 60:.0f} min"
+                 f" to {max(taus) / 3600:.1f} h ({len(terms)} terms in all)")
+    return line
