@@ -558,6 +558,12 @@ def diagnose(
     if drift:
         best_drift = min(drift, key=lambda s: s.rms_after_um)
         dyn = _dynamic_drift(m, best_drift.candidate, full_base_resid, train, order)
+        if (dyn is not None and split != "chronological"
+                and _rms(heldout(dyn.design(a0))[judge]) >= min(s.rms_after_um for s in scored)):
+            # screening: judged with its lags and sensors chosen on every reading, which
+            # favours it, it does not beat the best candidate; chosen again per fold (the
+            # costly honest figure, five or three more selections) it would not either
+            dyn = None
         if dyn is not None:
             # the lags and sensors are chosen again in every fold from its training readings
             dyn = _per_fold_dynamic(m, best_drift.candidate, dyn, a0, y, w, train, fits, order)
