@@ -14,6 +14,7 @@ from __future__ import annotations
 import dataclasses
 
 import numpy as np
+import pytest
 
 from machine_sim.campaign import standard_campaign
 from machine_sim.effects import Effects, Noise
@@ -67,6 +68,21 @@ def test_a_step_along_x_is_unexplained_and_follows_position_x() -> None:
     assert not any(e["effect"] == "periodic" for e in effects)
 
 
+@pytest.mark.parametrize("size_um", [1.0, -1.5])
+def test_a_small_step_is_found_where_it_is_and_as_large_as_it_is(size_um: float) -> None:
+    # a 1-1.5 µm scale joint: twelve bins of position alone found nothing; one jump beyond
+    # the rigid model's polynomial, judged against the scatter of the positions, does
+    machine, m = campaign(1, "w X b Y Z t")
+    x = axis_positions(machine, m)[:, machine.axis_names.index("X")]
+    d = diagnose(machine, with_error(m, 0, np.where(x >= 430.0, size_um, 0.0)))
+    effects = d.to_json()["effects"]
+    assert d.effect == "unexplained", effects
+    (position,) = [c for c in effects[0]["estimate"]["correlates"]
+                   if c["correlate"] == "position x"]
+    assert abs(position["step_at"] - 430.0) < 15.0, position
+    assert abs(position["step_um"] - size_um) < 0.3 * abs(size_um), position
+
+
 def test_a_drift_quadratic_in_temperature_leaves_unexplained_structure_on_its_sensor(
 ) -> None:
     machine, m = campaign(2, "w X Y b Z t")
@@ -98,7 +114,8 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
              "alternatives": ["T_column_C", "T_z_screw_C"]},
             {"effect": "unexplained", "axis": "y", "sensor": None,
              "estimate": {"correlates_with": "position y", "structure_um": 0.31,
-                          "correlates": [{"correlate": "position y"},
+                          "correlates": [{"correlate": "position y", "step_at": 312.5,
+                                          "step_um": -1.2},
                                          {"correlate": "time"}]},
              "rms_after_um": 0.4}]})
     text = "\n".join(effects_text(d))
@@ -114,7 +131,30 @@ def test_the_text_says_what_axis_estimate_and_held_out_gain() -> None:
     # sensors the data cannot tell from the named one are said beside it, not hidden
     assert "cannot tell it from: T_column_C, T_z_screw_C (within 5% held-out RMS)" in text
     assert text.count("cannot tell it from") == 1
-    assert "3. unexplained: the residual still follows position y" in text
+    assert ("3. unexplained: the residual still follows position y (0.31 µm RMS, a jump of "
+            "-1.2 µm at y = 312.5); no effect") in text
     assert "also correlates with: time" in text
     empty = dataclasses.replace(d, details={"split": "runs", "effects": []})
     assert "effect: none" in "\n".join(effects_text(empty))
+
+
+def test_one_position_off_the_others_is_no_step() -> None:
+    # a grid whose positions' repeated readings share an offset (a periodic error's misfit
+    # aliased on a coarse grid): judged reading by reading, the worst break passes for a
+    # jump (p ~ 1e-21); judged on the positions' scatter, it is none
+    from volumetric.diagnose.unexplained import P_MAX, _step
+
+    rng = np.random.default_rng(0)
+    q = np.repeat(np.linspace(10.0, 590.0, 41), 10)
+    shared = np.repeat(rng.normal(0.0, 1.0, 41), 10)
+    r = shared + rng.normal(0.0, 0.1, q.size)
+    u = np.ones(q.size)
+    test = np.full(q.size, "positioning")
+    found = _step(q, r, u, test)
+    assert found is not None and found[4] > P_MAX, found
+    alone = _step(q + 0.01 * np.arange(q.size), r, u, test)  # every reading its own position
+    assert alone is not None and alone[4] <= P_MAX, alone
+    # a 3 µm jump at 300 mm over a fifth of that scatter is found, where it is
+    jump = _step(q, 0.2 * r + np.where(q >= 300.0, 3.0, 0.0), u, test)
+    assert jump is not None and jump[4] <= P_MAX, jump
+    assert jump[0] == pytest.approx(300.0, abs=15.0) and jump[1] == pytest.approx(3.0, rel=0.1)

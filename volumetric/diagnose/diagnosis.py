@@ -597,7 +597,7 @@ def diagnose(
                                   {**base_fit.model.info,
                                    "offsets_um": _offsets(base_fit.params, base_fit.values)})
         details["effects"] = []
-        left = residual_structure(machine, m, base_heldout, judge)
+        left = residual_structure(machine, m, base_heldout, judge, base_fit.degrees)
         if left:
             # structure no candidate explains: say so rather than "none"
             entry = _unexplained_entry(left, [], rms_before)
@@ -701,7 +701,7 @@ def diagnose(
         model = MachineModel(model.machine, model.geometry,
                              tuple(t for t in effect_terms if t is not None), model.info)
         estimate = effects[0]["estimate"]
-    left = residual_structure(machine, m, current.heldout, judge)
+    left = residual_structure(machine, m, current.heldout, judge, base_fit.degrees)
     if left:
         # structure left that the named effects do not explain; an effect whose own
         # correlate (its sensor, its axis's position or direction) still carries it was

@@ -53,8 +53,11 @@ def effects_text(d: Diagnosis) -> list[str]:
         after = float(e["rms_after_um"])
         if e["effect"] == "unexplained":
             est = e["estimate"]
+            top = (est.get("correlates") or [{}])[0]
+            jump = (f", a jump of {top['step_um']:.3g} µm at {e['axis']} = {top['step_at']:.4g}"
+                    if "step_at" in top else "")
             lines.append(f"{i}. unexplained: the residual still follows "
-                         f"{est['correlates_with']} ({est['structure_um']:.3g} µm RMS); "
+                         f"{est['correlates_with']} ({est['structure_um']:.3g} µm RMS{jump}); "
                          "no effect of the library explains it")
             others = [c["correlate"] for c in est.get("correlates", [])[1:]]
             if others:
