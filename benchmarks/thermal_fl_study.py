@@ -14,8 +14,9 @@ per model: number of columns, training RMS, blocked-CV RMS where the model was c
 the 40 h held-out RMS, the blind RMS (pooled over the judged blocks) and each judged block's;
 then the automated procedure's path, coefficients and run time on the 40 h split; how well
 the training rows' blocked CV ranks the two-term models by what they do on the first judged
-block of the blind split (why no selection reaches 2 µm there); and the 70 % cut of issue 15:
-``ednc diagnose`` on the first part, its saved model applied forward by ``ednc predict``;
+block of the blind split (why no selection reaches 2 µm there); ``ednc diagnose`` on the
+whole test, and the 70 % cut of issue 15: ``ednc diagnose`` on the first part, its saved
+model applied forward by ``ednc predict``;
 last, the procedure alone and with its all-sensor part on every displacement channel of the
 test (``fl_thermal_spindle_caiviac.csv``), of which only ch3 was used in development.
 """
@@ -237,6 +238,12 @@ def cut_and_predict(m: Measurements) -> None:
     :data:`CUT` of its time, diagnosed on the first part (the figure it claims, on its own
     blind split), the saved model (through its JSON) applied to the rest."""
     machine = parse_machine(FL_MACHINE)
+    start = time.perf_counter()
+    whole = diagnose(machine, m)
+    per = " ".join(f"{b['rms_after_um']:.2f}" for b in whole.details["blocks"]["per_block"])
+    print(f"\nednc diagnose on the whole test ({time.perf_counter() - start:.1f} s): "
+          f"{whole.effect} ({whole.sensor}), {whole.rms_before_um:.2f} -> "
+          f"{whole.rms_after_um:.2f} µm (split {whole.details['split']}, blocks {per})")
     cut = float(m.time_s.min() + CUT * np.ptp(m.time_s))
     first, rest = m.select(m.time_s < cut), m.select(m.time_s >= cut)
     start = time.perf_counter()
@@ -250,9 +257,11 @@ def cut_and_predict(m: Measurements) -> None:
           f"({elapsed:.1f} s): {d.effect} ({d.sensor}), claims {d.rms_after_um:.2f} µm "
           f"(split {d.details['split']}, blocks {per})")
     for term in saved.terms:
+        cols = getattr(term, "columns", ())
         text = ", ".join(f"{c.sensor} {c.kind} {c.tau_s:.0f} s {c.coefficient:+.2f} ± "
-                         f"{c.std:.2f}" for c in getattr(term, "columns", ()))
-        print(f"  saved {type(term).__name__} along {term.axis}: {text}")
+                         f"{c.std:.2f}" for c in cols[:4])
+        more = f", ... ({len(cols)} columns in all)" if len(cols) > 4 else ""
+        print(f"  saved {type(term).__name__} along {term.axis}: {text}{more}")
     print(f"  ednc predict on the last {ahead['n_readings']} readings: {ahead['rms_um']:.2f} µm "
           f"(rigid part alone {ahead['rms_rigid_um']:.2f}, worst {ahead['max_abs_um']:.2f}); "
           f"{ahead['rms_um'] / d.rms_after_um:.2f}x the claim; on the readings it was fitted "
