@@ -114,7 +114,9 @@ def main() -> None:
         print(f"seed {seed}: {len(meas)} readings, fit rms {result.rms} ({t_fit:.1f} s); "
               f"worst tool tip {before:.1f} -> {after:.2f} µm ({100 * gain:.1f} % better); "
               f"diagnose: {d.effect} {d.axis} {d.estimate} held-out {d.rms_before_um:.2f} -> "
-              f"{d.rms_after_um:.2f} µm ({t_diag:.1f} s)", flush=True)
+              f"{d.rms_after_um:.2f} µm ({t_diag:.1f} s); every effect named: "
+              f"{[(e['effect'], e['axis']) for e in d.details.get('effects', [])]}",
+              flush=True)
     print(f"gain: min {100 * min(gains):.1f} %, median {100 * float(np.median(gains)):.1f} %")
 
 
