@@ -29,7 +29,9 @@ Procedure (``ednc diagnose``):
    in every fold from that fold's training readings (``Candidate.per_fold``), wherever it
    is judged: alone, with further effects beside it, or when those are chosen again.
    Selected once on every reading, only its coefficients refitted per fold, it would
-   carry the held-out readings' shape into their prediction.
+   carry the held-out readings' shape into their prediction. (A lagged model that does not
+   beat the best candidate even judged that way, which favours it, is dropped unjudged:
+   it could only matter as the best.)
 3. **Candidates** (:mod:`volumetric.diagnose.candidates`), each a few extra columns of
    the same least-squares problem, all along one machine axis ``k`` (``u_k`` is what the
    reading senses of 1 µm along axis k's own line of motion,
