@@ -44,10 +44,12 @@ Procedure (``ednc diagnose``):
    ===================  =========================================  ======================
    thermal_expansion    ``u_k (T_s − T̄_s)(q_k − q_min) / 1000``    α, ``um_per_m_K``
    thermal_drift        ``u_k (T_s − T̄_s)``; refined by lagged      k, ``um_per_K``
-                        temperatures: the selection averaged with
-                        an all-sensor part, one column of fitted
-                        scale (:mod:`volumetric.identify.thermal`,
-                        its step 6)
+                        temperatures: the selection, averaged
+                        with an all-sensor part (one column of
+                        fitted scale) when a map can carry the
+                        model's records (``MAP_THERMAL_RECORDS``;
+                        :mod:`volumetric.identify.thermal`, its
+                        step 6)
    backlash             ``−u_k d_k / 2`` (d_k approach direction)  B, ``reversal_um``
    periodic             ``u_k sin(2π q_k/P)``, ``u_k cos(2π q_k/P)``  A, P
                         with P from the base residual's spectrum
@@ -163,6 +165,12 @@ TIE = 0.05
 MIN_READINGS = 50
 MAX_EFFECTS = 3
 """Most effects one diagnosis names (forward selection)."""
+MAP_THERMAL_RECORDS = 32
+"""Thermal records one map carries (``protocol.mapformat.MAX_THERMAL``): a lagged model is
+applied live as one record per level and per lag state (:mod:`volumetric.model.live`),
+beside one for each other thermal effect named."""
+SELECTED_TERMS = 3
+"""Most terms the lagged model's selection takes (``fit_thermal_drift``'s ``max_terms``)."""
 REFITS = 2
 """Most times the rigid model's degrees are chosen again with the named effects taken out
 (:func:`_base_without`); each time the diagnosis runs again on the new base."""
@@ -1122,9 +1130,16 @@ def _dynamic_drift(
     temps = _temperature_columns(m)
     t = m.time_s[rows]
     y = resid[rows] / uk[rows]
+    # the all-sensor part joins only when the model it makes can be applied live: one
+    # record per sensor level and per lag state, within what a map carries (sixteen
+    # sensors would need 99 records where a map holds 32, and the machine would get no
+    # map it can evaluate the records of)
+    records = len(temps) * (1 + len(DENSE_TAUS_S)) + SELECTED_TERMS + MAX_EFFECTS - 1
+    dense = DENSE_TAUS_S if records <= MAP_THERMAL_RECORDS else ()
     try:
         model = fit_thermal_drift(t, {c: v[rows] for c, v in temps.items()}, y,
-                                  train[rows], time_drift=False, dense_taus_s=DENSE_TAUS_S)
+                                  train[rows], time_drift=False, max_terms=SELECTED_TERMS,
+                                  dense_taus_s=dense)
     except ValueError:
         return None
     if not model.terms:
