@@ -10,13 +10,17 @@ from dataclasses import replace
 import numpy as np
 
 from tests.support.thermal_sim import lagged_spindle
+from volumetric.diagnose.candidates import Candidate
 from volumetric.diagnose.diagnosis import (
     FIRST_JUDGED,
     FORWARD_BLOCKS,
+    BaseGrams,
     diagnose,
+    fold_fits,
     fold_labels,
     forward_blocks,
     forward_residuals,
+    heldout_per_fold,
     time_ordered,
 )
 from volumetric.measure.measurement import Measurements
@@ -78,3 +82,35 @@ def test_a_held_out_run_does_not_shape_the_lagged_model_that_judges_it() -> None
     np.testing.assert_allclose(d2.residual_after[held] - bump[held], d.residual_after[held],
                                rtol=0, atol=1e-8)
     assert not np.allclose(d2.residual_after[~held], d.residual_after[~held], atol=1e-3)
+
+
+def test_judging_from_summed_normal_equations_equals_fitting_each_fold() -> None:
+    # the diagnosis sums the base's normal equations once per cell of the split; what it
+    # judges must equal the plain weighted fit of every fold, a replacing candidate and
+    # per-fold columns included
+    rng = np.random.default_rng(7)
+    n = 300
+    a0 = rng.normal(size=(n, 6))
+    y = a0 @ rng.normal(size=6) + rng.normal(size=n)
+    w = rng.uniform(0.5, 2.0, n)
+    cells = (np.arange(n) * 6) // n
+    fits = fold_fits("forward", cells, np.ones(n, bool))
+    assert len(fits) == FORWARD_BLOCKS - FIRST_JUDGED
+    replacing = Candidate("rotary_periodic", "c", None, rng.normal(size=(n, 3)), drop=(4, 5))
+    per_fold = Candidate("thermal_drift", "z", "T_a_C", np.zeros((n, 2)),
+                         per_fold=tuple(rng.normal(size=(n, 1 + f % 2)) for f in range(3)))
+    plain = Candidate("backlash", "x", None, rng.normal(size=(n, 1)))
+    for cands in ([plain], [plain, per_fold], [replacing, per_fold]):
+        expect = np.full(n, np.nan)
+        for f, (tr, te) in enumerate(fits):
+            kept = [c.in_fold(f) for c in cands]
+            base = np.delete(a0, list(replacing.drop), axis=1) if replacing in cands else a0
+            a = np.column_stack([base, *(c.columns for c in kept)])
+            x = np.linalg.lstsq(a[tr] * np.sqrt(w[tr, None]), y[tr] * np.sqrt(w[tr]),
+                                rcond=None)[0]
+            expect[te] = y[te] - a[te] @ x
+        if any(c.drop for c in cands):
+            got = heldout_per_fold(a0, cands, y, w, fits, cells)
+        else:
+            got = BaseGrams(a0, y, w, fits, cells).heldout(cands)
+        np.testing.assert_allclose(got, expect, rtol=0, atol=1e-9)

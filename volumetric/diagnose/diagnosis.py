@@ -354,35 +354,11 @@ def fold_fits(split: str, folds: NDArray[np.intp], train: NDArray[np.bool_]) -> 
 def heldout_per_fold(a0: F64, cands: list[Candidate], y: F64, w: F64, fits: Fits,
                      cells: NDArray[np.intp]) -> F64:
     """Held-out residuals of the base design extended by ``cands``, each fold fitted with
-    every candidate's columns of that fold (NaN where no fold judges).
-
-    ``cells`` labels the readings so that every fold's fitted readings are a union of
-    cells (the split's folds or blocks). The normal equations of the columns common to
-    every fold (the base and the candidates without per-fold columns, P of them) are
-    summed per cell once; a fold adds only its own columns' rows and cross terms, O(N·P·k)
-    for k per-fold columns instead of O(N·P²).
-    """
+    every candidate's columns of that fold (NaN where no fold judges); ``cells`` as for
+    :class:`BaseGrams`, whose base here is ``a0`` with the candidates that serve every
+    fold (a replacing one included)."""
     common = _combined(a0, [c for c in cands if not c.per_fold])
-    per = [c for c in cands if c.per_fold]
-    cw = common * w[:, None]
-    labels = np.unique(cells)
-    g_cell = {int(c): cw[cells == c].T @ common[cells == c] for c in labels}
-    b_cell = {int(c): cw[cells == c].T @ y[cells == c] for c in labels}
-    p = common.shape[1]
-    r = np.full(len(y), np.nan)
-    for f, (tr, te) in enumerate(fits):
-        inside = np.unique(cells[tr])
-        if not np.array_equal(np.isin(cells, inside), tr):
-            raise ValueError("the fitted readings of a fold are not a union of cells")
-        d = np.column_stack([c.per_fold[f] for c in per])
-        dw = d[tr] * w[tr, None]
-        g_cd = common[tr].T @ dw
-        g = np.block([[sum((g_cell[int(c)] for c in inside), np.zeros((p, p))), g_cd],
-                      [g_cd.T, d[tr].T @ dw]])
-        b = np.concatenate((sum((b_cell[int(c)] for c in inside), np.zeros(p)), dw.T @ y[tr]))
-        x = _pinv_solve(g, b)
-        r[te] = y[te] - common[te] @ x[:p] - d[te] @ x[p:]
-    return r
+    return BaseGrams(common, y, w, fits, cells).heldout([c for c in cands if c.per_fold])
 
 
 class BaseGrams:
@@ -403,10 +379,10 @@ class BaseGrams:
 
     def __init__(self, a0: F64, y: F64, w: F64, fits: Fits, cells: NDArray[np.intp]) -> None:
         self.a0, self.y, self.w, self.fits = a0, y, w, fits
-        self.aw = a0 * w[:, None]
+        aw = a0 * w[:, None]
         labels = [int(c) for c in np.unique(cells)]
-        g_cell = {c: self.aw[cells == c].T @ a0[cells == c] for c in labels}
-        b_cell = {c: self.aw[cells == c].T @ y[cells == c] for c in labels}
+        g_cell = {c: aw[cells == c].T @ a0[cells == c] for c in labels}
+        b_cell = {c: aw[cells == c].T @ y[cells == c] for c in labels}
         p = a0.shape[1]
         self.g: list[F64] = []
         self.b: list[F64] = []
