@@ -411,22 +411,22 @@ class BaseGrams:
         return r
 
 
-def _per_fold_dynamic(m: Measurements, static: Candidate, full: Candidate, a0: F64, y: F64,
-                      w: F64, train: NDArray[np.bool_], fits: Fits,
-                      order: NDArray[np.intp]) -> Candidate:
+def _per_fold_dynamic(m: Measurements, static: Candidate, full: Candidate, grams: BaseGrams,
+                      train: NDArray[np.bool_], order: NDArray[np.intp]) -> Candidate:
     """``full``, the lagged drift selected on all training readings, with its terms selected
     again in every fold from that fold's training readings alone, on the residual of the
     base fitted there (lags over the whole series use only the inputs; a fold that selects
     nothing gets no columns). Which sensors and time constants is part of what a fold
     judges: selected on every reading, they would carry the held-out readings' shape into
-    the fold, which only refits their coefficients."""
+    the fold, which only refits their coefficients. The base's fit in each fold comes from
+    ``grams``, the normal equations the fold's judging uses."""
     per = []
-    for tr, _ in fits:
+    for f, (tr, _) in enumerate(grams.fits):
         if np.array_equal(tr, train):
             per.append(full.columns)  # the chronological split: the fold is the whole fit
             continue
-        x0 = _pinv_solve(a0[tr].T @ (a0[tr] * w[tr, None]), (a0[tr] * w[tr, None]).T @ y[tr])
-        dyn = _dynamic_drift(m, static, y - a0 @ x0, tr, order)
+        x0 = _pinv_solve(grams.g[f], grams.b[f])
+        dyn = _dynamic_drift(m, static, grams.y - grams.a0 @ x0, tr, order)
         per.append(np.zeros((len(m), 0)) if dyn is None else dyn.columns)
     return replace(full, per_fold=tuple(per))
 
@@ -629,7 +629,7 @@ def diagnose(
             dyn = None
         if dyn is not None:
             # the lags and sensors are chosen again in every fold from its training readings
-            dyn = _per_fold_dynamic(m, best_drift.candidate, dyn, a0, y, w, train, fits, order)
+            dyn = _per_fold_dynamic(m, best_drift.candidate, dyn, grams, train, order)
             r = heldout_of([dyn])
             rms = _rms(r[judge])
             z = _significance(base_heldout, r, order_judge, np.any(dyn.columns != 0, axis=1))

@@ -330,8 +330,10 @@ def residual_structure(
             continue
         qj, rj = q[sel, j], residual[sel]
         # the position's figure: twelve bins, or one jump beyond a cubic, the stronger
-        position = [Structure("position", axis.key, None, *stat)
-                    for stat in (_binned(qj, rj, N_BINS),) if stat is not None and passes(stat)]
+        position = []
+        binned = _binned(qj, rj, N_BINS)
+        if binned is not None and passes(binned):
+            position.append(Structure("position", axis.key, None, *binned))
         own = [d for c, d in (degrees or {}).items()
                if len(c) == 3 and c[0] == "E" and c[2] == axis.name]
         # the jump where it shows: readings that sense along the axis (a linear one's
