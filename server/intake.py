@@ -167,6 +167,14 @@ def _live_needs(terms: Any) -> LiveNeeds | None:
         return None
 
 
+def follows(lag: LiveLag) -> str:
+    """What a lag state follows, for people (the dashboard's ``follows``)."""
+    minutes = f"{lag.tau_s / 60:.0f} min"
+    if len(lag.weights) == 1:
+        return f"{lag.sources[0]} through a {minutes} lag"
+    return f"a weighted sum of {len(lag.weights)} sensors through a {minutes} lag"
+
+
 def description_columns(description: Mapping[str, Any]) -> frozenset[str]:
     """The columns a machine description lists under ``"sensors"`` (optional)."""
     listed = description.get("sensors")
@@ -270,8 +278,8 @@ class TemperatureIntake:
         self.refusals: deque[Refusal] = deque(maxlen=200)
         """The latest refusals, newest last (the REST view shows them)."""
         self._known: dict[str, _Known] = {}
-        self._lag_states: dict[tuple[str, str, str, float], tuple[float, float, float]] = {}
-        """(machine, lag column, its sensor, τ) -> (time s, input °C, state °C)."""
+        self._lag_states: dict[tuple[str, str, float], tuple[float, float, float]] = {}
+        """(machine, sensor column, τ) -> (time s, input °C, lag state °C)."""
         self._reloaded: dict[str, float] = {}
         self._deferred: dict[str, list[tuple[str, float, Source, float]]] = {}
         self._orphans: dict[str, list[NewReading]] = {}
@@ -427,63 +435,88 @@ class TemperatureIntake:
 
     def _follow_lags(self, machine: str, known: _Known, column: str, celsius: float,
                      taken: float) -> None:
-        """Step every lag state of ``machine`` that follows ``column`` to this reading and
-        send it on as a reading of its own (source ``lag``, :mod:`volumetric.model.live`).
+        """Step the lag states of ``column`` to this reading and send on every lag state
+        of ``machine`` that weighs it, as a reading of its own (source ``lag``,
+        :mod:`volumetric.model.live`).
 
-        A state starts at rest with the first reading it sees (what ``ednc predict`` does
+        The center follows one state per sensor and time constant, and sends a lag of a
+        weighted sum as the weighted sum of its sensors' states (the lag is linear), so
+        that readings of different sensors at different times need nothing special. A
+        state starts at rest with the first reading it sees (what ``ednc predict`` does
         for readings without history) and is then warmed from the readings stored before
-        it (:meth:`_warm_lag`). A reading older than the state's last one is left out:
+        it (:meth:`_warm_lags`). A reading older than the state's last one is left out:
         the lag runs forward in time only."""
+        moved: dict[float, bool] = {}
+        fresh: list[float] = []
         for lag in known.lags:
-            if lag.source != column:
+            if column not in lag.sources:
                 continue
-            key = (machine, lag.column, lag.source, lag.tau_s)
-            state = self._lag_states.get(key)
-            if state is None:
-                state = (taken, celsius, celsius)
-                self._spawn(self._warm_lag(key, known.id, taken), f"lag:{machine}")
-                self.board.notes[(machine, lag.column)] = (
-                    f"{lag.source} through a {lag.tau_s / 60:.0f} min lag")
-            elif taken >= state[0]:
-                t0, x0, y0 = state
-                state = (taken, celsius, lag_step(y0, x0, celsius, taken - t0, lag.tau_s))
-            else:
-                continue
-            self._set_lag(key, state)
+            tau = lag.tau_s
+            if tau not in moved:
+                key = (machine, column, tau)
+                state = self._lag_states.get(key)
+                if state is None:
+                    self._lag_states[key] = (taken, celsius, celsius)
+                    fresh.append(tau)
+                elif taken >= state[0]:
+                    t0, x0, y0 = state
+                    self._lag_states[key] = (taken, celsius,
+                                             lag_step(y0, x0, celsius, taken - t0, tau))
+                moved[tau] = state is None or taken >= state[0]
+            if moved[tau]:
+                self._send_lag(machine, lag)
+        if fresh:
+            self._spawn(self._warm_lags(machine, known.id, column, tuple(fresh), taken),
+                        f"lag:{machine}")
 
-    async def _warm_lag(self, key: tuple[str, str, str, float], machine_id: int,
-                        before: float) -> None:
-        """Replace a lag state started at rest by one run over the readings stored before
-        it (the last ``LAG_HISTORY_TAUS`` time constants, at most ``LAG_HISTORY_ROWS``
-        rows, from rest at the oldest), stepped on to the state's latest reading: after a
-        restart of the center, a lag of hours is right at once instead of hours later."""
-        machine, column, source, tau_s = key
-        since = dt.datetime.fromtimestamp(before - LAG_HISTORY_TAUS * tau_s, dt.UTC)
+    async def _warm_lags(self, machine: str, machine_id: int, source: str,
+                         taus: tuple[float, ...], before: float) -> None:
+        """Replace lag states of ``source`` started at rest by ones run over the readings
+        stored before them (the last ``LAG_HISTORY_TAUS`` of the longest time constant, at
+        most ``LAG_HISTORY_ROWS`` rows, from rest at the oldest; one query for all its
+        time constants), stepped on to each state's latest reading: after a restart of
+        the center, a lag of hours is right at once instead of hours later."""
+        since = dt.datetime.fromtimestamp(before - LAG_HISTORY_TAUS * max(taus), dt.UTC)
         try:
             rows = await self.center.db.run(
                 reading_repo.list_readings, machine_id, sensor=source, since=since,
                 until=dt.datetime.fromtimestamp(before, dt.UTC), limit=LAG_HISTORY_ROWS)
         except SQLAlchemyError as exc:
-            log.warning("%s: lag %s starts at rest, stored readings not read: %s", machine,
-                        column, str(exc).splitlines()[0])
+            log.warning("%s: lags of %s start at rest, stored readings not read: %s",
+                        machine, source, str(exc).splitlines()[0])
             return
         if not rows:
             return
         rows.reverse()  # oldest first
         t = np.array([r.time.timestamp() for r in rows])
         x = np.array([r.celsius for r in rows])
-        y = float(first_order_lag(t, x, tau_s)[-1])
-        t_now, x_now, _ = self._lag_states[key]  # set before this task was spawned
-        state = (t_now, x_now, lag_step(y, float(x[-1]), x_now, t_now - float(t[-1]), tau_s))
-        self._set_lag(key, state)
+        for tau in taus:
+            key = (machine, source, tau)
+            keep = t >= before - LAG_HISTORY_TAUS * tau
+            if not keep.any():
+                continue
+            y = float(first_order_lag(t[keep], x[keep], tau)[-1])
+            t_now, x_now, _ = self._lag_states[key]  # set before this task was spawned
+            self._lag_states[key] = (
+                t_now, x_now, lag_step(y, float(x[-1]), x_now, t_now - float(t[-1]), tau))
+        known = self._known.get(machine)
+        for lag in known.lags if known is not None else ():
+            if source in lag.sources and lag.tau_s in taus:
+                self._send_lag(machine, lag)
 
-    def _set_lag(self, key: tuple[str, str, str, float],
-                 state: tuple[float, float, float]) -> None:
-        """Keep a lag state and put it on the board as its column's reading (which sends it
-        to the machine)."""
-        self._lag_states[key] = state
-        machine, column, _, _ = key
-        self.board.update(machine, column, state[2], source="lag", at=state[0])
+    def _send_lag(self, machine: str, lag: LiveLag) -> None:
+        """Put a lag state on the board as its column's reading (which sends it to the
+        machine), once every sensor it weighs has a state; dated by the latest of them."""
+        states = []
+        for source in lag.sources:
+            state = self._lag_states.get((machine, source, lag.tau_s))
+            if state is None:
+                return
+            states.append(state)
+        value = lag.state({s: st[2] for s, st in zip(lag.sources, states, strict=True)})
+        self.board.notes[(machine, lag.column)] = follows(lag)
+        self.board.update(machine, lag.column, value, source="lag",
+                          at=max(st[0] for st in states))
 
     def _store(self, row: NewReading) -> None:
         if len(self._buffer) >= MAX_BUFFER:

@@ -385,3 +385,61 @@ async def test_a_lag_state_is_warmed_from_the_stored_readings(tmp_path: Path) ->
         stored = {x.sensor for x in await r.db.run(reading_repo.list_readings, mid,
                                                    limit=10_000)}
         assert stored == {"T_spindle_C"}  # the lag states are derived: not stored
+
+
+async def test_a_lag_of_several_sensors_is_the_weighted_sum_of_their_lags(
+        tmp_path: Path) -> None:
+    """A lagged model that weighs two sensors at one time constant (an averaged model,
+    as ednc diagnose saves it) is one state sent: each sensor's own lag, warmed from its
+    stored readings and stepped by its own readings at their own times, summed with the
+    weights. Nothing is sent until both sensors have a state."""
+    tau = 1800.0
+    body = model_body()
+    body["terms"] = [{"effect": "thermal_dynamic", "axis": "z", "intercept_um": 0.0,
+                      "t0_s": 0.0, "t_state_s": None, "columns": [
+                          {"kind": "lag", "sensor": "T_spindle_C", "tau_s": tau,
+                           "coefficient": 3.0},
+                          {"kind": "lag", "sensor": "T_column_C", "tau_s": tau,
+                           "coefficient": -1.0}]}]
+    t0 = dt.datetime.now(dt.UTC).timestamp() - 4 * tau
+    t = {"T_spindle_C": t0 + np.arange(0.0, 3 * tau, 60.0),
+         "T_column_C": t0 + 7.0 + np.arange(0.0, 3 * tau, 90.0)}
+    x = {"T_spindle_C": 20.0 + 5.0 * (t["T_spindle_C"] - t0) / (3 * tau),
+         "T_column_C": 21.0 - 1.0 * (t["T_column_C"] - t0) / (3 * tau)}
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=body)
+        intake = intake_of(r.center)
+        await intake.lookup("vmc-01")
+        assert intake.knows("vmc-01") == {"T_spindle_C", "T_column_C", "T_lag1_C"}
+        await r.db.run(reading_repo.add_readings, [
+            NewReading(mid, s, float(c), dt.datetime.fromtimestamp(w, dt.UTC), "mqtt")
+            for s in t for w, c in zip(t[s], x[s], strict=True)])
+
+        def lag() -> float:
+            reading = r.services.temperatures.reading("vmc-01", "T_lag1_C")
+            return math.nan if reading is None else reading.celsius
+
+        def expected() -> float:
+            y = {s: first_order_lag(t[s], x[s], tau)[-1] for s in t}
+            return 20.0 + 0.75 * (y["T_spindle_C"] - 20.0) - 0.25 * (y["T_column_C"] - 20.0)
+
+        live = [("spindle", 3 * tau + 30.0, 25.2), ("column", 3 * tau + 45.0, 19.9),
+                ("spindle", 3 * tau + 90.0, 25.4), ("spindle", 3 * tau + 150.0, 25.5),
+                ("column", 3 * tau + 160.0, 19.8)]
+        for k, (sensor, dt_s, celsius) in enumerate(live):
+            column = f"T_{sensor}_C"
+            assert intake.take("vmc-01", sensor, celsius, source="mqtt",
+                               at=t0 + dt_s) is None
+            t[column] = np.append(t[column], t0 + dt_s)
+            x[column] = np.append(x[column], celsius)
+            if k == 0:  # the column sensor has no state yet: nothing to send
+                await asyncio.sleep(0.2)
+                assert math.isnan(lag())
+                continue
+            want = expected()
+            await until(lambda want=want: bool(abs(lag() - want) < 1e-9))
+        # the center's value is not either sensor's own lag nor their plain mean
+        y = {s: first_order_lag(t[s], x[s], tau)[-1] for s in t}
+        assert min(abs(lag() - v) for v in y.values()) > 0.5
+        card = r.services.temperatures.notes[("vmc-01", "T_lag1_C")]
+        assert card == "a weighted sum of 2 sensors through a 30 min lag"
