@@ -111,8 +111,8 @@ MAX_BUFFER: Final = 200_000
 LAG_HISTORY_TAUS: Final = 5.0
 LAG_HISTORY_ROWS: Final = 50_000
 """A lag state is warmed from the readings of its last 5 time constants (what is older
-weighs below e^-5 = 0.7 %), at most 50,000 of them (two days at 4 s), one query per lag
-when the center first sees its sensor."""
+weighs below e^-5 = 0.7 %), at most 50,000 of them (two days at 4 s): one query per
+sensor, for all its time constants, when the center first sees it."""
 
 REASONS: Final = ("not_finite", "out_of_range", "unknown_machine", "unknown_sensor",
                    "too_fast", "too_many_sensors")

@@ -167,8 +167,8 @@ MAX_EFFECTS = 3
 """Most effects one diagnosis names (forward selection)."""
 MAP_THERMAL_RECORDS = 32
 """Thermal records one map carries (``protocol.mapformat.MAX_THERMAL``): a lagged model is
-applied live as one record per level and per lag state (:mod:`volumetric.model.live`),
-beside one for each other thermal effect named."""
+applied live as one record per sensor level and per time constant of its lags
+(:mod:`volumetric.model.live`), beside one for each other thermal effect named."""
 SELECTED_TERMS = 3
 """Most terms the lagged model's selection takes (``fit_thermal_drift``'s ``max_terms``)."""
 REFITS = 2
@@ -1161,10 +1161,10 @@ def _dynamic_drift(
     t = m.time_s[rows]
     y = resid[rows] / uk[rows]
     # the all-sensor part joins only when the model it makes can be applied live: one
-    # record per sensor level and per lag state, within what a map carries (sixteen
-    # sensors would need 99 records where a map holds 32, and the machine would get no
-    # map it can evaluate the records of)
-    records = len(temps) * (1 + len(DENSE_TAUS_S)) + SELECTED_TERMS + MAX_EFFECTS - 1
+    # record per sensor level and one per time constant (its lags over every sensor are
+    # one lag of their weighted sum, volumetric.model.live), beside the selection's and
+    # the other effects', within what a map carries (sixteen sensors: 26 of 32)
+    records = len(temps) + len(DENSE_TAUS_S) + SELECTED_TERMS + MAX_EFFECTS - 1
     dense = DENSE_TAUS_S if records <= MAP_THERMAL_RECORDS else ()
     try:
         model = fit_thermal_drift(t, {c: v[rows] for c, v in temps.items()}, y,

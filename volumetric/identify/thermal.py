@@ -98,18 +98,17 @@ only:
    scale (refitted term by term together with the rigid model, its hundred coefficients
    would undo the average), and because that column's shape comes from a fit, every fold
    of the diagnosis's split selects and fits it again from its own training readings.
-   Applied live, every level and lag state is a thermal record of the machine's map
-   (:mod:`volumetric.model.live`), and a map carries 32: the all-sensor part joins there
-   for at most four sensors (4 levels, 20 lag states, 3 selected terms, 2 records for
-   other effects). With the real test's sixteen sensors it would take 99 records, so
-   ``ednc diagnose`` keeps the selection alone. Without that limit, through ``ednc
-   diagnose`` on the real test (ch3): blind 3.89 µm (2.94 / 5.71 / 2.05 per block); cut at
-   70 %, claimed 3.72 -> predicted 3.00 µm; cut at 60 %, 7.10 -> 3.42 µm (the selection
-   alone: 3.95 µm; 8.64 -> 4.54; 10.17 -> 5.83). A lag is linear: the lags of one τ over
-   every sensor are the lag of their weighted sum, so a center that followed one state
-   per τ of that sum would need 16 + 5 + 3 records; that is not built. Judged per fold
-   with only the scale refitted and the shape from a fit on every reading, as first tried,
-   the blind figure read a leaky 1.50 µm.
+   Applied live, every sensor level and every time constant is a thermal record of the
+   machine's map (the lags of one τ over every sensor are one lag of their weighted sum,
+   since a lag is linear; :mod:`volumetric.model.live`), and a map carries 32: the
+   all-sensor part joins for at most 22 sensors (sixteen take 16 levels, 5 lag states,
+   3 selected terms and 2 records for other effects). Through ``ednc diagnose`` on the
+   real test (ch3): blind 3.89 µm (2.94 / 5.71 / 2.05 per block); cut at 70 %, claimed
+   3.72 -> predicted 3.00 µm; cut at 60 %, 7.10 -> 3.42 µm (the selection alone, what
+   ``ednc diagnose`` used while each lag state took a record of its own: 3.95 µm (4.60 /
+   4.52 / 2.29); 8.64 -> 4.54; 10.17 -> 5.83). Judged per fold with only the scale
+   refitted and the shape from a fit on every reading, as first tried, the blind figure
+   read a leaky 1.50 µm.
 
 Sixteen correlated sensors with ten time constants each invite overfitting; the rule above
 is what keeps the model to a handful of terms. On the real 46 h FL_THERMAL spindle test
