@@ -260,12 +260,23 @@ def _best_period(q: F64, u: F64, r: F64, rows: NDArray[np.bool_], span: float) -
     qq, uu, rr = q[rows], u[rows], r[rows]
 
     def power(periods: F64) -> F64:
+        # the squared norm of the residual's projection on (u sin, u cos) of each period,
+        # b·G⁻¹b from the 2x2 normal equations, for a chunk of periods at a time
         out = np.empty(periods.size)
-        for i, p in enumerate(periods):
-            ph = 2 * np.pi * qq / p
-            a = np.column_stack((uu * np.sin(ph), uu * np.cos(ph)))
-            x, *_ = np.linalg.lstsq(a, rr, rcond=None)
-            out[i] = float(np.sum((a @ x) ** 2))
+        uu2, ur = uu * uu, uu * rr
+        step = max(1, 500_000 // max(qq.size, 1))
+        for i in range(0, periods.size, step):
+            ph = (2 * np.pi / periods[i:i + step, None]) * qq[None, :]
+            sn, cs = np.sin(ph), np.cos(ph)
+            s11, s22, s12 = (sn * sn) @ uu2, (cs * cs) @ uu2, (sn * cs) @ uu2
+            b1, b2 = sn @ ur, cs @ ur
+            det = s11 * s22 - s12 * s12
+            full = det > 1e-12 * s11 * s22
+            with np.errstate(divide="ignore", invalid="ignore"):
+                proj = (s22 * b1 * b1 - 2 * s12 * b1 * b2 + s11 * b2 * b2) / det
+                # (nearly) one column: the projection on the larger of the two
+                one = np.where(s11 >= s22, b1 * b1 / s11, b2 * b2 / s22)
+            out[i:i + step] = np.where(full, proj, np.where(np.isfinite(one), one, 0.0))
         return out
 
     grid = np.geomspace(lo, hi, 300)
