@@ -79,7 +79,10 @@ Procedure (``ednc diagnose``):
    every term of the average with its coefficient times the fitted scale and its
    block-jackknife uncertainty likewise (the scale's own is not propagated); the fit's
    tool-tip offsets in ``info["offsets_um"]``), so that the saved model applied
-   forward (``ednc predict``) reproduces the figure.
+   forward (``ednc predict``) reproduces the figure. Its estimate's ``dynamic`` gives
+   ``steady_um_per_K``: what each sensor 1 K off moves the drift by at steady state
+   (sensors that move together can carry large coefficients of opposite signs; the
+   largest is what a faulty sensor would cost).
 6. **Further effects** (``effects``): forward selection. With the effects found so far in
    the model, every candidate of another effect or axis is judged again against that
    model's held-out residuals and the best is added when it passes the same three tests
@@ -688,6 +691,15 @@ def diagnose(
         # the dynamic model behind the figure is what is saved: its lags with their time
         # constants and end states, and the offsets of the same joint fit
         term_d, joint_d, level = _dynamic_term(m, a0, w, y, train, c, order)
+        # what one sensor off by 1 K does to the drift at steady state: sensors that move
+        # together can carry large coefficients of opposite signs that cancel while they
+        # do, and the worst of them is what a faulty sensor would cost
+        steady: dict[str, float] = {}
+        for col in term_d.columns:
+            if col.kind != "time":
+                steady[col.sensor] = steady.get(col.sensor, 0.0) + col.coefficient
+        estimate["dynamic"] = {**estimate["dynamic"], "steady_um_per_K": {
+            s: round(v, 3) for s, v in sorted(steady.items(), key=lambda kv: -abs(kv[1]))}}
         geometry = model_from_parameters(machine, base_fit.params, joint_d).geometry
         offsets = _offsets(base_fit.params, joint_d)
         along = f"OFFSET_{c.axis.upper()}"

@@ -94,4 +94,9 @@ def _dynamic_text(dyn: Mapping[str, Any]) -> str:
     if taus:
         line += (f"; averaged with every sensor's level and lags of {min(taus) / 60:.0f} min"
                  f" to {max(taus) / 3600:.1f} h ({len(terms)} terms in all)")
+    steady = dyn.get("steady_um_per_K")
+    if steady:
+        worst = max(steady, key=lambda k: abs(steady[k]))
+        line += (f"; at steady state a sensor 1 K off moves the drift by up to "
+                 f"{abs(steady[worst]):.3g} µm ({worst})")
     return line
