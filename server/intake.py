@@ -506,7 +506,9 @@ class TemperatureIntake:
 
     def _send_lag(self, machine: str, lag: LiveLag) -> None:
         """Put a lag state on the board as its column's reading (which sends it to the
-        machine), once every sensor it weighs has a state; dated by the latest of them."""
+        machine), once every sensor it weighs has a state; dated by the oldest of them, so
+        that a weighted sum is as stale as its stalest sensor (the machine and the
+        dashboard judge staleness by that date)."""
         states = []
         for source in lag.sources:
             state = self._lag_states.get((machine, source, lag.tau_s))
@@ -516,7 +518,7 @@ class TemperatureIntake:
         value = lag.state({s: st[2] for s, st in zip(lag.sources, states, strict=True)})
         self.board.notes[(machine, lag.column)] = follows(lag)
         self.board.update(machine, lag.column, value, source="lag",
-                          at=max(st[0] for st in states))
+                          at=min(st[0] for st in states))
 
     def _store(self, row: NewReading) -> None:
         if len(self._buffer) >= MAX_BUFFER:

@@ -443,3 +443,6 @@ async def test_a_lag_of_several_sensors_is_the_weighted_sum_of_their_lags(
         assert min(abs(lag() - v) for v in y.values()) > 0.5
         card = r.services.temperatures.notes[("vmc-01", "T_lag1_C")]
         assert card == "a weighted sum of 2 sensors through a 30 min lag"
+        # dated by its stalest sensor: the spindle's last reading, not the column's later one
+        sent = r.services.temperatures.reading("vmc-01", "T_lag1_C")
+        assert sent is not None and sent.time == t["T_spindle_C"][-1] < t["T_column_C"][-1]
