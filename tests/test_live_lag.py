@@ -122,6 +122,18 @@ def test_lags_of_one_time_constant_are_one_state_of_their_weighted_sum() -> None
     assert all(lo - 1e-9 <= v <= hi + 1e-9 for v, lo, hi in sent_range)
 
 
+def test_a_sensor_of_zero_weight_is_not_followed() -> None:
+    """A lag column whose coefficient is zero (or sums to zero) is no source: the center
+    would otherwise wait for that sensor's readings before sending the state."""
+    term = DynamicThermalTerm("z", 0.0, (
+        LagColumn("lag", "T_a_C", 600.0, 2.0), LagColumn("lag", "T_b_C", 600.0, 0.0),
+        LagColumn("lag", "T_c_C", 600.0, 1.0), LagColumn("lag", "T_c_C", 600.0, -1.0),
+        LagColumn("lag", "T_d_C", 1200.0, 0.0)))
+    lags = live_lags(MachineModel("m", GeometricErrors({}, {}), (term,)))
+    assert [(g.column, g.weights, g.tau_s) for g in lags] == [
+        ("T_lag1_C", (("T_a_C", 1.0),), 600.0)]
+
+
 def test_a_model_without_lags_is_its_own_live_form() -> None:
     plain = MachineModel("m", GeometricErrors({}, {}),
                          (ThermalTerm("thermal_drift", "z", "T_a_C", 1.0, 20.0),))

@@ -83,13 +83,15 @@ class LiveLag:
 
 def _lag_groups(term: DynamicThermalTerm) -> list[tuple[float, dict[str, float]]]:
     """The term's lag columns by time constant (in order of first appearance), each as
-    sensor -> summed coefficient (µm/K); groups whose coefficients are all zero left out."""
+    sensor -> summed coefficient (µm/K); sensors of zero coefficient left out (the center
+    would wait for their readings for nothing), and groups left empty."""
     groups: dict[float, dict[str, float]] = {}
     for c in term.columns:
         if c.kind == "lag":
             by_sensor = groups.setdefault(c.tau_s, {})
             by_sensor[c.sensor] = by_sensor.get(c.sensor, 0.0) + c.coefficient
-    return [(tau, b) for tau, b in groups.items() if any(v != 0.0 for v in b.values())]
+    kept = [(tau, {s: v for s, v in b.items() if v != 0.0}) for tau, b in groups.items()]
+    return [(tau, b) for tau, b in kept if b]
 
 
 def _live_lags(terms: Iterable[DynamicThermalTerm]
