@@ -694,10 +694,7 @@ def diagnose(
         # what one sensor off by 1 K does to the drift at steady state: sensors that move
         # together can carry large coefficients of opposite signs that cancel while they
         # do, and the worst of them is what a faulty sensor would cost
-        steady: dict[str, float] = {}
-        for col in term_d.columns:
-            if col.kind != "time":
-                steady[col.sensor] = steady.get(col.sensor, 0.0) + col.coefficient
+        steady = term_d.steady_um_per_K()
         estimate["dynamic"] = {**estimate["dynamic"], "steady_um_per_K": {
             s: round(v, 3) for s, v in sorted(steady.items(), key=lambda kv: -abs(kv[1]))}}
         geometry = model_from_parameters(machine, base_fit.params, joint_d).geometry

@@ -213,6 +213,15 @@ class DynamicThermalTerm:
                 v += c.coefficient * float(temperatures[c.sensor])
         return v
 
+    def steady_um_per_K(self) -> dict[str, float]:
+        """What each sensor 1 K warmer moves :meth:`steady_um` by (µm/K): the sum of its
+        level and lag coefficients, by sensor in column order."""
+        out: dict[str, float] = {}
+        for c in self.columns:
+            if c.kind != "time":
+                out[c.sensor] = out.get(c.sensor, 0.0) + c.coefficient
+        return out
+
     def to_json(self) -> dict[str, Any]:
         return {"effect": "thermal_dynamic", "axis": self.axis,
                 "intercept_um": self.intercept_um, "t0_s": self.t0_s,
