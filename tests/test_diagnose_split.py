@@ -100,15 +100,22 @@ def test_judging_from_summed_normal_equations_equals_fitting_each_fold() -> None
     per_fold = Candidate("thermal_drift", "z", "T_a_C", np.zeros((n, 2)),
                          per_fold=tuple(rng.normal(size=(n, 1 + f % 2)) for f in range(3)))
     plain = Candidate("backlash", "x", None, rng.normal(size=(n, 1)))
-    for cands in ([plain], [plain, per_fold], [replacing, per_fold]):
+    # a prediction that enters as it comes (the averaged lagged drift): per fold, and one
+    # serving every fold
+    fixed = Candidate("thermal_drift", "z", "T_a_C", np.zeros((n, 1)), fixed=True,
+                      per_fold=tuple(rng.normal(size=(n, 1)) for _ in range(3)))
+    fixed_all = Candidate("thermal_drift", "y", "T_b_C", rng.normal(size=(n, 1)), fixed=True)
+    for cands in ([plain], [plain, per_fold], [replacing, per_fold], [plain, fixed],
+                  [fixed], [replacing, fixed], [replacing, fixed_all, per_fold]):
         expect = np.full(n, np.nan)
         for f, (tr, te) in enumerate(fits):
             kept = [c.in_fold(f) for c in cands]
             base = np.delete(a0, list(replacing.drop), axis=1) if replacing in cands else a0
-            a = np.column_stack([base, *(c.columns for c in kept)])
-            x = np.linalg.lstsq(a[tr] * np.sqrt(w[tr, None]), y[tr] * np.sqrt(w[tr]),
+            a = np.column_stack([base, *(c.columns for c in kept if not c.fixed)])
+            yk = y - sum((c.columns[:, 0] for c in kept if c.fixed), np.zeros(n))
+            x = np.linalg.lstsq(a[tr] * np.sqrt(w[tr, None]), yk[tr] * np.sqrt(w[tr]),
                                 rcond=None)[0]
-            expect[te] = y[te] - a[te] @ x
+            expect[te] = yk[te] - a[te] @ x
         if any(c.drop for c in cands):
             got = heldout_per_fold(a0, cands, y, w, fits, cells)
         else:

@@ -54,11 +54,24 @@ class Candidate:
     is selected again from every fold's training readings (a lagged drift: which sensors
     and time constants is part of what is judged); empty when ``columns`` serve every
     fold."""
+    fixed: bool = False
+    """The columns are a prediction (µm) that enters with coefficient 1, its shape and
+    scale both from a fit of its own (the averaged lagged drift), not columns to fit:
+    every least-squares problem takes their sum off the readings instead."""
 
     def design(self, a0: F64) -> F64:
-        """The base design with this extension: ``(N, P - len(drop) + k)``."""
+        """The base design with this extension: ``(N, P - len(drop) + k)`` (``k = 0``
+        for a fixed one)."""
         base = np.delete(a0, list(self.drop), axis=1) if self.drop else a0
-        return np.column_stack((base, self.columns))
+        return base if self.fixed else np.column_stack((base, self.columns))
+
+    def known(self, f: int | None = None) -> F64:
+        """What a fixed extension predicts (µm), shape (N,): its columns' sum, those of
+        fold ``f`` when given; zeros for one that is fitted."""
+        cols = self.columns if f is None else self.in_fold(f).columns
+        if not self.fixed:
+            return np.zeros(cols.shape[0])
+        return np.asarray(cols.sum(axis=1), dtype=np.float64)
 
     def in_fold(self, f: int) -> Candidate:
         """The extension as fold ``f`` of the split fits it (itself when it has no
@@ -66,7 +79,7 @@ class Candidate:
         if not self.per_fold:
             return self
         return Candidate(self.effect, self.axis, self.sensor, self.per_fold[f], self.extra,
-                         self.drop)
+                         self.drop, fixed=self.fixed)
 
     @property
     def label(self) -> str:
