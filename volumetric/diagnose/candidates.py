@@ -18,13 +18,14 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.identify.design import (
+    Design,
     Param,
     axis_positions,
     branch_rows,
     build_design,
     fourier_axis,
 )
-from volumetric.identify.fit import FitError, fit
+from volumetric.identify.fit import FitError, FitResult, fit
 from volumetric.measure.measurement import Measurements
 from volumetric.model.linear import sensitivities
 from volumetric.model.machine import Machine
@@ -130,13 +131,16 @@ def along_axes(machine: Machine, m: Measurements) -> F64:
 
 def candidates(
     machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_],
-    base_params: list[Param] | None = None,
+    base_params: list[Param] | None = None, rotary_fits: RotaryFits | None = None,
 ) -> tuple[list[Candidate], dict[str, str]]:
     """The library of extensions for these readings, and what cannot be assessed.
 
     ``base_params`` (the base model's parameters, in its design's column order) adds a
     ``rotary_periodic`` candidate per rotary axis of long travel: its components'
-    polynomial columns replaced by harmonics of the angle.
+    polynomial columns replaced by harmonics of the angle. ``rotary_fits`` keeps the
+    rigid fits those take, by axis name, for another call on the same readings and
+    training rows (the diagnosis's refits of its base: on a five-axis campaign, two
+    fits of a second or so each time).
     """
     q = axis_positions(machine, m)
     temps = temperature_columns(m)
@@ -184,18 +188,25 @@ def candidates(
             if period is not None:
                 ph = 2 * np.pi * qk / period
                 cols = np.column_stack((uk * np.sin(ph), uk * np.cos(ph)))
-                out.append(Candidate("periodic", key, None, cols, {"period_mm": period}))
+                out.append(Candidate("periodic", key, None, cols,
+                                     {"period_mm": period, "along": uk}))
         if np.ptp(m.time_s) > 0:
             out.append(Candidate("time_drift", key, None,
                                  (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
     if base_params is not None:
-        out += _rotary_candidates(machine, m, base_params, missing, train)
+        out += _rotary_candidates(machine, m, base_params, missing, train,
+                                  {} if rotary_fits is None else rotary_fits)
     return out, missing
+
+
+RotaryFits = dict[str, tuple[Design, FitResult] | str]
+"""Per rotary axis name, the design and rigid fit with that axis's harmonics, or why
+there is none."""
 
 
 def _rotary_candidates(
     machine: Machine, m: Measurements, base_params: list[Param],
-    missing: dict[str, str], train: NDArray[np.bool_],
+    missing: dict[str, str], train: NDArray[np.bool_], fits: RotaryFits,
 ) -> list[Candidate]:
     """``rotary_periodic`` per rotary axis of long travel (see :func:`candidates`).
 
@@ -221,12 +232,19 @@ def _rotary_candidates(
         if angles.size < 5:
             missing[key] = f"axis {axis.name} is read at {angles.size} angles: too few"
             continue
-        design = build_design(machine, m, fourier=frozenset({axis.name}))
-        try:
-            periodic = fit(machine, m.select(train), fourier=frozenset({axis.name}))
-        except FitError:
-            missing[key] = f"the model with harmonics of {axis.name} cannot be identified"
+        if axis.name not in fits:
+            try:
+                fits[axis.name] = (
+                    build_design(machine, m, fourier=frozenset({axis.name})),
+                    fit(machine, m.select(train), fourier=frozenset({axis.name})))
+            except FitError:
+                fits[axis.name] = (f"the model with harmonics of {axis.name} cannot be "
+                                   "identified")
+        known = fits[axis.name]
+        if isinstance(known, str):
+            missing[key] = known
             continue
+        design, periodic = known
         # the harmonics as `ednc fit` selects them (orders by BIC, confounded ones out)
         chosen = [p for p in periodic.params if p.basis == "fourier"]
         if not chosen:
@@ -305,7 +323,8 @@ def periodic_again(machine: Machine, m: Measurements, c: Candidate, resid: F64,
     (the residual of the model with every other effect in)."""
     axis = machine.axis(c.axis)
     k = "XYZ".index(axis.name)
-    uk = along_axes(machine, m)[:, k]
+    along = c.extra.get("along")
+    uk = along_axes(machine, m)[:, k] if along is None else along
     sensed = np.abs(uk) > 1e-6
     qk = axis_positions(machine, m)[:, machine.axis_names.index(axis.name)]
     period = _best_period(qk, uk, resid, sensed & train, float(np.ptp(qk[sensed])))
@@ -313,4 +332,4 @@ def periodic_again(machine: Machine, m: Measurements, c: Candidate, resid: F64,
         return None
     ph = 2 * np.pi * qk / period
     return Candidate("periodic", c.axis, None, np.column_stack((uk * np.sin(ph), uk * np.cos(ph))),
-                     {"period_mm": period})
+                     {"period_mm": period, "along": uk})

@@ -130,7 +130,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.diagnose.candidates import Candidate, candidates, periodic_again
+from volumetric.diagnose.candidates import Candidate, RotaryFits, candidates, periodic_again
 from volumetric.diagnose.candidates import temperature_columns as _temperature_columns
 from volumetric.diagnose.unexplained import (
     DEMOTE_RATIO,
@@ -547,6 +547,13 @@ def diagnose(
     DiagnosisError
         Too few readings, or no displacement readings.
     """
+    return _diagnose(machine, m, holdout_after, base, refits, {})
+
+
+def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
+              base: FitResult | None, refits: int, rotary_fits: RotaryFits) -> Diagnosis:
+    """:func:`diagnose`, with the rotary candidates' rigid fits kept for its refits (same
+    readings, same training rows: only the base differs)."""
     if len(m) < MIN_READINGS:
         raise DiagnosisError(f"too few readings for a diagnosis: {len(m)} (need at least "
                              f"{MIN_READINGS})")
@@ -618,7 +625,8 @@ def diagnose(
     rms_before = _rms(base_heldout[judge])
     full_base_resid = y - a0 @ _pinv_solve(a0[train].T @ (a0[train] * w[train, None]),
                                            (a0[train] * w[train, None]).T @ y[train])
-    cands, missing = candidates(machine, m, full_base_resid, train, base_fit.params)
+    cands, missing = candidates(machine, m, full_base_resid, train, base_fit.params,
+                                rotary_fits)
     order_judge = order[judge[order]]
     scored: list[Scored] = []
     for c in cands:
@@ -812,8 +820,7 @@ def diagnose(
         # again on that base when it differs
         again = _base_without(machine, m, train, a0, w, chosen, base_fit)
         if again is not None:
-            return diagnose(machine, m, holdout_after=holdout_after, base=again,
-                            refits=refits - 1)
+            return _diagnose(machine, m, holdout_after, again, refits - 1, rotary_fits)
     _list_alternatives(chosen, effects, details, scored, judge, heldout_of)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, model, details, base_heldout, current.heldout, judge)
