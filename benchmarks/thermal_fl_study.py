@@ -307,21 +307,32 @@ def other_channels() -> None:
     blocks = blocks_of(t.size, FORWARD_BLOCKS)
     cut = t < t.min() + CUT * np.ptp(t)
     print("\nevery displacement channel, RMS µm blind / 40 h / 70 % cut: selected terms alone"
-          " -> with the all-sensor part")
+          " -> with the all-sensor part (as ednc diagnose applies it) [its scale refitted on"
+          " the training rows, as ednc diagnose did before; scales]")
     for ch in range(1, 6):
         y = np.asarray(data[f"ch{ch}_um"], dtype=float)
         figures = []
-        for dense in ((), DENSE_TAUS_S):
-            def ahead(train: NDArray[np.bool_], y: F64 = y, dense: tuple[float, ...] = dense
-                      ) -> F64:
+        scales: list[str] = []
+        for dense, refit in (((), False), (DENSE_TAUS_S, False), (DENSE_TAUS_S, True)):
+            def ahead(train: NDArray[np.bool_], y: F64 = y, dense: tuple[float, ...] = dense,
+                      refit: bool = refit, scales: list[str] = scales) -> F64:
                 """Residuals of the model fitted on ``train``, over all rows."""
                 model = fit_thermal_drift(t, temps, y, train, dense_taus_s=dense)
-                return y - model.predict(t, temps)
+                pred = model.predict(t, temps)
+                if refit and model.dense_taus_s:
+                    # offset and scale of the averaged prediction, least squares on the
+                    # training rows: never below 1 there (volumetric.diagnose.diagnosis)
+                    a = np.column_stack([np.ones(t.size), pred])
+                    c = np.linalg.lstsq(a[train], y[train], rcond=None)[0]
+                    pred = a @ c
+                    scales.append(f"{c[1]:.3f}")
+                return y - pred
             blind = np.concatenate([ahead(blocks < k)[blocks == k]
                                     for k in range(FIRST_JUDGED, FORWARD_BLOCKS)])
             figures.append(f"{rms(blind):5.2f} / {rms(ahead(t < SPLIT_S)[t >= SPLIT_S]):5.2f}"
                            f" / {rms(ahead(cut)[~cut]):5.2f}")
-        print(f"  ch{ch} (drift std {np.std(y):5.1f}): {figures[0]} -> {figures[1]}")
+        print(f"  ch{ch} (drift std {np.std(y):5.1f}): {figures[0]} -> {figures[1]} "
+              f"[{figures[2]}; {' '.join(scales) or 'nothing joined'}]")
 
 
 def main() -> int:
