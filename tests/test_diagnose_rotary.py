@@ -21,6 +21,7 @@ from machine_sim.program import Dwell
 from machine_sim.testprograms import rtest
 from machine_sim.truth import random_geometry, rotary_error_motions
 from volumetric.compensate.solver import compensate
+from volumetric.diagnose.candidates import RotaryFits, candidates
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.identify.fit import fit
 from volumetric.model.components import Component, GeometricErrors, Polynomial, Table
@@ -92,6 +93,36 @@ def test_smooth_rotary_axes_are_not_called_periodic() -> None:
     sim = SimulatedMachine(machine, truth, Effects(noise=NOISE), seed=5)
     d = diagnose(machine, standard_campaign(sim, rng))
     assert d.effect == "none", d.candidates[:3]
+
+
+def test_the_rotary_fits_serve_another_base_on_the_same_readings() -> None:
+    # the diagnosis refits its base (other degrees) on the same readings and keeps the
+    # rotary candidates' rigid fits: with them kept, a candidate must be what a fresh
+    # library gives for the new base, replacing all of the new base's columns
+    machine = parse_machine(FIVE_AXIS)
+    rng = np.random.default_rng(4200)
+    truth, _ = hidden_harmonic(machine, smooth_rotary(machine, random_geometry(machine, rng),
+                                                      rng), rng, 2)
+    m = standard_campaign(SimulatedMachine(machine, truth, Effects(noise=NOISE), seed=0), rng)
+    train = np.ones(len(m), dtype=bool)
+    resid = np.zeros(len(m))
+    params = fit(machine, m, fourier=False).params
+    kept: RotaryFits = {}
+    first = [c for c in candidates(machine, m, resid, train, params, kept)[0]
+             if c.effect == "rotary_periodic"]
+    # both axes travel far enough for harmonics (C a full turn, A 220°)
+    assert [c.axis for c in first] == ["c", "a"] and set(kept) == {"C", "A"}
+    fitted = dict(kept)
+    fewer = params[:-4]
+    again = [c for c in candidates(machine, m, resid, train, fewer, kept)[0]
+             if c.effect == "rotary_periodic"]
+    fresh = [c for c in candidates(machine, m, resid, train, fewer)[0]
+             if c.effect == "rotary_periodic"]
+    assert all(kept[k] is fitted[k] for k in fitted)  # not fitted again
+    assert [c.axis for c in again] == [c.axis for c in fresh] == ["c", "a"]
+    for a, f in zip(again, fresh, strict=True):
+        assert a.drop == f.drop == tuple(range(len(fewer)))
+        np.testing.assert_array_equal(a.columns, f.columns)
 
 
 # R-test balls reachable over each rotary axis's sweep, spread along and around the axis
