@@ -69,9 +69,9 @@ class Candidate:
     def known(self, f: int | None = None) -> F64:
         """What a fixed extension predicts (µm), shape (N,): its columns' sum, those of
         fold ``f`` when given; zeros for one that is fitted."""
-        cols = self.columns if f is None else self.in_fold(f).columns
         if not self.fixed:
-            return np.zeros(cols.shape[0])
+            return np.zeros(self.columns.shape[0])
+        cols = self.columns if f is None else self.in_fold(f).columns
         return np.asarray(cols.sum(axis=1), dtype=np.float64)
 
     def in_fold(self, f: int) -> Candidate:
@@ -186,10 +186,7 @@ def candidates(
                     "positioning test)")
             period = _best_period(qk, uk, base_residual, sensed & train, span)
             if period is not None:
-                ph = 2 * np.pi * qk / period
-                cols = np.column_stack((uk * np.sin(ph), uk * np.cos(ph)))
-                out.append(Candidate("periodic", key, None, cols,
-                                     {"period_mm": period, "along": uk}))
+                out.append(_periodic(key, uk, qk, period))
         if np.ptp(m.time_s) > 0:
             out.append(Candidate("time_drift", key, None,
                                  (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
@@ -330,6 +327,12 @@ def periodic_again(machine: Machine, m: Measurements, c: Candidate, resid: F64,
     period = _best_period(qk, uk, resid, sensed & train, float(np.ptp(qk[sensed])))
     if period is None:
         return None
+    return _periodic(c.axis, uk, qk, period)
+
+
+def _periodic(key: str, uk: F64, qk: F64, period: float) -> Candidate:
+    """The periodic candidate of axis ``key``: ``u_k sin``, ``u_k cos`` of ``2π q_k / P``,
+    keeping ``u_k`` (what each reading senses along the axis) for :func:`periodic_again`."""
     ph = 2 * np.pi * qk / period
-    return Candidate("periodic", c.axis, None, np.column_stack((uk * np.sin(ph), uk * np.cos(ph))),
+    return Candidate("periodic", key, None, np.column_stack((uk * np.sin(ph), uk * np.cos(ph))),
                      {"period_mm": period, "along": uk})
