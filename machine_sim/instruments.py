@@ -12,9 +12,8 @@ about ``u`` (angle, µrad), plus Gaussian noise.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -26,11 +25,8 @@ from volumetric.model.machine import Axis, Machine
 from volumetric.model.rigid import rotation_vector
 
 from .effects import Effects, axis_offsets
-from .program import MachineState, MotionLimits, Program
+from .program import MotionLimits
 from .thermal import ThermalConfig, default_thermal
-
-if TYPE_CHECKING:
-    from .campaign import CampaignResult
 
 __all__ = ["SimulatedMachine"]
 
@@ -164,13 +160,6 @@ class SimulatedMachine:
                                    tool_mm=tool_mm, orientation=False)
             extra += (p_probe - p_rigid) * (1e3 / PROBE_UM) * offsets[:, j, None]
         return VolumetricError(rigid.position_um + extra, rigid.orientation_urad)
-
-    def run_campaign(self, programs: Sequence[Program], *,
-                     start: MachineState | None = None) -> CampaignResult:
-        """Run measurement programs: :func:`machine_sim.campaign.run_campaign`."""
-        from .campaign import run_campaign  # campaign builds on this module
-
-        return run_campaign(self, programs, start=start)
 
     def read(
         self,
