@@ -12,13 +12,22 @@ import datetime as dt
 import logging
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Protocol
 
 from sqlalchemy.exc import SQLAlchemyError
 
-from server.center import Center
 from server.events import EventKind
 
 log = logging.getLogger(__name__)
+
+
+class EventRecorder(Protocol):
+    """What the feed needs of the :class:`~server.center.Center`: its ``record_event``.
+    (Importing the center here would close a circle: center -> intake -> feed -> center.)
+    """
+
+    async def record_event(self, kind: EventKind, machine: str, detail: str = "", *,
+                           reason: str | None = None) -> object: ...
 
 
 def _now() -> dt.datetime:
@@ -46,7 +55,7 @@ Listener = Callable[[Notice], None]
 class Feed:
     """Records link events and tells every subscriber (synchronously, in the loop)."""
 
-    def __init__(self, center: Center) -> None:
+    def __init__(self, center: EventRecorder) -> None:
         self.center = center
         self._listeners: list[Listener] = []
 

@@ -57,7 +57,7 @@ from collections import deque
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from types import TracebackType
-from typing import Any, Final
+from typing import Any, Final, Protocol
 
 import numpy as np
 from prometheus_client import Counter
@@ -65,7 +65,7 @@ from sqlalchemy import func, select
 from sqlalchemy.exc import SQLAlchemyError
 from sqlalchemy.orm import Session
 
-from server.center import Center
+from server.db import Database
 from server.db import temperatures as reading_repo
 from server.db.tables import MachineRow, ModelRow
 from server.db.temperatures import NewReading
@@ -73,7 +73,8 @@ from server.events import EventKind
 from server.feed import Feed, Notice
 from server.forward import INTERVAL_S, TemperatureForwarder
 from server.link.session import MachineSession
-from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE
+from server.metrics import Metrics
+from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE, Settings
 from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor
 from volumetric.model.lag import first_order_lag, lag_step
 from volumetric.model.live import LiveLag, LiveNeeds, live_needs
@@ -123,6 +124,20 @@ _EVENTED: Final = frozenset({"not_finite", "out_of_range", "too_fast"})
 """Refusals that say a sensor is faulty get an event; a sensor or machine the center does
 not know (a plant publishing more than the models use) only the log and the counter."""
 RELOAD_EVERY_S: Final = 2.0
+
+
+class IntakeCenter(Protocol):
+    """What the intake needs of the :class:`~server.center.Center` (importing the center
+    here would close a circle: the center types its ``intake`` with this module)."""
+
+    @property
+    def settings(self) -> Settings: ...
+
+    @property
+    def db(self) -> Database: ...
+
+    @property
+    def metrics(self) -> Metrics: ...
 
 
 @dataclass(frozen=True, slots=True)
@@ -222,7 +237,8 @@ class TemperatureIntake:
 
     Parameters
     ----------
-    center : Center
+    center : IntakeCenter
+        The :class:`~server.center.Center`.
     board : TemperatureBoard
     feed : Feed, optional
         For refusal events and for sending a machine its readings when it connects.
@@ -243,7 +259,7 @@ class TemperatureIntake:
         Full reload of the known machines and sensors, s.
     """
 
-    def __init__(self, center: Center, board: TemperatureBoard, feed: Feed | None = None, *,
+    def __init__(self, center: IntakeCenter, board: TemperatureBoard, feed: Feed | None = None, *,
                  sessions: Mapping[str, MachineSession] | None = None,
                  plausible_C: tuple[float, float] = PLAUSIBLE_C,
                  max_rate_K_per_s: float | None = None,
