@@ -157,7 +157,16 @@ async def test_snapshot_shows_every_machine_with_live_values_and_health(
     assert sorted(cards) == ["dmu-02", "vmc-01", "vmc-03"]
 
     vmc_card = cards["vmc-01"]
-    assert (vmc_card.health, vmc_card.connected, vmc_card.state) == ("ok", True, "compensating")
+    # map applied, but the verification leaves more than the default 10 µm tolerance
+    after = max(report["result"]["ranges_after_um"].values())
+    assert after > 10.0
+    assert (vmc_card.health, vmc_card.connected, vmc_card.state) == (
+        "out_of_tolerance", True, "compensating")
+    assert vmc_card.health_reason == (f"last verification: {after:.1f} µm diagonal range "
+                                      "with compensation, over the 10 µm tolerance")
+    assert vmc_card.accuracy is not None
+    assert vmc_card.accuracy.residual_um == pytest.approx(after)
+    assert [r.code for r in vmc_card.accuracy.reasons] == ["residual", "no_model"]
     assert vmc_card.chain == "w X Y b Z t"
     assert [(a.name, a.position) for a in vmc_card.axes] == [("X", 12.5), ("Y", 150.0),
                                                             ("Z", -50.0)]
@@ -178,7 +187,9 @@ async def test_snapshot_shows_every_machine_with_live_values_and_health(
                                                                {"reversal_um": 9.8})
 
     dmu_card = cards["dmu-02"]  # connected, but a rejected map outranks stale telemetry
-    assert dmu_card.health == "alarm" and "checksum" in dmu_card.health_reason
+    assert dmu_card.accuracy is not None
+    assert [r.code for r in dmu_card.accuracy.reasons] == [
+        "telemetry_stale", "not_verified", "no_model"]  # no model: the rejection is moot
     assert dmu_card.telemetry_stale and dmu_card.temperatures[0].stale
     assert dmu_card.telemetry_age_s is not None and dmu_card.telemetry_age_s >= 60
     assert cards["vmc-03"].health == "offline" and cards["vmc-03"].axes == []
@@ -187,11 +198,17 @@ async def test_snapshot_shows_every_machine_with_live_values_and_health(
         (EventKind.REFUSED, "10.9.9.9:5555", "unknown address")]
 
 
-async def test_health_names_the_first_thing_to_act_on(
+MODEL = {"format": "ednc-model/1", "machine": "vmc-01",
+         "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, 4.0, 1.5],
+                                "origin": 250.0, "scale": 250.0}},
+         "locations": {"EC0Y": 12.0}, "terms": [], "info": {}}
+
+
+async def test_health_is_the_accuracy_and_names_the_first_thing_to_act_on(
     api: tuple[FastAPI, httpx.AsyncClient]
 ) -> None:
     app, client = api
-    await register(client, VMC)
+    await register(client, {**VMC, "accuracy_tolerance_um": 25.0})
     registry = center_of(app).registry
     registry.connected("vmc-01", "10.0.0.21:1")
 
@@ -199,15 +216,26 @@ async def test_health_names_the_first_thing_to_act_on(
         card = (await client.get("/api/dashboard")).json()["machines"][0]
         return card["health"], card["health_reason"]
 
-    assert await health() == ("warn", "telemetry stale")  # connected, nothing sent yet
+    never = "never verified: no ISO 230-6 diagonal test recorded, accuracy unknown"
+    assert await health() == ("warn", "telemetry stale: nothing received yet")
     registry.seen("vmc-01", telemetry(0.0))
-    assert await health() == ("warn", "no error map built")
+    assert await health() == ("unknown", never)
+    r = await client.post("/api/machines/vmc-01/models", json={"body": MODEL}, headers=WRITE)
+    assert r.status_code == 201, r.text
+    assert await health() == ("warn", "no error map built from the model yet")
     db, mid = center_of(app).db, await machine_id(app, "vmc-01")
-    await db.run(map_repo.add_map_version, mid, payload=b"m", model_version=None)
+    await db.run(map_repo.add_map_version, mid, payload=b"m", model_version=1)
     assert await health() == ("warn", "map v1 not applied yet")
     sent = await db.run(map_repo.record_sent, mid, 1)
     await db.run(map_repo.record_answer, sent.id, acked=True)
-    assert await health() == ("ok", "map v1 applied")
+    assert await health() == ("unknown", never)  # delivered is not accurate
+    report = await verify(client, "vmc-01")
+    after = max(report["result"]["ranges_after_um"].values())
+    assert await health() == ("ok", f"verified {after:.1f} µm, within the 25 µm tolerance; "
+                                    "map v1 applied")
+    r = await client.post("/api/machines/vmc-01/models", json={"body": MODEL}, headers=WRITE)
+    assert await health() == ("warn", "model v2 is newer than the last verification: "
+                                      "verify again")
     registry.seen("vmc-01", {**telemetry(0.0), "state": "alarm"})
     assert await health() == ("alarm", "machine reports alarm")
     registry.disconnected("vmc-01")
@@ -552,14 +580,17 @@ async def test_stale_temperatures_turn_an_applied_machine_warn(
     from server.temperatures import TemperatureBoard
 
     app, client = api
-    await register(client, VMC)
+    await register(client, {**VMC, "accuracy_tolerance_um": 25.0})
     center = center_of(app)
     center.registry.connected("vmc-01", "10.0.0.21:1")
     center.registry.seen("vmc-01", telemetry(0.0))
+    r = await client.post("/api/machines/vmc-01/models", json={"body": MODEL}, headers=WRITE)
+    assert r.status_code == 201, r.text
     db, mid = center.db, await machine_id(app, "vmc-01")
-    await db.run(map_repo.add_map_version, mid, payload=b"m", model_version=None)
+    await db.run(map_repo.add_map_version, mid, payload=b"m", model_version=1)
     sent = await db.run(map_repo.record_sent, mid, 1)
     await db.run(map_repo.record_answer, sent.id, acked=True)
+    await verify(client, "vmc-01")
     board = TemperatureBoard(stale_after_s=60.0)
     board.update("vmc-01", "spindle", 24.5, source="rest")  # REST readings show too
     center.temperatures = board  # as the services hand it over
@@ -569,18 +600,19 @@ async def test_stale_temperatures_turn_an_applied_machine_warn(
         return card["health"], card["health_reason"], [
             (t["name"], t["stale"], t["source"]) for t in card["temperatures"]]
 
-    assert await row() == ("ok", "map v1 applied", [("spindle", False, "rest")])
+    ok = await row()
+    assert (ok[0], ok[2]) == ("ok", [("spindle", False, "rest")])
     board.stale_after_s = 0.01  # (EDNC_TEMPERATURE_STALE_S) no reading for longer
     await asyncio.sleep(0.02)
     health, reason, temps = await row()
     assert (health, temps) == ("warn", [("spindle", True, "rest")])
     assert reason.startswith("temperature stale (spindle ") and "holds the last good" \
-        in reason
+        in reason, reason
     detail = (await client.get("/api/machines/vmc-01/dashboard")).json()["card"]
     assert detail["health"] == "warn" and "spindle" in detail["health_reason"]
     board.stale_after_s = 60.0
     board.update("vmc-01", "spindle", 24.6, source="mqtt")  # a fresh one: in order again
-    assert (await row())[:2] == ("ok", "map v1 applied")
+    assert (await row())[:2] == ok[:2]
     board.mark_stale(source="mqtt")  # the broker went away
     assert (await row())[0] == "warn"
     center.registry.disconnected("vmc-01")  # a worse state keeps its own reason

@@ -49,7 +49,6 @@ from server.dashboard.snapshot import (
     load_facts,
     machine_card,
     machine_facts,
-    with_board,
 )
 from server.db import error_models as model_repo
 from server.db import machines as machine_repo
@@ -114,8 +113,8 @@ async def machine_detail(center: CenterDep, machine: MachineDep) -> MachineDetai
     facts = await center.db.run(machine_facts, machine)
     model = await center.db.run(model_repo.get_model, machine.id)
     links = await plant_view(center)
-    card = with_board(machine_card(facts, links.get(machine.name),
-                               now=dt.datetime.now(dt.UTC)), center.temperatures)
+    card = machine_card(facts, links.get(machine.name), now=dt.datetime.now(dt.UTC),
+                        board=center.temperatures)
     view, problem = None, None
     if model is not None:
         try:

@@ -12,10 +12,12 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, Field
 
+from server.health import State
 from server.schemas.event import EventPublic
 
-Health = Literal["ok", "warn", "alarm", "offline"]
-"""The colour of a machine's row: green, amber, red, grey."""
+Health = State
+"""The machine's accuracy state (:mod:`server.health`), the colour of its row: green ok,
+grey unknown or offline, amber warn, red alarm or out of tolerance."""
 
 
 class AxisLive(BaseModel):
@@ -59,6 +61,53 @@ class MapVersions(BaseModel):
         description="Map version the machine reports in its telemetry (0: none applied)."
     )
     reject_reason: str | None
+    kind: Literal["grid", "tables", "factored"] | None = Field(
+        default=None, description="The newest map's kind: grid (nodes the machine "
+        "interpolates), tables (ISO 230-1 component tables it evaluates) or factored "
+        "(one-axis basis tables it combines, the Fanuc-style pitch-error layout).")
+    bytes: int | None = Field(default=None, description="The newest map's payload, bytes.")
+    built_at: dt.datetime | None = Field(default=None, description="When the newest map "
+                                         "was built.")
+    model_version: int | None = Field(default=None, description="The model version the "
+                                      "newest map was built from.")
+    built_at_C: dict[str, float] = Field(
+        default_factory=dict, description="The temperatures the newest map was built at "
+        "(model column to °C); empty for a map without thermal terms.")
+    applied_at: dt.datetime | None = Field(
+        default=None, description="When the applied map was sent (its acknowledged "
+        "delivery).")
+    age_s: float | None = Field(default=None, description="Age of the applied map, s.")
+    error_um: float | None = Field(
+        default=None, description="The newest map's worst tool-tip error as sent "
+        "(quantised, against the exact model), µm; null until the center has checked it.")
+    tolerance_um: float | None = Field(
+        default=None, description="The tolerance the newest map was built for, µm.")
+
+
+class AccuracyReason(BaseModel):
+    """One finding behind a machine's accuracy state (:class:`server.health.Reason`)."""
+
+    state: Health
+    code: str = Field(description="Stable name of the rule, e.g. residual, map_old.")
+    text: str
+
+
+class AccuracyView(BaseModel):
+    """How far the center vouches for the machine's accuracy, and why."""
+
+    state: Health
+    label: str = Field(description="The state for a person: OK, OUT OF TOLERANCE...")
+    reasons: list[AccuracyReason] = Field(description="Every finding, worst first.")
+    tolerance_um: float = Field(description="The machine's accuracy tolerance: largest "
+                                "compensated body-diagonal range allowed, µm.")
+    residual_um: float | None = Field(description="The last verification's largest "
+                                      "diagonal range, µm (compensated when it has a "
+                                      "compensated run).")
+    residual_compensated: bool
+    verified_at: dt.datetime | None
+    model_version: int | None
+    model_at: dt.datetime | None
+    model_age_s: float | None
 
 
 class VerificationSummary(BaseModel):
@@ -95,8 +144,11 @@ class MachineCard(BaseModel):
     controller: str
     ip: str
     chain: str = Field(description="Kinematic chain, or the type numbers when none is given.")
-    health: Health
-    health_reason: str = Field(description="Why the row has its colour, for the operator.")
+    health: Health = Field(description="The accuracy state (``accuracy.state``).")
+    health_reason: str = Field(description="Why the row has its colour, for the operator: "
+                               "the first of ``accuracy.reasons``.")
+    accuracy: AccuracyView | None = Field(default=None, description="The accuracy state "
+                                          "with every reason behind it.")
     connected: bool
     owner: str | None = Field(
         default=None,

@@ -21,12 +21,16 @@ from dataclasses import dataclass
 from typing import Any
 
 from sqlalchemy import func, select
-from sqlalchemy.orm import Session
+from sqlalchemy.orm import Session, defer
 
+from protocol.mapfactored import FactoredPayload
+from protocol.maptables import TablesPayload
+from server.dashboard.mapgrid import MapSliceError, decode_stored
 from server.dashboard.schemas import (
+    AccuracyReason,
+    AccuracyView,
     DashboardSnapshot,
     DiagnosisSummary,
-    Health,
     MachineCard,
     MapVersions,
     TemperatureLive,
@@ -35,7 +39,8 @@ from server.dashboard.schemas import (
 from server.dashboard.telemetry import live_values
 from server.db import events as event_repo
 from server.db import machines as machine_repo
-from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow
+from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow, ModelRow
+from server.health import DEFAULT_LIMITS, LABELS, Inputs, Limits, assess, tolerance_of
 from server.plant import PlantView
 from server.schemas.event import EventPublic
 from server.state import LinkState, Registry
@@ -59,6 +64,13 @@ class MachineFacts:
     applied: AppliedRow | None
     verification: DiagnosisRow | None
     diagnosis: DiagnosisRow | None
+    model: tuple[int, dt.datetime] | None = None
+    """The newest model's version and creation time."""
+    map_row: MapVersionRow | None = None
+    """The newest map (without its payload)."""
+    map_kind: str | None = None
+    rejects: int = 0
+    """Deliveries the machine rejected in the last :data:`REJECTS_WINDOW_S`."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -67,6 +79,13 @@ class Facts:
 
     machines: list[MachineFacts]
     events: list[EventPublic]
+
+
+REJECTS_WINDOW_S = 86400.0
+
+_KINDS: dict[int, str] = {}
+"""Map kind by map row id (a stored map never changes; decoding it once is enough)."""
+_KINDS_KEPT = 4096
 
 
 def _newest(session: Session, row: Any, query: Any, machine_id: int | None) -> dict[int, Any]:
@@ -78,23 +97,68 @@ def _newest(session: Session, row: Any, query: Any, machine_id: int | None) -> d
     return {r.machine_id: r for r in rows}
 
 
+def _map_kinds(session: Session, ids: list[int]) -> dict[int, str]:
+    """The kind of each stored map of ``ids`` (decoded once, then remembered)."""
+    missing = [i for i in ids if i not in _KINDS]
+    if missing:
+        if len(_KINDS) > _KINDS_KEPT:
+            _KINDS.clear()
+        for map_id, payload in session.execute(
+                select(MapVersionRow.id, MapVersionRow.payload)
+                .where(MapVersionRow.id.in_(missing))):
+            try:
+                decoded = decode_stored(payload)
+            except MapSliceError:
+                continue
+            _KINDS[map_id] = ("tables" if isinstance(decoded, TablesPayload) else
+                              "factored" if isinstance(decoded, FactoredPayload) else "grid")
+    return {i: _KINDS[i] for i in ids if i in _KINDS}
+
+
 def load_machine_facts(session: Session, machines: list[MachineRow],
-                       machine_id: int | None = None) -> list[MachineFacts]:
-    """Facts of ``machines`` in six grouped queries, whatever their number (``machine_id``
+                       machine_id: int | None = None,
+                       now: dt.datetime | None = None) -> list[MachineFacts]:
+    """Facts of ``machines`` in a few grouped queries, whatever their number (``machine_id``
     restricts them to one machine)."""
-    latest_query = select(MapVersionRow.machine_id, func.max(MapVersionRow.version))
-    if machine_id is not None:
-        latest_query = latest_query.where(MapVersionRow.machine_id == machine_id)
-    latest = {mid: v for mid, v in session.execute(
-        latest_query.group_by(MapVersionRow.machine_id))}
+    now = now or dt.datetime.now(dt.UTC)
+
+    def only(query: Any, column: Any) -> Any:
+        return query if machine_id is None else query.where(column == machine_id)
+
+    latest = {mid: v for mid, v in session.execute(only(
+        select(MapVersionRow.machine_id, func.max(MapVersionRow.version)),
+        MapVersionRow.machine_id).group_by(MapVersionRow.machine_id))}
     sent = _newest(session, AppliedRow, (), machine_id)
     applied = _newest(session, AppliedRow, (AppliedRow.acked,), machine_id)
     verifications = _newest(session, DiagnosisRow, (DiagnosisRow.kind == "verification",),
                             machine_id)
     diagnoses = _newest(session, DiagnosisRow, (DiagnosisRow.kind == "diagnosis",), machine_id)
-    return [MachineFacts(machine=m, latest_map=latest.get(m.id), sent=sent.get(m.id),
-                         applied=applied.get(m.id), verification=verifications.get(m.id),
-                         diagnosis=diagnoses.get(m.id)) for m in machines]
+    newest_model = only(select(func.max(ModelRow.id)), ModelRow.machine_id).group_by(
+        ModelRow.machine_id)
+    models = {mid: (version, at) for mid, version, at in session.execute(
+        select(ModelRow.machine_id, ModelRow.version, ModelRow.created_at)
+        .where(ModelRow.id.in_(newest_model)))}
+    newest_map = only(select(func.max(MapVersionRow.id)), MapVersionRow.machine_id).group_by(
+        MapVersionRow.machine_id)
+    map_rows = {r.machine_id: r for r in session.scalars(
+        select(MapVersionRow).options(defer(MapVersionRow.payload, raiseload=True))
+        .where(MapVersionRow.id.in_(newest_map)))}
+    kinds = _map_kinds(session, [r.id for r in map_rows.values()])
+    since = now - dt.timedelta(seconds=REJECTS_WINDOW_S)
+    rejects = dict(session.execute(only(
+        select(AppliedRow.machine_id, func.count()).where(
+            AppliedRow.reject_reason.is_not(None), AppliedRow.applied_at >= since),
+        AppliedRow.machine_id).group_by(AppliedRow.machine_id)).all())
+    out = []
+    for m in machines:
+        map_row = map_rows.get(m.id)
+        out.append(MachineFacts(
+            machine=m, latest_map=latest.get(m.id), sent=sent.get(m.id),
+            applied=applied.get(m.id), verification=verifications.get(m.id),
+            diagnosis=diagnoses.get(m.id), model=models.get(m.id), map_row=map_row,
+            map_kind=None if map_row is None else kinds.get(map_row.id),
+            rejects=int(rejects.get(m.id, 0))))
+    return out
 
 
 def machine_facts(session: Session, machine: MachineRow) -> MachineFacts:
@@ -167,56 +231,35 @@ def chain_text(description: Mapping[str, Any]) -> str:
             f"/{description.get('rotary_type', 0)}")
 
 
-def _health(card: dict[str, Any], maps: MapVersions) -> tuple[Health, str]:
-    """The row's colour and why: the first problem an operator should act on."""
-    if not card["connected"]:
-        return "offline", "not connected"
-    if card["state"] == "alarm":
-        return "alarm", "machine reports alarm"
-    if maps.sent_state == "rejected":
-        return "alarm", f"map v{maps.sent} rejected: {maps.reject_reason or 'no reason'}"
-    if card["telemetry_stale"]:
-        return "warn", "telemetry stale"
-    if maps.latest is None:
-        return "warn", "no error map built"
-    if maps.applied != maps.latest:
-        return "warn", f"map v{maps.latest} not applied yet"
-    return "ok", f"map v{maps.applied} applied"
+def residual(v: VerificationSummary | None) -> tuple[float | None, bool]:
+    """The verification's largest diagonal range, µm, and whether it is the compensated
+    run's (the "after" ranges when the report has them)."""
+    if v is None:
+        return None, False
+    ranges, compensated = (v.ranges_after_um, True) if v.ranges_after_um else (
+        v.ranges_before_um, False)
+    return (max(ranges.values()) if ranges else None), compensated
 
 
-def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
-                 stale_after_s: float = STALE_AFTER_S) -> MachineCard:
-    """One machine's dashboard row from its facts and its live link."""
-    m = facts.machine
-    live = live_values(link.telemetry)
-    measured_at = live.measured_at or (link.last_seen if link.telemetry else None)
-    age = None if measured_at is None else max(0.0, (now - measured_at).total_seconds())
-    stale = not link.connected or age is None or age > stale_after_s
-    sent = facts.sent
+def _map_versions(facts: MachineFacts, reported: int | None, now: dt.datetime) -> MapVersions:
+    sent, applied, row = facts.sent, facts.applied, facts.map_row
     sent_state = None if sent is None else (
         "applied" if sent.acked else "rejected" if sent.reject_reason else "pending")
-    maps = MapVersions(
+    temps = row.temperatures if row is not None and isinstance(row.temperatures, Mapping) \
+        else {}
+    return MapVersions(
         latest=facts.latest_map, sent=None if sent is None else sent.map_version,
         sent_at=None if sent is None else sent.applied_at, sent_state=sent_state,
-        applied=None if facts.applied is None else facts.applied.map_version,
-        reported=live.map_version, reject_reason=None if sent is None else sent.reject_reason,
+        applied=None if applied is None else applied.map_version,
+        reported=reported, reject_reason=None if sent is None else sent.reject_reason,
+        kind=facts.map_kind,
+        bytes=None if row is None else row.size_bytes,
+        built_at=None if row is None else row.created_at,
+        model_version=None if row is None else row.model_version,
+        built_at_C={str(k): v for k, v in temps.items() if _float(v) is not None},
+        applied_at=None if applied is None else applied.applied_at,
+        age_s=None if applied is None else max(0.0, (now - applied.applied_at).total_seconds()),
     )
-    fields: dict[str, Any] = {
-        "name": m.name, "controller": m.controller, "ip": m.ip,
-        "chain": chain_text(m.description if isinstance(m.description, Mapping) else {}),
-        "connected": link.connected, "owner": link.owner, "address": link.address,
-        "connected_since": link.connected_since, "last_seen": link.last_seen,
-        "telemetry_age_s": age, "telemetry_stale": stale,
-        "state": live.state, "axes": list(live.axes),
-        "temperatures": [TemperatureLive(name=t.name, celsius=t.celsius, stale=stale)
-                         for t in live.temperatures],
-        "maps": maps,
-        "verification": None if facts.verification is None
-        else verification_summary(facts.verification),
-        "diagnosis": None if facts.diagnosis is None else diagnosis_summary(facts.diagnosis),
-    }
-    health, reason = _health(fields, maps)
-    return MachineCard(health=health, health_reason=reason, **fields)
 
 
 def board_temperatures(board: TemperatureBoard, machine: str, telemetry_stale: bool
@@ -239,53 +282,96 @@ def board_temperatures(board: TemperatureBoard, machine: str, telemetry_stale: b
     return out
 
 
-def thermal_stale_reason(stale: list[TemperatureLive]) -> str:
-    """The health reason of a machine whose temperatures stopped: which, how old, and what
-    the machine does meanwhile (holds the last good value, machine_sim/temperatures.py)."""
-    ages = ", ".join(f"{t.name} {t.age_s:.1f} s" if t.age_s is not None else t.name
-                     for t in stale)
-    return (f"temperature{'s' if len(stale) > 1 else ''} stale ({ages} since the last "
-            "reading): the thermal compensation holds the last good value")
+def accuracy_of(facts: MachineFacts, card: MachineCard, board_stale: list[TemperatureLive],
+                now: dt.datetime, limits: Limits = DEFAULT_LIMITS) -> AccuracyView:
+    """The card's accuracy state (:func:`server.health.assess`) from its facts and row.
 
-
-def with_board(card: MachineCard, board: TemperatureBoard | None) -> MachineCard:
-    """The card with the board's readings in place of (or added to) the telemetry's.
-
-    A machine otherwise in order whose board readings are stale (older than the board's
-    ``stale_after_s``, ``EDNC_TEMPERATURE_STALE_S``, or their broker gone) is shown
-    ``warn`` with :func:`thermal_stale_reason`: its map is applied, but the thermal part
-    follows no temperature any more. A worse state (offline, alarm, a map not applied)
-    keeps its own reason; the stale readings are marked on their rows either way.
+    Only the board's stale readings count as stale sensors: telemetry temperatures go
+    stale with the telemetry, which is its own reason.
     """
-    if board is None:
-        return card
-    extra = board_temperatures(board, card.name, card.telemetry_stale)
-    if not extra:
-        return card
+    description = facts.machine.description if isinstance(
+        facts.machine.description, Mapping) else {}
+    value, compensated = residual(card.verification)
+    maps = card.maps
+    model_version, model_at = facts.model if facts.model is not None else (None, None)
+    inputs = Inputs(
+        now=now, connected=card.connected, tolerance_um=tolerance_of(description, limits),
+        machine_state=card.state, telemetry_age_s=card.telemetry_age_s,
+        telemetry_stale=card.telemetry_stale,
+        stale_sensors=tuple((t.name, t.age_s) for t in board_stale),
+        residual_um=value, residual_compensated=compensated,
+        verified_at=None if card.verification is None else card.verification.created_at,
+        model_version=model_version, model_at=model_at, map_latest=maps.latest,
+        map_model_version=maps.model_version, map_applied=maps.applied,
+        map_applied_at=maps.applied_at, map_sent=maps.sent, map_sent_state=maps.sent_state,
+        reject_reason=maps.reject_reason, map_error_um=maps.error_um,
+        map_tolerance_um=maps.tolerance_um, rejects=facts.rejects,
+    )
+    found = assess(inputs, limits)
+    return AccuracyView(
+        state=found.state, label=LABELS[found.state],
+        reasons=[AccuracyReason(state=r.state, code=r.code, text=r.text) for r in found.reasons],
+        tolerance_um=inputs.tolerance_um, residual_um=value, residual_compensated=compensated,
+        verified_at=inputs.verified_at, model_version=model_version, model_at=model_at,
+        model_age_s=None if model_at is None else max(0.0, (now - model_at).total_seconds()),
+    )
+
+
+def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
+                 stale_after_s: float = STALE_AFTER_S,
+                 board: TemperatureBoard | None = None,
+                 map_check: tuple[float, float] | None = None) -> MachineCard:
+    """One machine's dashboard row from its facts, its live link and the temperature
+    board (the service's, when it runs: Fanuc-style machines report their sensors over
+    MQTT, not in telemetry); ``map_check`` is the newest map's (error as sent, tolerance)
+    in µm when known."""
+    m = facts.machine
+    live = live_values(link.telemetry)
+    measured_at = live.measured_at or (link.last_seen if link.telemetry else None)
+    age = None if measured_at is None else max(0.0, (now - measured_at).total_seconds())
+    stale = not link.connected or age is None or age > stale_after_s
+    maps = _map_versions(facts, live.map_version, now)
+    if map_check is not None:
+        maps = maps.model_copy(update={"error_um": map_check[0], "tolerance_um": map_check[1]})
+    temperatures = [TemperatureLive(name=t.name, celsius=t.celsius, stale=stale)
+                    for t in live.temperatures]
+    extra = [] if board is None else board_temperatures(board, m.name, stale)
     names = {t.name for t in extra}
-    merged = [t for t in card.temperatures if t.name not in names] + extra
-    update: dict[str, Any] = {"temperatures": merged}
-    stale = [t for t in extra if t.stale]
-    if stale and card.health == "ok":
-        update["health"] = "warn"
-        update["health_reason"] = thermal_stale_reason(stale)
-    return card.model_copy(update=update)
+    temperatures = [t for t in temperatures if t.name not in names] + extra
+    card = MachineCard(
+        name=m.name, controller=m.controller, ip=m.ip,
+        chain=chain_text(m.description if isinstance(m.description, Mapping) else {}),
+        health="unknown", health_reason="", connected=link.connected, owner=link.owner,
+        address=link.address, connected_since=link.connected_since, last_seen=link.last_seen,
+        telemetry_age_s=age, telemetry_stale=stale, state=live.state, axes=list(live.axes),
+        temperatures=temperatures, maps=maps,
+        verification=None if facts.verification is None
+        else verification_summary(facts.verification),
+        diagnosis=None if facts.diagnosis is None else diagnosis_summary(facts.diagnosis),
+    )
+    accuracy = accuracy_of(facts, card, [t for t in extra if t.stale], now)
+    return card.model_copy(update={"health": accuracy.state,
+                                   "health_reason": accuracy.reasons[0].text,
+                                   "accuracy": accuracy})
 
 
 def build_snapshot(facts: Facts, registry: Registry | PlantView, *, node_id: str,
                    now: dt.datetime | None = None, stale_after_s: float = STALE_AFTER_S,
-                   temperatures: TemperatureBoard | None = None) -> DashboardSnapshot:
+                   temperatures: TemperatureBoard | None = None,
+                   map_checks: Mapping[int, tuple[float, float]] | None = None
+                   ) -> DashboardSnapshot:
     """The whole dashboard: every registered machine, live or not, and recent events.
 
     ``temperatures`` is the service's board (:mod:`server.temperatures`), when it runs:
-    Fanuc-style machines report their sensors over MQTT, not in telemetry.
+    Fanuc-style machines report their sensors over MQTT, not in telemetry. ``map_checks``
+    holds, by machine id, the newest map's error as sent and tolerance (µm) where known.
     """
     now = now or dt.datetime.now(dt.UTC)
     return DashboardSnapshot(
         generated_at=now, version=__version__, node_id=node_id, stale_after_s=stale_after_s,
         machines=[
-            with_board(machine_card(f, registry.get(f.machine.name), now, stale_after_s),
-                       temperatures)
+            machine_card(f, registry.get(f.machine.name), now, stale_after_s, temperatures,
+                         (map_checks or {}).get(f.machine.id))
             for f in facts.machines
         ],
         events=facts.events,
