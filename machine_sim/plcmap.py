@@ -1,0 +1,184 @@
+"""The PLC program's side of a map in controller memory (protocol/README.md §13).
+
+A controller reached through its own server (Modbus/TCP into a Fanuc PMC, OPC UA into a
+SINUMERIK PLC) holds a window of memory the center writes and the PLC program reads.
+:class:`PlcMapProgram` is that program's map handling, run once per scan beside the
+ladder or IPO cycle it feeds:
+
+* at start-up (:meth:`boot`) it declares itself in the identity block and, after a
+  restart, takes the buffer its status names as active again, if that buffer still
+  passes its header and CRC checks (else it applies nothing until the center switches);
+* each scan it reads the switch word; a new sequence makes it copy the named buffer out
+  of the window, check header, length and CRC-32 over its copy
+  (:func:`protocol.ctrlmem.check_buffer`), and hand the payload to the controller's map
+  store, which applies it with the same checks, evaluation and ramp rules as a map pushed
+  over the EDNC protocol; then it writes its verdict (ack sequence and code) and, when
+  applied, the active buffer;
+* it takes new temperature slots (a sequence that changed, read again after the slots)
+  into the controller's temperatures, named by the map's thermal records;
+* it writes its status: heartbeat, applied map version, positions and corrections.
+
+The window is a ``bytearray`` shared with the controller's server (it is the memory the
+server maps its registers or nodes onto); nothing here does I/O.
+"""
+
+from __future__ import annotations
+
+import struct
+
+import numpy as np
+from numpy.typing import NDArray
+
+from protocol import MapAck, MapEncoding, decode_payload, split_into_chunks
+from protocol.ctrlmem import (
+    IDENTITY_SIZE,
+    MAX_SENSORS,
+    NO_TEMPERATURE,
+    STATUS_AT,
+    STATUS_SIZE,
+    SWITCH_AT,
+    TEMP_SEQ_AT,
+    TEMPERATURES_AT,
+    AckCode,
+    Identity,
+    Layout,
+    Status,
+    check_buffer,
+    decode_status,
+    encode_identity,
+    encode_status,
+    sensor_slots,
+    unpack_switch,
+)
+from protocol.mapformat import MapFormatError
+
+from .controller import Compensator
+
+__all__ = ["PlcMapProgram"]
+
+
+class PlcMapProgram:
+    """Map handling of a PLC program over a controller-memory window.
+
+    Parameters
+    ----------
+    window : bytearray
+        The window (``layout.size`` bytes), shared with the controller's server.
+    layout : Layout
+    controller : Compensator
+        The controller whose map store and temperatures the program feeds.
+    formats : MapEncoding
+        The map kinds the controller evaluates (declared in the identity block).
+    increment_mm : float
+        Unit of the positions and corrections in the status, mm per count.
+    """
+
+    def __init__(self, window: bytearray, layout: Layout, controller: Compensator, *,
+                 formats: MapEncoding, increment_mm: float = 0.001) -> None:
+        if len(window) < layout.size:
+            raise ValueError(f"window of {len(window)} bytes, the layout needs {layout.size}")
+        self.window = window
+        self.layout = layout
+        self.controller = controller
+        self.formats = formats
+        self.increment_mm = float(increment_mm)
+        self.heartbeat = 0
+        self._handled_seq = 0
+        self._temp_seq: int | None = None
+        self._slots: dict[int, str] = {}
+        self.applied_switches = 0
+        self.rejected_switches = 0
+
+    # -- start-up
+    def boot(self, now_s: float, name: str) -> None:
+        """The PLC program starts (power-on or restart): declare the identity, and take the
+        active buffer again if it still checks out (status in nonvolatile memory)."""
+        ident = Identity(self.formats, self.layout.capacity, len(self.controller.axes),
+                         round(self.increment_mm * 1e6), name)
+        self.window[:IDENTITY_SIZE] = encode_identity(ident)
+        st = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
+        self._handled_seq = st.ack_seq
+        self._temp_seq = None
+        if st.active:
+            checked = check_buffer(self.window, self.layout, st.active)
+            applied = False
+            if isinstance(checked[0], bytes):
+                applied = self._apply(checked[0], checked[1].map_version, now_s)[0] == 0
+            if not applied:  # the active buffer no longer checks out: apply nothing
+                self._write_status(active=0)
+                return
+        self._write_status(active=st.active)
+
+    # -- per scan
+    def scan(self, now_s: float, positions: NDArray[np.float64],
+             applied_mm: NDArray[np.float64]) -> None:
+        """One scan: a new switch, new temperatures, then the status."""
+        (word,) = struct.unpack_from("<H", self.window, SWITCH_AT)
+        seq, buffer = unpack_switch(word)
+        st = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
+        active, ack_code = st.active, st.ack_code
+        if seq != 0 and seq != self._handled_seq:
+            self._handled_seq = seq
+            checked = check_buffer(self.window, self.layout, buffer)
+            if isinstance(checked[0], bytes):
+                code, _why = self._apply(checked[0], checked[1].map_version, now_s)
+            else:
+                code = int(checked[0])
+            ack_code = code
+            if code == 0:
+                active = buffer
+                self.applied_switches += 1
+            else:
+                self.rejected_switches += 1
+        self._take_temperatures(now_s)
+        self.heartbeat = (self.heartbeat + 1) & 0xFFFFFFFF
+        self._write_status(active=active, ack_code=ack_code, positions=positions,
+                           applied_mm=applied_mm)
+
+    def _apply(self, payload: bytes, version: int, now_s: float) -> tuple[int, str]:
+        """Hand a checked payload to the map store (its own checks and swap rule)."""
+        reply = None
+        for msg in split_into_chunks(payload, version):
+            reply = self.controller.feed_map(msg, now_s)
+        if isinstance(reply, MapAck):
+            try:
+                records = decode_payload(payload).thermal
+            except MapFormatError:  # cannot happen: the store decoded it already
+                records = ()
+            slots = sensor_slots([r.sensor for r in records])
+            self._slots = {i: s for s, i in slots.items()}
+            self._temp_seq = None  # read the slots again for the new map's sensors
+            return 0, ""
+        if reply is None:
+            return int(AckCode.BAD_HEADER), "no verdict"
+        return int(reply.reason), reply.text
+
+    def _take_temperatures(self, now_s: float) -> None:
+        (seq,) = struct.unpack_from("<H", self.window, TEMP_SEQ_AT)
+        if seq == self._temp_seq or seq == 0:
+            return
+        values = struct.unpack_from(f"<{MAX_SENSORS}i", self.window, TEMPERATURES_AT)
+        (again,) = struct.unpack_from("<H", self.window, TEMP_SEQ_AT)
+        if again != seq:
+            return  # written while read: take it next scan
+        self._temp_seq = seq
+        store = self.controller.temperatures
+        for i, sensor in self._slots.items():
+            if values[i] != NO_TEMPERATURE:
+                store.update(sensor, values[i] / 1000.0, now_s, "center")
+
+    def _write_status(self, *, active: int, ack_code: int | None = None,
+                      positions: NDArray[np.float64] | None = None,
+                      applied_mm: NDArray[np.float64] | None = None) -> None:
+        old = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
+        c = self.controller
+        state = 1 if c.store.active is not None else 0
+        state |= 4 if c.releasing else 0
+        pos = old.positions if positions is None else tuple(
+            int(v) for v in np.rint(positions / self.increment_mm))
+        app = old.applied if applied_mm is None else tuple(
+            int(v) for v in np.rint(applied_mm / self.increment_mm))
+        st = Status(self.heartbeat, self._handled_seq,
+                    old.ack_code if ack_code is None else ack_code, active, state,
+                    c.store.version, self._temp_seq or 0, pos, app)
+        self.window[STATUS_AT:STATUS_AT + STATUS_SIZE] = encode_status(st)

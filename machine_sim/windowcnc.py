@@ -1,0 +1,136 @@
+"""A simulated CNC reached through its controller's own server, not the EDNC client.
+
+:class:`WindowCNC` is an async context manager: the controller cycle (motion,
+temperatures, the Fanuc ladder or Siemens IPO cycle of :class:`MachineRuntime`) and the
+PLC program's map handling (:class:`~machine_sim.plcmap.PlcMapProgram`) run every cycle
+over one memory window, which the controller's server (Modbus/TCP for a Fanuc PMC,
+:mod:`machine_sim.modbus_server`; OPC UA for a SINUMERIK, :mod:`machine_sim.opcua_server`)
+exposes to the center. The machine opens no connection: the center comes to it.
+
+:meth:`restart_plc` simulates a PLC restart (power cycle of the PLC program; the window
+is nonvolatile memory and keeps its contents).
+"""
+
+from __future__ import annotations
+
+import asyncio
+from collections.abc import Callable
+from types import TracebackType
+from typing import Protocol
+
+import numpy as np
+
+from protocol.ctrlmem import Layout
+from volumetric.model.machine import Machine
+
+from .plcmap import PlcMapProgram
+from .runtime import MachineRuntime
+
+__all__ = ["ControllerServer", "WindowCNC"]
+
+DEFAULT_CAPACITY = 16_384
+"""Payload bytes per buffer: a five-axis factored map (<= 8 kB) twice over."""
+
+
+class ControllerServer(Protocol):
+    """The controller's own server over the window (Modbus/TCP, OPC UA)."""
+
+    port: int
+
+    async def start(self) -> None: ...
+
+    async def stop(self) -> None: ...
+
+
+class WindowCNC:
+    """A machine whose controller serves its memory window to the center.
+
+    Parameters
+    ----------
+    machine : Machine
+    server_factory : callable
+        Builds the controller's server from this machine (its window, runtime and name).
+    runtime : MachineRuntime, optional
+    capacity : int
+        Payload bytes per buffer.
+    seed : int
+    cycle_s : float, optional
+        Controller cycle; the controller's own by default.
+    """
+
+    def __init__(self, machine: Machine,
+                 server_factory: Callable[[WindowCNC], ControllerServer], *,
+                 runtime: MachineRuntime | None = None, capacity: int = DEFAULT_CAPACITY,
+                 seed: int = 0, cycle_s: float | None = None) -> None:
+        self.machine = machine
+        self.runtime = runtime or MachineRuntime(machine, seed=seed)
+        self.layout = Layout(capacity)
+        self.window = bytearray(self.layout.size)
+        ctl = self.runtime.controller
+        increment = float(getattr(ctl.config, "increment_mm", 0.001))
+        self.program = PlcMapProgram(self.window, self.layout, ctl,
+                                     formats=ctl.store.assembler.accepted,
+                                     increment_mm=increment)
+        self.cycle_s = cycle_s or self.runtime.cycle_s
+        self.server = server_factory(self)
+        self.running = True
+        """False while the PLC program is stopped (:meth:`stop_plc`)."""
+        self._t0 = 0.0
+        self._task: asyncio.Task[None] | None = None
+
+    async def __aenter__(self) -> WindowCNC:
+        self._t0 = asyncio.get_running_loop().time()
+        self.program.boot(self.now(), self.machine.name)
+        await self.server.start()
+        self._task = asyncio.create_task(self._plc_loop(), name=f"{self.machine.name}:plc")
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        if self._task is not None:
+            self._task.cancel()
+            await asyncio.gather(self._task, return_exceptions=True)
+        await self.server.stop()
+
+    def now(self) -> float:
+        """Machine time since start, s."""
+        return asyncio.get_running_loop().time() - self._t0
+
+    def cycle(self) -> None:
+        """One controller cycle and one PLC-program scan (what the loop runs)."""
+        if not self.running:
+            return
+        now = self.now()
+        applied = self.runtime.step(now)
+        self.program.scan(now, np.asarray(self.runtime.positions, dtype=float),
+                          np.asarray(applied, dtype=float))
+
+    def stop_plc(self) -> None:
+        """The PLC program stops (its scans and status freeze; the window stays)."""
+        self.running = False
+
+    def restart_plc(self) -> None:
+        """The PLC program starts again: its working state is lost, the nonvolatile window
+        is kept, and it takes its active buffer again only if that still checks out."""
+        rt = self.runtime
+        old = rt.controller
+        # the controller's volatile state (map store, ramps, temperatures) is gone
+        new = type(old)(self.machine.name, self.machine.axis_names, old.config)  # type: ignore[arg-type]
+        new.temperatures.max_rate_K_per_s = old.temperatures.max_rate_K_per_s
+        rt.controller = new
+        self.program = PlcMapProgram(self.window, self.layout, rt.controller,
+                                     formats=rt.controller.store.assembler.accepted,
+                                     increment_mm=self.program.increment_mm)
+        self.program.boot(self.now(), self.machine.name)
+        self.running = True
+
+    async def _plc_loop(self) -> None:
+        loop = asyncio.get_running_loop()
+        next_t = loop.time()
+        while True:
+            self.cycle()
+            next_t += self.cycle_s
+            delay = next_t - loop.time()
+            if delay < -10 * self.cycle_s:
+                next_t = loop.time()
+            await asyncio.sleep(max(delay, 0.0))

@@ -1,0 +1,83 @@
+"""How the center reaches a machine: the ``link`` of its registration.
+
+* ``ednc`` (the default): the machine runs the EDNC protocol's client itself
+  (protocol/README.md §1-12) and connects to the center;
+* ``modbus``: a Fanuc PMC behind the controller's Modbus/TCP Server function; the center
+  is the Modbus client and writes the map into the holding-register window the ladder
+  reads (protocol/README.md §13);
+* ``opcua``: a SINUMERIK behind its OPC UA server; the center logs in as a user with
+  write rights on the PLC data block that holds the window.
+
+The link is kept in the machine's description under ``link`` (formats.md §1 allows
+extra keys), so a fleet file and the REST API carry it the same way.
+"""
+
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+__all__ = ["EdncLink", "LinkSpec", "ModbusLink", "OpcuaLink"]
+
+Host = Annotated[str, Field(min_length=1, max_length=253, pattern=r"^[A-Za-z0-9.\-:\[\]]+$")]
+
+
+class EdncLink(BaseModel):
+    """The machine connects to the center with the EDNC protocol."""
+
+    model_config = ConfigDict(extra="forbid")
+    kind: Literal["ednc"] = "ednc"
+
+
+class ModbusLink(BaseModel):
+    """A Fanuc PMC reached through the Modbus/TCP Server function (option R968).
+
+    The window (protocol/README.md §13) starts at holding register ``register``; the
+    controller's Modbus area setting maps it onto PMC memory from ``pmc`` (for the
+    operator's reference: the ladder reads the same bytes there).
+    """
+
+    model_config = ConfigDict(extra="forbid")
+    kind: Literal["modbus"]
+    host: Host | None = Field(default=None, description="default: the machine's ip")
+    port: int = Field(default=502, ge=1, le=65535)
+    unit_id: int = Field(default=1, ge=0, le=255)
+    register: int = Field(default=0, ge=0, le=65535,
+                          description="first holding register of the window")
+    pmc: str = Field(default="D0000", pattern=r"^[RDE][0-9]{4,5}$",
+                     description="PMC address the window's first register is mapped onto")
+    byte_order: Literal["little", "big"] = Field(
+        default="little", description="how the controller puts a register's two bytes into "
+        "PMC memory: little = low byte at the even address (a PMC word)")
+    poll_ms: int = Field(default=100, ge=10, le=10_000,
+                         description="how often the center reads the PLC's status, ms")
+
+
+class OpcuaLink(BaseModel):
+    """A SINUMERIK reached through its OPC UA server (option; login required)."""
+
+    model_config = ConfigDict(extra="forbid")
+    kind: Literal["opcua"]
+    endpoint: Annotated[str, Field(pattern=r"^opc\.tcp://[^\s]+$", max_length=300)]
+    security_policy: Literal["None", "Basic256Sha256"] = "None"
+    security_mode: Literal["None", "Sign", "SignAndEncrypt"] = "None"
+    user: Annotated[str, Field(min_length=1, max_length=64)]
+    password_ref: Annotated[str, Field(
+        pattern=r"^(env:[A-Za-z_][A-Za-z0-9_]*|file:/.+)$",
+        description="where the center reads the user's password: env:NAME or file:/path "
+                    "(never the password itself: the description is returned by the API)")]
+    window_node: Annotated[str, Field(
+        min_length=1, max_length=200,
+        description="node id of the PLC data block that holds the window")] = \
+        "ns=2;s=/Plc/DB900"
+    sd_nodes: dict[str, str] = Field(
+        default_factory=dict,
+        description="per axis, node ids of SD43900/43910/43920 the center reads back "
+                    "(default: the SINUMERIK paths for the axis)")
+    poll_ms: int = Field(default=200, ge=100, le=10_000,
+                         description="status reads, ms (the server samples no faster than "
+                                     "100 ms)")
+
+
+LinkSpec = Annotated[EdncLink | ModbusLink | OpcuaLink, Field(discriminator="kind")]
