@@ -7,6 +7,7 @@ from fastapi import APIRouter
 from server.api.routes import (
     diagnoses,
     events,
+    history,
     machines,
     maps,
     measurements,
@@ -20,7 +21,7 @@ from server.dashboard import routes as dashboard
 
 api_router = APIRouter(prefix="/api")
 for module in (machines, status, models, measurements, maps, diagnoses, verifications, events,
-               temperatures):
+               temperatures, history):
     api_router.include_router(module.router)
 api_router.include_router(dashboard.api)
 

@@ -254,3 +254,28 @@ class TemperatureReadingRow(Base):
     celsius: Mapped[float] = mapped_column(Float)
     time: Mapped[dt.datetime] = mapped_column(index=True)
     source: Mapped[str] = mapped_column(String(16))
+
+
+class CorrectionSampleRow(Base):
+    """The compensation a machine applied along one axis over one sampling period, as its
+    telemetry reported it: the history behind the dashboard's correction trends
+    (:mod:`server.db.corrections`, written by :mod:`server.dashboard.sampler`, pruned after
+    a retention period).
+
+    One row per machine, axis and period (a minute by default) holding the mean, smallest
+    and largest value seen (µm; µrad for a rotary axis) and how many telemetry readings
+    they summarise, so that a month of history is 43,200 rows per axis, not millions.
+    """
+
+    __tablename__ = "correction_samples"
+    __table_args__ = (Index("ix_correction_samples_machine_time", "machine_id", "time"),)
+
+    id: Mapped[int] = mapped_column(BigInteger().with_variant(Integer, "sqlite"),
+                                    primary_key=True)
+    machine_id: Mapped[int] = mapped_column(_machine_fk())
+    axis: Mapped[str] = mapped_column(String(8))
+    time: Mapped[dt.datetime] = mapped_column(index=True)
+    mean: Mapped[float] = mapped_column(Float)
+    low: Mapped[float] = mapped_column(Float)
+    high: Mapped[float] = mapped_column(Float)
+    samples: Mapped[int] = mapped_column(Integer)
