@@ -25,7 +25,8 @@ from typing import Any
 from fastapi import FastAPI, Request
 from fastapi.encoders import jsonable_encoder
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
+from fastapi.openapi.docs import get_redoc_html, get_swagger_ui_html
+from fastapi.responses import HTMLResponse, JSONResponse
 from sqlalchemy.engine import make_url
 
 from server.api.guard import Guard
@@ -133,6 +134,10 @@ def create_app(
             "(`EDNC_READ_KEY`); other reads are open."
         ),
         lifespan=lifespan,
+        # /docs and /redoc below load their scripts from the project's static files, not
+        # from a CDN: a plant network often has no internet
+        docs_url=None,
+        redoc_url=None,
         # Bounds every request body, also chunked ones without a Content-Length: the
         # largest legitimate one is a measurement upload plus multipart overhead.
         max_body_size=MAX_UPLOAD_BYTES + 1024 * 1024,
@@ -143,4 +148,30 @@ def create_app(
     app.add_exception_handler(RequestValidationError, _validation_error)
     app.include_router(api_router)
     app.include_router(root_router)
+    _add_docs(app)
     return app
+
+
+VENDOR = "/static/vendor"
+
+
+def _add_docs(app: FastAPI) -> None:
+    """``/docs`` (Swagger UI) and ``/redoc`` from the vendored assets
+    (``server/static/vendor/README.md``): nothing is fetched from another host."""
+    title = f"{app.title} - API"
+
+    @app.get("/docs", include_in_schema=False)
+    async def swagger_ui() -> HTMLResponse:
+        return get_swagger_ui_html(
+            openapi_url=app.openapi_url or "/openapi.json", title=title,
+            swagger_js_url=f"{VENDOR}/swagger-ui/swagger-ui-bundle.js",
+            swagger_css_url=f"{VENDOR}/swagger-ui/swagger-ui.css",
+            swagger_favicon_url="/static/favicon.svg",
+            # the default validator badge asks validator.swagger.io about the document
+            swagger_ui_parameters={"validatorUrl": None})
+
+    @app.get("/redoc", include_in_schema=False)
+    async def redoc() -> HTMLResponse:
+        return get_redoc_html(openapi_url=app.openapi_url or "/openapi.json", title=title,
+                              redoc_js_url=f"{VENDOR}/redoc/redoc.standalone.js",
+                              redoc_favicon_url="/static/favicon.svg", with_google_fonts=False)
