@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 from typing import Annotated
@@ -9,14 +10,49 @@ from typing import Annotated
 import typer
 
 from ednc.cli import UserError
-from ednc.commands.compensate import parse_temperatures, parse_weights
+from ednc.commands.compensate import parse_temperatures
 from ednc.inputs import read_machine, read_model
-from volumetric.compensate.maps import MapBuildError
-from volumetric.compensate.native import CEC_MAX_POINTS, cec_mpf, cec_tables, iso230_1_tables
-from volumetric.compensate.solver import CompensationError
-from volumetric.compensate.tablesmap import build_tables_map
+from volumetric.compensate.cec import CONTROLS, LeftOut, cec_export
+from volumetric.compensate.cec_check import tool_tip
+from volumetric.compensate.cec_text import CecFile, cec_text, program_name
+from volumetric.compensate.iso230_1 import iso230_1_export
+from volumetric.compensate.native import model_geometry
 from volumetric.errors import ComponentErrorSpecError
-from volumetric.measure.tables import write_tables
+from volumetric.model.machine import Machine
+
+HELP_FORMAT = (
+    "cec: Siemens CEC tables ($AN_CEC, K3 sag compensation) as an MPF part program (or "
+    "INI with --program ini): per input/output pair one 1-D table (positioning, "
+    "straightness, squareness and the angular errors' share that depends on one axis), "
+    "the angular errors' Abbe terms as products of a factor table and a linear arm table "
+    "($AN_CEC_MULT_BY_TABLE), backlash as direction-dependent tables ($AN_CEC_DIRECTION), "
+    "a full-turn rotary axis's angular positioning as a modulo table; within the "
+    "control's table count, the rest named with its tool-tip effect (rotary axes' other "
+    "errors: the 5-axis transformation data; thermal terms: the temperature path). "
+    "iso230-1: every component error of every axis as CSV with units, metadata (machine, "
+    "model, sign convention, tool length, reference temperature), rows at a regular "
+    "step, columns the model did not identify present and empty, for controls that "
+    "evaluate the chain (ISG/Beckhoff kind); backlash and thermal terms named, not "
+    "tabulated.")
+
+
+def parse_axis_names(text: str | None, machine: Machine) -> dict[str, str]:
+    """``X=X1,Y=Y1`` → {"X": "X1", ...}; refused when an axis is unknown or a name is not
+    a SINUMERIK identifier."""
+    if not text:
+        return {}
+    out: dict[str, str] = {}
+    for part in text.split(","):
+        key, sep, value = part.partition("=")
+        key, value = key.strip().upper(), value.strip()
+        if not sep or key not in machine.axis_names:
+            raise UserError(f"--axis-names {text!r}: expected AXIS=NAME pairs such as "
+                            f"X=X1 for axes {', '.join(machine.axis_names)}")
+        if not value or not value.replace("_", "").isalnum() or not value[0].isalpha():
+            raise UserError(f"--axis-names: {value!r} is not an axis name (letters, digits, "
+                            "_; e.g. X1 or AX1)")
+        out[key] = value
+    return out
 
 
 def register(app: typer.Typer) -> None:
@@ -26,53 +62,147 @@ def register(app: typer.Typer) -> None:
             "--machine", help="Machine description JSON (formats.md §1).")],
         model_path: Annotated[Path, typer.Option(
             "--model", help="Model JSON as written by 'ednc fit' or 'ednc diagnose'.")],
-        fmt: Annotated[str, typer.Option(
-            "--format", help="cec: Siemens $AN_CEC tables as an MPF file (1-D tables only: "
-                             "the file lists what they cannot hold); iso230-1: component "
-                             "tables as CSV per axis for controllers that evaluate the "
-                             "chain (ISG/Beckhoff kind).")],
+        fmt: Annotated[str, typer.Option("--format", help=HELP_FORMAT)],
         out: Annotated[Path, typer.Option(
-            "--out", help="The MPF file (cec) or a directory for the CSV files.")],
+            "--out", help="cec: the file. iso230-1: a directory for X.csv, ..., "
+                          "locations.csv, or a file ending in .csv for all tables in one "
+                          "(blocks separated by a blank line).")],
         tolerance_um: Annotated[float, typer.Option(
-            "--tolerance-um", help="Largest tool-tip error of the tables, µm.")] = 0.5,
-        max_points: Annotated[int, typer.Option(
-            "--max-points", help="Points per CEC table (828D: 200).")] = CEC_MAX_POINTS,
+            "--tolerance-um", help="cec: interpolation budget at the tool tip per output "
+                                   "axis, µm (sets the points per table).")] = 0.5,
+        control: Annotated[str, typer.Option(
+            "--control", help="cec: 828d (8 tables of 200 points) or 840d (62 tables of "
+                              "up to 2000 points, MD18342).")] = "840d",
+        max_tables: Annotated[int | None, typer.Option(
+            "--max-tables", help="cec: tables available (default: the control's).")] = None,
+        max_points: Annotated[int | None, typer.Option(
+            "--max-points", help="cec: points per table (default: the control's).")] = None,
+        lec: Annotated[bool, typer.Option(
+            "--lec", help="cec: leave the positioning errors (EXX, EYY, EZZ, ECC, ...) "
+                          "to the leadscrew (LEC) tables instead of writing them.")] = False,
+        first_table: Annotated[int, typer.Option(
+            "--first-table", help="cec: number of the first table (tables below stay "
+                                  "the OEM's).")] = 0,
+        axis_names: Annotated[str | None, typer.Option(
+            "--axis-names", help="cec: control axis names, e.g. X=X1,Y=Y1,Z=Z1 "
+                                 "(default: the model's name followed by 1).")] = None,
+        program: Annotated[str, typer.Option(
+            "--program", help="cec: mpf (a part program, %_N_<NAME>_MPF, ends M30) or ini "
+                              "(%_N_NC_CEC_INI with CHANDATA(1), ends M17).")] = "mpf",
+        tool_length: Annotated[float | None, typer.Option(
+            "--tool-length", help="Tool length the Abbe arms are taken with, mm (default: "
+                                  "the machine description's).")] = None,
+        step: Annotated[float | None, typer.Option(
+            "--step", help="iso230-1: row step of the linear axes, mm (default: a round "
+                           "step giving 20-50 rows).")] = None,
         temperature: Annotated[list[str] | None, typer.Option(
-            "--temperature", help="SENSOR=°C for the model's thermal terms; may repeat."
-        )] = None,
-        weights: Annotated[str | None, typer.Option(
-            "--weights", help="Solver weights, as for 'ednc compensate'.")] = None,
+            "--temperature", help="SENSOR=°C: fold the thermal terms in at these "
+                                  "temperatures (static); may repeat. Without it they are "
+                                  "named as left to the temperature path.")] = None,
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     ) -> None:
-        """Write the compensation for a controller without our endpoint: Siemens CEC tables
-        or ISO 230-1 component tables, from the tables map at the tolerance."""
+        """Write the compensation for a controller without our endpoint (see --format for
+        what each format carries) and say what it leaves at the tool tip."""
         if fmt not in ("cec", "iso230-1"):
             raise UserError(f"--format {fmt!r}: expected cec or iso230-1")
-        if max_points < 2:
-            raise UserError(f"--max-points must be at least 2, got {max_points}")
+        if control not in CONTROLS:
+            raise UserError(f"--control {control!r}: expected 828d or 840d")
+        if program not in ("mpf", "ini"):
+            raise UserError(f"--program {program!r}: expected mpf or ini")
+        tables_cap, points_cap = CONTROLS[control]
+        if max_points is not None and not 2 <= max_points <= points_cap:
+            raise UserError(f"--max-points must be 2..{points_cap} on the {control}, "
+                            f"got {max_points}")
+        if max_tables is not None and not 1 <= max_tables <= tables_cap:
+            raise UserError(f"--max-tables must be 1..{tables_cap} on the {control}, "
+                            f"got {max_tables}")
+        if first_table < 0 or first_table + (max_tables or tables_cap) > tables_cap:
+            raise UserError(f"--first-table {first_table}: the {control} numbers its "
+                            f"tables 0..{tables_cap - 1}; use --max-tables to leave room")
+        if not (tolerance_um > 0 and tolerance_um < 1e3):
+            raise UserError(f"--tolerance-um must be > 0 and < 1000, got {tolerance_um}")
+        if step is not None and not 0 < step <= 1e4:
+            raise UserError(f"--step must be > 0 mm, got {step}")
+        if tool_length is not None and not 0 <= tool_length <= 2000:
+            raise UserError(f"--tool-length must be 0..2000 mm, got {tool_length}")
         machine = read_machine(machine_path)
+        if len(machine.branches) > 1:
+            raise UserError(f"machine {machine.name!r} has {len(machine.branches)} "
+                            "spindles; native exports cover one tool tip")
+        names = parse_axis_names(axis_names, machine)
         model = read_model(model_path, machine)
         temps = parse_temperatures(temperature or [])
+        tool = machine.branches[0].tool_length_mm if tool_length is None else tool_length
         try:
-            t = build_tables_map(machine, model, temps, tolerance_um=tolerance_um,
-                                 weights=parse_weights(weights, machine), controller="siemens")
-        except (MapBuildError, CompensationError, ComponentErrorSpecError) as exc:
+            geo, backlash, thermal = model_geometry(model, temps or None)
+        except (ValueError, ComponentErrorSpecError) as exc:
             raise UserError(str(exc)) from None
-        try:
-            if fmt == "cec":
-                out.write_text(cec_mpf(t, max_points=max_points))
-                e = cec_tables(t, max_points=max_points)
-                written, count, left = [str(out)], len(e.tables), list(e.left_out)
+        if fmt == "cec":
+            e = cec_export(machine, geo, tool_mm=tool, control=control,
+                           max_tables=max_tables, max_points=max_points,
+                           tolerance_um=tolerance_um, positioning=not lec,
+                           backlash_um=backlash)
+            left = list(e.left_out) + [LeftOut(n, None, f"thermal ({w}): left to the "
+                                              "temperature path, not a static table")
+                                       for n, w in thermal]
+            e = dataclasses.replace(e, left_out=tuple(left))
+            figures = tool_tip(machine, geo, e)
+            note = f"model {model_path.name}" + (
+                f" at {', '.join(f'{k}={v:g} C' for k, v in temps.items())}" if temps else "")
+            spec = CecFile(program, program_name(out.stem), names, first_table)
+            text = cec_text(e, figures, machine_name=machine.name, model_note=note, f=spec)
+            _write(out, text)
+            result = {"format": fmt, "files": [str(out)], "tables": len(e.tables),
+                      "control": control, "first_table": first_table,
+                      "tool_tip": figures.to_json(),
+                      "decomposition_um": round(e.affine_um, 6),
+                      "products": sum(1 for t in e.tables if t.role == "factor"),
+                      "left_out": [x.to_json() for x in e.left_out]}
+        else:
+            iso = iso230_1_export(machine, model, geo, step_mm=step, tool_mm=tool,
+                                  thermal=thermal, backlash_um=backlash)
+            if out.suffix.lower() == ".csv":
+                _write(out, iso.single())
+                written = [str(out)]
             else:
-                written = [str(p) for p in write_tables(iso230_1_tables(t), out)]
-                count, left = len(t.tables), []
-        except OSError as exc:
-            raise UserError(f"{out}: cannot write ({exc.strerror or exc})") from None
+                try:
+                    out.mkdir(parents=True, exist_ok=True)
+                except OSError as exc:
+                    raise UserError(f"{out}: cannot create ({exc.strerror or exc})") from None
+                written = []
+                for key, text in iso.files.items():
+                    _write(out / f"{key}.csv", text)
+                    written.append(str(out / f"{key}.csv"))
+            left_iso = ([{"error": f"backlash {k}", "effect_um": round(v / 2, 4),
+                          "reason": "direction-dependent: not in a direction-free table"}
+                         for k, v in sorted(backlash.items())]
+                        + [{"error": n, "effect_um": None,
+                            "reason": f"thermal ({w}): left to the temperature path"}
+                           for n, w in thermal]
+                        + [{"error": n, "effect_um": None,
+                            "reason": "not identified: written as an empty column"}
+                           for n in iso.unidentified])
+            result = {"format": fmt, "files": written, "tables": len(iso.files),
+                      "interpolation_max": {k: round(v, 6) for k, v in iso.interp.items()},
+                      "left_out": left_iso}
         if as_json:
-            typer.echo(json.dumps({"format": fmt, "files": written, "tables": count,
-                                   "left_out": [{"error": n, "max": v} for n, v in left]}))
+            typer.echo(json.dumps(result))
             return
-        typer.echo(f"{fmt}: {count} tables -> {', '.join(written)}")
-        for name, size in left:
-            typer.echo(f"  not in 1-D tables, left uncompensated: {name} "
-                       f"(up to {size:.3g} µm or µrad)")
+        files = result["files"]
+        assert isinstance(files, list)
+        typer.echo(f"{fmt}: {result['tables']} tables -> {', '.join(files)}")
+        if fmt == "cec":
+            f = figures
+            typer.echo(f"  tool tip ({tool:g} mm tool), worst / RMS: model "
+                       f"{f.worst_before_um:.2f} / {f.rms_before_um:.2f} µm, with the tables "
+                       f"{f.worst_after_um:.2f} / {f.rms_after_um:.2f} µm")
+        for x in result["left_out"]:  # type: ignore[attr-defined]
+            eff = "" if x["effect_um"] is None else f", {x['effect_um']:.2f} µm at the tool tip"
+            typer.echo(f"  not carried: {x['error']}{eff} ({x['reason']})")
+
+
+def _write(path: Path, text: str) -> None:
+    try:
+        path.write_text(text, encoding="utf-8")
+    except OSError as exc:
+        raise UserError(f"{path}: cannot write ({exc.strerror or exc})") from None

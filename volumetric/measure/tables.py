@@ -124,6 +124,88 @@ def _number(cell: str, where: str) -> float:
     return v
 
 
+def _blocks(text: str) -> list[list[tuple[int, list[str]]]]:
+    """The CSV blocks of a text: ``#`` lines (metadata) dropped, blocks separated by
+    blank lines, each row with its line number."""
+    blocks: list[list[tuple[int, list[str]]]] = []
+    cur: list[tuple[int, list[str]]] = []
+    for i, line in enumerate(text.splitlines(), start=1):
+        if line.lstrip().startswith("#"):
+            continue
+        if not line.strip() or not line.replace(",", "").strip():
+            if cur and not line.strip():
+                blocks.append(cur)
+                cur = []
+            continue
+        cur.append((i, next(csv.reader([line]))))
+    if cur:
+        blocks.append(cur)
+    return blocks
+
+
+def _read_block(source: str, block: list[tuple[int, list[str]]],
+                by_column: Mapping[str, Axis], allowed_locations: set[str],
+                comps: dict[str, Component], locs: dict[str, float]) -> None:
+    """One table (axis or locations) into ``comps`` or ``locs``."""
+    header = [h.strip() for h in block[0][1]]
+    body = block[1:]
+    if header in (["name", "value"], ["name", "value", "unit"]):
+        for line, r in body:
+            if len(r) != len(header):
+                raise ComponentErrorSpecError(
+                    f"{source}:{line}: expected {','.join(header)}")
+            name = r[0].strip()
+            if name not in allowed_locations:
+                raise ComponentErrorSpecError(
+                    f"{source}:{line}: {name!r} is not a location error of this machine "
+                    f"({sorted(allowed_locations)})"
+                )
+            if len(r) == 3 and r[2].strip() != unit_of(name):
+                raise ComponentErrorSpecError(
+                    f"{source}:{line} column unit: {name} is in {unit_of(name)}, "
+                    f"not {r[2].strip()!r}")
+            locs[name] = _number(r[1].strip(), f"{source}:{line} column value")
+        return
+    axis = by_column.get(header[0])
+    if axis is None:
+        raise ComponentErrorSpecError(
+            f"{source}: first column {header[0]!r} is not an axis position column of "
+            f"this machine ({sorted(by_column)})"
+        )
+    valid = set(component_names(axis))
+    written = header  # for messages: the column as the file names it
+    header = [header[0], *(_split_unit(col, source) for col in header[1:])]
+    for col in header[1:]:
+        if col not in valid:
+            raise ComponentErrorSpecError(
+                f"{source}: column {col!r} is not a component error of axis {axis.name} "
+                f"({sorted(valid)})"
+            )
+    if len(set(header)) != len(header):
+        raise ComponentErrorSpecError(f"{source}: a column appears twice in {header}")
+    if not body:
+        raise ComponentErrorSpecError(f"{source}: no rows")
+    for line, r in body:
+        if len(r) != len(header):
+            raise ComponentErrorSpecError(
+                f"{source}:{line}: {len(r)} cells, the header has {len(header)}"
+            )
+    # a column of empty cells is one the file marks as unknown (not identified): no table
+    empty = [all(not r[j].strip() for _, r in body) for j in range(len(header))]
+    data = np.empty((len(body), len(header)))
+    for k, (line, r) in enumerate(body):
+        for j, cell in enumerate(r):
+            if j and empty[j]:
+                continue
+            data[k, j] = _number(cell.strip(), f"{source}:{line} column {written[j]}")
+    try:
+        for j, col in enumerate(header[1:], start=1):
+            if not empty[j]:
+                comps[col] = Table(tuple(data[:, 0]), tuple(data[:, j]))
+    except ComponentErrorSpecError as exc:
+        raise ComponentErrorSpecError(f"{source}: {exc}") from None
+
+
 def import_tables(machine: Machine, files: Iterable[tuple[str, str]]) -> GeometricErrors:
     """Component and location errors from CSV texts.
 
@@ -142,60 +224,11 @@ def import_tables(machine: Machine, files: Iterable[tuple[str, str]]) -> Geometr
     by_column = {position_column(a): a for a in machine.axes}
     allowed_locations = set(location_names(machine))
     for source, text in files:
-        rows = list(csv.reader(io.StringIO(text)))
-        if not rows or not rows[0]:
+        blocks = _blocks(text)
+        if not blocks:
             raise ComponentErrorSpecError(f"{source}: empty file")
-        header = [h.strip() for h in rows[0]]
-        body = [(i + 2, r) for i, r in enumerate(rows[1:]) if any(c.strip() for c in r)]
-        if header in (["name", "value"], ["name", "value", "unit"]):
-            for line, r in body:
-                if len(r) != len(header):
-                    raise ComponentErrorSpecError(
-                        f"{source}:{line}: expected {','.join(header)}")
-                name = r[0].strip()
-                if name not in allowed_locations:
-                    raise ComponentErrorSpecError(
-                        f"{source}:{line}: {name!r} is not a location error of this machine "
-                        f"({sorted(allowed_locations)})"
-                    )
-                if len(r) == 3 and r[2].strip() != unit_of(name):
-                    raise ComponentErrorSpecError(
-                        f"{source}:{line} column unit: {name} is in {unit_of(name)}, "
-                        f"not {r[2].strip()!r}")
-                locs[name] = _number(r[1].strip(), f"{source}:{line} column value")
-            continue
-        axis = by_column.get(header[0])
-        if axis is None:
-            raise ComponentErrorSpecError(
-                f"{source}: first column {header[0]!r} is not an axis position column of "
-                f"this machine ({sorted(by_column)})"
-            )
-        valid = set(component_names(axis))
-        written = header  # for messages: the column as the file names it
-        header = [header[0], *(_split_unit(col, source) for col in header[1:])]
-        for col in header[1:]:
-            if col not in valid:
-                raise ComponentErrorSpecError(
-                    f"{source}: column {col!r} is not a component error of axis {axis.name} "
-                    f"({sorted(valid)})"
-                )
-        if len(set(header)) != len(header):
-            raise ComponentErrorSpecError(f"{source}: a column appears twice in {header}")
-        if not body:
-            raise ComponentErrorSpecError(f"{source}: no rows")
-        data = np.empty((len(body), len(header)))
-        for k, (line, r) in enumerate(body):
-            if len(r) != len(header):
-                raise ComponentErrorSpecError(
-                    f"{source}:{line}: {len(r)} cells, the header has {len(header)}"
-                )
-            for j, cell in enumerate(r):
-                data[k, j] = _number(cell.strip(), f"{source}:{line} column {written[j]}")
-        try:
-            for j, col in enumerate(header[1:], start=1):
-                comps[col] = Table(tuple(data[:, 0]), tuple(data[:, j]))
-        except ComponentErrorSpecError as exc:
-            raise ComponentErrorSpecError(f"{source}: {exc}") from None
+        for block in blocks:
+            _read_block(source, block, by_column, allowed_locations, comps, locs)
     errors = GeometricErrors(comps, locs)
     errors.check(machine)
     return errors
@@ -375,8 +408,29 @@ def export_terms(machine: Machine, model: MachineModel) -> str:
             + REVERSAL_CONVENTION + "."),
         "units": TERM_UNITS,
         "terms": out,
+        # the rest of the model, so that an import gives it back whole: the fit's
+        # tool-tip offsets (the readings' zero, which `ednc predict` adds) and its other
+        # statistics, and the exact component functions the CSV tables sample
+        "offsets_um": _finite(dict(model.info.get("offsets_um", {}) or {})),
+        "info": _finite(dict(model.info)),
+        "geometry": model.geometry.to_json(),
+        "geometry_note": (
+            "the exact component functions; the CSV tables sample them. `ednc tables "
+            "import` uses these when every CSV value still equals them (to 1e-4 of its "
+            "column's largest value), and the CSV tables when a table was edited"),
     }
     return json.dumps(doc, indent=1, ensure_ascii=False) + "\n"
+
+
+def _finite(value: Any) -> Any:
+    """A JSON value with NaN and infinities replaced by null (JSON has neither)."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, Mapping):
+        return {str(k): _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value
 
 
 def _lookup(data: Mapping[str, Any], path: str) -> Any:
@@ -403,7 +457,15 @@ def _refuse_constant(name: str) -> float:
 
 
 def import_terms(machine: Machine, source: str, text: str) -> tuple[Term, ...]:
-    """The extension terms of a :data:`TERMS_FILE` text.
+    """The extension terms of a :data:`TERMS_FILE` text (see :func:`read_terms_file`)."""
+    return read_terms_file(machine, source, text)[0]
+
+
+def read_terms_file(machine: Machine, source: str, text: str
+                    ) -> tuple[tuple[Term, ...], dict[str, Any], GeometricErrors | None]:
+    """The extension terms of a :data:`TERMS_FILE` text, the model's info (with its
+    offsets) and its exact geometry, when the file holds them (files of earlier versions
+    hold neither: ``{}`` and None).
 
     Raises
     ------
@@ -437,7 +499,25 @@ def import_terms(machine: Machine, source: str, text: str) -> tuple[Term, ...]:
             raise ComponentErrorSpecError(
                 f"{source}: {_term_label(i, t)}: machine {machine.name!r} has axes "
                 f"{sorted(keys)}")
-    return terms
+    info = doc.get("info", {})
+    if not isinstance(info, Mapping):
+        raise ComponentErrorSpecError(f"{source}: 'info' must be an object")
+    info = dict(info)
+    offsets = doc.get("offsets_um")
+    if offsets is not None:
+        if not isinstance(offsets, Mapping) or not all(
+                isinstance(v, (int, float)) and not isinstance(v, bool)
+                for v in offsets.values()):
+            raise ComponentErrorSpecError(
+                f"{source}: 'offsets_um' must map OFFSET_X ... to numbers (µm)")
+        info["offsets_um"] = {str(k): float(v) for k, v in offsets.items()}
+    geometry = None
+    if doc.get("geometry") is not None:
+        try:
+            geometry = GeometricErrors.from_json(doc["geometry"])
+        except ComponentErrorSpecError as exc:
+            raise ComponentErrorSpecError(f"{source}: geometry: {exc}") from None
+    return terms, info, geometry
 
 
 def export_model(machine: Machine, model: MachineModel, *, points: int = 21
@@ -465,8 +545,35 @@ def import_model(machine: Machine, files: Iterable[tuple[str, str]]) -> MachineM
             f"more than one terms file: {', '.join(s for s, _ in json_files)}")
     geometry = import_tables(machine, [(s, t) for s, t in files
                                        if not s.lower().endswith(".json")])
-    terms = import_terms(machine, *json_files[0]) if json_files else ()
-    return MachineModel(machine.name, geometry, terms, {"source": [s for s, _ in files]})
+    terms: tuple[Term, ...] = ()
+    info: dict[str, Any] = {}
+    exact = None
+    if json_files:
+        terms, info, exact = read_terms_file(machine, *json_files[0])
+    if exact is not None and _agrees(geometry, exact):
+        geometry = exact  # the tables are the exact functions' samples: take those
+    info["source"] = [s for s, _ in files]
+    return MachineModel(machine.name, geometry, terms, info)
+
+
+def _agrees(tables: GeometricErrors, exact: GeometricErrors) -> bool:
+    """Whether every table still holds the exact functions' values at its positions (to
+    1e-4 of its largest value: the CSV writes 6 significant digits) and the locations
+    and the set of components are the same."""
+    if set(tables.components) != set(exact.components):
+        return False
+    if set(tables.locations) != set(exact.locations):
+        return False
+    for name, t in tables.components.items():
+        if not isinstance(t, Table):
+            return False
+        p = np.asarray(t.positions)
+        v = np.asarray(t.values)
+        want = np.asarray(exact.components[name](p), dtype=float)
+        if np.abs(want - v).max() > 1e-4 * max(float(np.abs(want).max()), 1e-6):
+            return False
+    return all(abs(v - exact.locations[n]) <= 1e-5 * max(abs(v), 1e-6)
+               for n, v in tables.locations.items())
 
 
 def write_files(files: Mapping[str, str], directory: Path) -> list[Path]:

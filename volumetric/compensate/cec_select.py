@@ -1,0 +1,130 @@
+"""Which CEC tables to write when the control has fewer than the model asks for.
+
+Each group of tables (a 1-D table, a product with the tables it needs, a backlash pair)
+is judged by what it removes at the tool tip, not by its own size: shares of different
+tables onto one axis add and may cancel. Three choices are tried and the best kept, judged
+by the worst plus the RMS tool-tip error the first-order correction leaves: greedy from
+nothing, adding the group that lowers that most per table it costs, or most outright,
+until the table count is reached or nothing lowers it; and the groups by the size of their
+own share, largest first, each with the tables it needs. The
+judgement is on random points over the travel with random traversing directions; what is
+not chosen is named with its own tool-tip effect.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from volumetric.compensate.cec_plan import CecPlan, sample_points
+
+F64 = NDArray[np.float64]
+
+
+def group_shares(plan: CecPlan, backlash: Mapping[str, float], n: int = 1500,
+                 seed: int = 7) -> tuple[dict[str, F64], F64]:
+    """Per group key (``1d:K:d``, ``prod:K:m:d``, ``dir:K``, ``const:d``) its correction
+    at random points, (n, n_linear) in mm (degrees onto rotary axes count by their
+    tool-tip reach, see :func:`~volumetric.compensate.cec._rotary_um`); and the sum of
+    them all, the full first-order correction."""
+    m = plan.machine
+    q = sample_points(m, n, seed)
+    rng = np.random.default_rng(seed + 1)
+    direction = rng.choice([-1.0, 1.0], size=q.shape)
+    col = {a.name: i for i, a in enumerate(m.axes)}
+    outs = list(plan.linear) + sorted({d for (_, d) in plan.one_d if d not in plan.linear})
+    oi = {d: i for i, d in enumerate(outs)}
+    reach = float(np.sqrt(sum((a.travel[1] - a.travel[0]) ** 2 for a in m.axes
+                              if a.kind == "linear"))) * np.pi / 180.0  # mm per degree
+    shares: dict[str, F64] = {}
+    for (k, d), pieces in plan.one_d.items():
+        v = np.zeros((n, len(outs)))
+        for p in pieces:
+            v[:, oi[d]] += p.fn(q[:, col[k]])
+        if d not in plan.linear:
+            v *= reach
+        shares[f"1d:{k}:{d}"] = v
+    for (k, a, d), pieces in plan.factors.items():
+        v = np.zeros((n, len(outs)))
+        for p in pieces:
+            v[:, oi[d]] += p.fn(q[:, col[k]]) * (q[:, col[a]] - plan.centre[a])
+        shares[f"prod:{k}:{a}:{d}"] = v
+    for k, b in backlash.items():
+        if k in plan.linear:
+            v = np.zeros((n, len(outs)))
+            v[:, oi[k]] = direction[:, col[k]] * b / 2e3
+            shares[f"dir:{k}"] = v
+    for d, c in plan.constants.items():
+        v = np.zeros((n, len(outs)))
+        v[:, oi[d]] = c
+        shares[f"const:{d}"] = v
+    total = np.zeros((n, len(outs)))
+    for v in shares.values():
+        total = total + v
+    return shares, total
+
+
+def _score(rest: F64) -> float:
+    norm = np.linalg.norm(rest, axis=1)
+    return float(norm.max() + np.sqrt(np.mean(norm * norm)))
+
+
+def select_groups(needs: Mapping[str, Sequence[str]], shares: Mapping[str, F64],
+                  total: F64, max_tables: int) -> set[str]:
+    """The table keys to write (see module docstring).
+
+    Parameters
+    ----------
+    needs : mapping of group key to the table keys it needs (itself included)
+    shares, total : from :func:`group_shares`
+    max_tables : int
+    """
+    every = {t for ts in needs.values() for t in ts}
+    if len(every) <= max_tables:
+        return every
+
+    def carried(keys: set[str]) -> F64:
+        out = np.zeros_like(total)
+        for key, v in shares.items():
+            if key.startswith("const:"):
+                if any(t.startswith("1d:") and t.endswith(key[5:]) for t in keys):
+                    out = out + v
+            elif key in keys:
+                out = out + v
+        return out
+
+    def greedy(per_table: bool) -> set[str]:
+        chosen: set[str] = set()
+        best = _score(total)
+        while True:
+            pick: tuple[float, set[str], float] | None = None
+            for ts in needs.values():
+                new = set(ts) - chosen
+                if not new or len(chosen) + len(new) > max_tables:
+                    continue
+                s = _score(total - carried(chosen | new))
+                gain = (best - s) / (len(new) if per_table else 1)
+                if gain > 0 and (pick is None or gain > pick[0]):
+                    pick = (gain, new, s)
+            if pick is None:
+                return chosen
+            chosen |= pick[1]
+            best = pick[2]
+
+    def by_size() -> set[str]:
+        # the largest share first, each with what it needs, while the tables last
+        chosen: set[str] = set()
+        size = {g: float(np.linalg.norm(shares[g], axis=1).max()) for g in needs}
+        for g in sorted(needs, key=lambda g: -size[g]):
+            new = set(needs[g]) - chosen
+            if len(chosen) + len(new) <= max_tables:
+                chosen |= new
+        return chosen
+
+    options = [greedy(True), greedy(False), by_size()]
+    return min(options, key=lambda keys: _score(total - carried(keys)))
+
+
+__all__ = ["group_shares", "select_groups"]
