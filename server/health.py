@@ -190,14 +190,6 @@ def _verification(i: Inputs, limits: Limits) -> list[Reason]:
 
 def _model_and_map(i: Inputs, limits: Limits) -> list[Reason]:
     out = []
-    if i.model_version is None:
-        return [Reason("unknown", "no_model",
-                       "no error model uploaded: the machine runs uncompensated")]
-    model_age = _age(i.now, i.model_at)
-    if model_age is not None and model_age > limits.model_age_s:
-        out.append(Reason("warn", "model_old",
-                          f"model v{i.model_version} is {duration(model_age)} old (limit "
-                          f"{duration(limits.model_age_s)}): measure the machine again"))
     if i.map_sent_state == "rejected":
         now_on = f"v{i.map_applied}" if i.map_applied else "no map"
         out.append(Reason("alarm", "map_rejected",
@@ -207,6 +199,14 @@ def _model_and_map(i: Inputs, limits: Limits) -> list[Reason]:
         out.append(Reason("warn", "rejects",
                           f"{i.rejects} map deliver{'y' if i.rejects == 1 else 'ies'} "
                           "rejected in the last 24 h"))
+    if i.model_version is None:
+        return [*out, Reason("unknown", "no_model",
+                             "no error model uploaded: the machine runs uncompensated")]
+    model_age = _age(i.now, i.model_at)
+    if model_age is not None and model_age > limits.model_age_s:
+        out.append(Reason("warn", "model_old",
+                          f"model v{i.model_version} is {duration(model_age)} old (limit "
+                          f"{duration(limits.model_age_s)}): measure the machine again"))
     if i.map_latest is None:
         out.append(Reason("warn", "no_map", "no error map built from the model yet"))
         return out

@@ -188,8 +188,9 @@ async def test_snapshot_shows_every_machine_with_live_values_and_health(
 
     dmu_card = cards["dmu-02"]  # connected, but a rejected map outranks stale telemetry
     assert dmu_card.accuracy is not None
+    assert dmu_card.health == "alarm" and "checksum" in dmu_card.health_reason
     assert [r.code for r in dmu_card.accuracy.reasons] == [
-        "telemetry_stale", "not_verified", "no_model"]  # no model: the rejection is moot
+        "map_rejected", "telemetry_stale", "not_verified", "no_model"]
     assert dmu_card.telemetry_stale and dmu_card.temperatures[0].stale
     assert dmu_card.telemetry_age_s is not None and dmu_card.telemetry_age_s >= 60
     assert cards["vmc-03"].health == "offline" and cards["vmc-03"].axes == []

@@ -20,12 +20,14 @@ import asyncio
 import datetime as dt
 import html
 import io
+import logging
 import mimetypes
 from pathlib import Path
 from typing import Annotated, Any
 
 from fastapi import APIRouter, HTTPException, Query, Request, status
 from fastapi.responses import FileResponse, HTMLResponse, StreamingResponse
+from sqlalchemy.exc import SQLAlchemyError
 from sqlalchemy.orm import Session
 
 from protocol.mapfactored import FactoredPayload
@@ -50,12 +52,15 @@ from server.dashboard.snapshot import (
     machine_card,
     machine_facts,
 )
+from server.db import DatabaseUnavailable
 from server.db import error_models as model_repo
+from server.db import history as history_repo
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.db import measurements as measurement_repo
 from server.db import reports as report_repo
 from server.db.tables import DiagnosisRow, MachineRow
+from server.metrics import machine_samples
 from server.plant import plant_view
 from volumetric.errors import MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, read_measurements
@@ -63,6 +68,7 @@ from volumetric.model.machine import parse_machine
 from volumetric.verify.iso230_6 import DiagonalTestError
 
 STATIC = Path(__file__).resolve().parent.parent / "static"
+log = logging.getLogger(__name__)
 
 api = APIRouter(tags=["dashboard"])
 pages = APIRouter(include_in_schema=False)
@@ -79,6 +85,18 @@ async def snapshot_of(center: Center) -> DashboardSnapshot:
     facts = await center.db.run(load_facts)
     return build_snapshot(facts, await plant_view(center), node_id=center.settings.node_id,
                           temperatures=center.temperatures)
+
+
+async def refresh_machine_metrics(center: Center) -> None:
+    """Set the per-machine metric series from a fresh snapshot (at every scrape). A
+    database that does not answer leaves the previous series (logged)."""
+    try:
+        snapshot = await snapshot_of(center)
+        rejects = await center.db.run(history_repo.rejects_by_machine)
+    except (SQLAlchemyError, DatabaseUnavailable) as exc:
+        log.warning("per-machine metrics not refreshed: %s", str(exc).splitlines()[0])
+        return
+    center.metrics.set_machines(machine_samples(snapshot, rejects))
 
 
 def live_feed(request: Request, center: Center) -> LiveFeed:

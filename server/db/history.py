@@ -25,6 +25,7 @@ from server.db.tables import (
     CorrectionSampleRow,
     DiagnosisRow,
     EventRow,
+    MachineRow,
     MapVersionRow,
     TemperatureReadingRow,
 )
@@ -136,3 +137,11 @@ def events(session: Session, machine: str, since: dt.datetime, until: dt.datetim
                                    EventRow.time < until)
     return list(reversed(session.scalars(query.order_by(EventRow.id.desc()).limit(limit))
                          .all()))
+
+
+def rejects_by_machine(session: Session) -> dict[str, int]:
+    """Stored rejected deliveries per machine name (every one the table still holds)."""
+    query = (select(MachineRow.name, func.count()).join(AppliedRow,
+                                                         AppliedRow.machine_id == MachineRow.id)
+             .where(AppliedRow.reject_reason.is_not(None)).group_by(MachineRow.name))
+    return {str(name): int(n) for name, n in session.execute(query)}
