@@ -20,8 +20,9 @@ from machine_sim.instruments import SimulatedMachine
 from machine_sim.testprograms import rtest
 from machine_sim.thermal import default_thermal
 from machine_sim.truth import random_geometry
+from volumetric.diagnose.base import base_without
 from volumetric.diagnose.candidates import along_axes, candidates
-from volumetric.diagnose.diagnosis import _base_without, diagnose
+from volumetric.diagnose.diagnosis import diagnose
 from volumetric.identify.design import build_design
 from volumetric.identify.fit import fit
 from volumetric.model.machine import Machine, parse_machine
@@ -179,9 +180,9 @@ def test_the_base_degrees_are_chosen_again_without_the_named_effects() -> None:
     train = np.ones(len(m), dtype=bool)
     found, _ = candidates(machine, m, m.value, train, base.params)
     backlash = [c for c in found if (c.effect, c.axis) == ("backlash", "z")]
-    again = _base_without(machine, m, train, a0, base.weights, backlash, base)
+    again = base_without(machine, m, train, a0, base.weights, backlash, base)
     assert again is not None
     assert distance(again.degrees, reference.degrees) <= 2, (again.degrees, reference.degrees)
     # its values are fitted on the readings as they are, the backlash beside them unmodelled
     assert again.values.shape == (len(again.params),)
-    assert _base_without(machine, m, train, a0, base.weights, [], base) is None
+    assert base_without(machine, m, train, a0, base.weights, [], base) is None

@@ -48,8 +48,10 @@ with one and with two effects of the library (``benchmarks/diagnosis_hit_rate.py
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -388,3 +390,50 @@ def own_correlates(effect: str, axis: str | None, sensor: str | None) -> set[tup
 
 def correlate_key(s: Structure) -> tuple[str, str]:
     return (s.kind, s.sensor or s.axis or "")
+
+
+def unexplained_entry(left: list[Structure], nearest: list[dict[str, Any]],
+                      rms_after: float) -> dict[str, Any]:
+    """The ``effects`` entry of structure no candidate explains: the strongest correlate
+    names it (axis or sensor when it has one), every correlate found is listed, and the
+    named effects it displaced (``nearest``) keep their estimates there."""
+    top = left[0]
+    estimate: dict[str, Any] = {"correlates_with": top.label, "structure_um": round(top.rms_um, 4),
+                                "correlates": [s.to_json() for s in left]}
+    if nearest:
+        estimate["nearest"] = [{k: e[k] for k in ("effect", "axis", "sensor", "estimate")}
+                               for e in nearest]
+    return {"effect": "unexplained", "axis": top.axis, "sensor": top.sensor,
+            "estimate": estimate, "rms_after_um": round(rms_after, 4)}
+
+
+def with_unexplained(effects: list[dict[str, Any]], left: list[Structure], rms_before: float,
+                     rms_after: float) -> list[dict[str, Any]]:
+    """``effects`` with the entry of the structure ``left`` (step 7 of
+    :mod:`volumetric.diagnose`): an effect whose own correlate (its sensor, its axis's
+    position or direction) still carries at least ``DEMOTE_RATIO`` of what it explained
+    was the nearest candidate, not the cause, and gives way to ``unexplained`` (first
+    when it was first).
+
+    Parameters
+    ----------
+    effects : list of dict
+        The named effects' entries, each with ``rms_after_um`` counting those before it.
+    left : list of Structure
+        The structure found in the final held-out residuals, strongest first (not empty).
+    rms_before, rms_after : float
+        Held-out RMS of the base and of the model with every named effect, µm.
+    """
+    strength = {correlate_key(s): s.rms_um for s in left}
+    nearest = []
+    before_i = rms_before
+    for e in effects:
+        # what this effect explained: the held-out RMS it removed (in quadrature)
+        explained = math.sqrt(max(before_i ** 2 - float(e["rms_after_um"]) ** 2, 0.0))
+        before_i = float(e["rms_after_um"])
+        own = own_correlates(e["effect"], e["axis"], e["sensor"])
+        if any(strength.get(k, 0.0) >= DEMOTE_RATIO * explained for k in own):
+            nearest.append(e)
+    kept = [e for e in effects if e not in nearest]
+    entry = unexplained_entry(left, nearest, rms_after)
+    return [entry, *kept] if nearest and nearest[0] is effects[0] else [*kept, entry]
