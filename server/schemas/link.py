@@ -73,8 +73,19 @@ class OpcuaLink(BaseModel):
         "ns=2;s=/Plc/DB900"
     sd_nodes: dict[str, str] = Field(
         default_factory=dict,
-        description="per axis, node ids of SD43900/43910/43920 the center reads back "
-                    "(default: the SINUMERIK paths for the axis)")
+        description="node ids of SD43900/43910/43920 the center reads back, keyed "
+                    "'<AXIS>.<number>' (e.g. 'X.43900'); the rest default to the SINUMERIK "
+                    "paths of machine axis k, /NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_...[uk]")
+    client_certificate: str | None = Field(
+        default=None, min_length=1, max_length=500,
+        description="path of the center's application certificate (PEM or DER), needed "
+                    "for Basic256Sha256")
+    client_private_key: str | None = Field(
+        default=None, min_length=1, max_length=500,
+        description="path of that certificate's private key")
+    block_bytes: int = Field(
+        default=960, ge=4, le=16_384, multiple_of=4,
+        description="largest window write per request, bytes (960: an S7-1500 PDU)")
     poll_ms: int = Field(default=200, ge=100, le=10_000,
                          description="status reads, ms (the server samples no faster than "
                                      "100 ms)")

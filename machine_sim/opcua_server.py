@@ -1,0 +1,522 @@
+"""A SINUMERIK-style OPC UA server over a simulated machine's PLC window and NC data.
+
+The Siemens-style machine (:class:`~machine_sim.windowcnc.WindowCNC` over a
+:class:`~machine_sim.siemens.SiemensNC`) serves what a SINUMERIK 840D sl / ONE offers
+through its OPC UA server option (SINUMERIK Access MyMachine / OPC UA configuration
+manual, 6FC5397-1DP41; /work/shared/spec/controllers.md), with its limits:
+
+* **login**: user and password; an anonymous session may browse and read the server's
+  own nodes but gets ``BadUserAccessDenied`` for every NC or PLC value; a wrong password
+  is refused at ActivateSession (``BadUserAccessDenied``);
+* **rights per user** (the manual's ``GiveUserAccess`` realms): ``SinuReadAll`` reads
+  everything, ``PlcRead``/``SeaRead`` one area; ``PlcWrite`` writes PLC data,
+  ``SeaWrite`` setting data, ``SinuWriteAll`` both. A write without the right answers
+  ``BadUserAccessDenied``;
+* **at most 10 sessions** (840D sl; 5 on an 828D): the 11th CreateSession answers
+  ``BadTooManySessions``; at most 10 subscriptions (``BadTooManySubscriptions``);
+* **sampling and publishing no faster than 100 ms**: a subscription asking for less gets
+  100 ms as its revised publishing interval, and its items 100 ms as their sampling
+  interval;
+* **session timeout** 60 s (server V2.0 SP1);
+* **node ids** ``ns=2;s=<BTSS path>``.
+
+The address space
+-----------------
+PLC data (the manual's table "PLC syntax", §5.3.3): ``/Plc/DB<n>.DBB<x>``,
+``.DBW<x>``, ``.DBD<x>`` a byte, word or double word at byte ``x`` of data block ``n``,
+and with ``:[k]`` an array of ``k`` of them ("/Plc/DB8.DBW2:[10]: Array of 10 words
+beginning at byte offset 2"). Their OPC UA type is UInt32 (BYTE, WORD and DWORD all map
+to UInt32 there). The data block is big-endian as every S7 data block: DBD\\ *x* is the
+bytes x..x+3 with the most significant first.
+
+**The window is data block 900 (configurable), addressed by path, not by IndexRange.**
+The center writes a block of the window as one ``/Plc/DB900.DBD<x>:[k]`` array (four
+window bytes per UInt32: as many payload bytes on the wire as values, the densest a
+SINUMERIK offers) and a two-byte edge as ``.DBW<x>:[1]``, several of them in one Write
+request. Why this and not one big array node written with an IndexRange: the SINUMERIK
+manual documents addressed arrays (offset and length in the path), not IndexRange on PLC
+data, and asyncua's server ignores a WriteValue's IndexRange (it would replace the whole
+node with the block; FreeOpcUa/opcua-asyncio#1338 and PR #172 are about the client
+side). So a client that works against this server uses only what the real one offers.
+An IndexRange on these nodes is refused (``BadIndexRangeInvalid``). The nodes exist for
+every offset and length inside the block, as on the real server, which resolves any
+valid path; browsing shows ``/Plc/DB900`` only. Bytes outside the block answer
+``BadOutOfRange``, another data block ``BadNodeIdUnknown``, a value of another type or
+length ``BadTypeMismatch``. All nodes of one Write request are written in one event-loop
+step, so no PLC scan sees half of a request.
+
+NC data, per machine axis ``k`` (1-based, the machine's axis order):
+
+* ``/NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_ABS_VALUE[u<k>]`` SD43900, ``..._SLOPE[u<k>]`` SD43910,
+  ``..._REF_POSITION[u<k>]`` SD43920 (Double, mm, mm/mm): read from the NC's setting data
+  (:meth:`SiemensNC.read_sd`), written through :meth:`SiemensNC.write_sd` (with
+  ``SeaWrite``; an NC alarm answers ``BadOutOfRange`` for a value out of range,
+  ``BadNotWritable`` where MD32750 disables the datum);
+* ``/Channel/MachineAxis/actToolBasePos[u1,<k>]`` the machine axis position (Double, mm)
+  and ``/Channel/MachineAxis/name[u1,<k>]`` its name (String); read-only
+  (``BadNotWritable``).
+
+These are nodes of the address space (browsable under ``Sinumerik``), their values read
+from the machine when asked.
+
+The server runs in the machine's event loop (:class:`SinumerikOpcuaServer` is a
+``ControllerServer``: ``port``, ``start()``, ``stop()``; port 0 binds a free port, read
+back after start). Build it with :func:`sinumerik_server`::
+
+    cnc = WindowCNC(machine, sinumerik_server({"ednc": OpcuaUser("pw", PLC_WRITER)}))
+"""
+
+from __future__ import annotations
+
+import re
+import struct
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any, Final
+
+from asyncua import ua
+from asyncua.common.utils import ServiceError
+from asyncua.crypto.permission_rules import User, UserRole
+from asyncua.server.internal_server import InternalServer
+from asyncua.server.internal_session import InternalSession
+from asyncua.server.server import Server
+from asyncua.ua.attribute_ids import AttributeIds
+from asyncua.ua.status_codes import StatusCodes
+
+from .siemens import SD_ABS_VALUE, SD_REF_POSITION, SD_SLOPE, SiemensAlarm, SiemensNC
+
+if TYPE_CHECKING:
+    from .windowcnc import WindowCNC
+
+__all__ = [
+    "ADMIN",
+    "PLC_WRITER",
+    "READER",
+    "OpcuaUser",
+    "SinumerikOpcuaServer",
+    "plc_path",
+    "position_path",
+    "sd_path",
+    "sinumerik_server",
+]
+
+NAMESPACE: Final = "urn:ednc:sim:sinumerik"
+"""Registered first, so it is namespace 2 as on the real server."""
+MAX_SESSIONS: Final = 10
+MAX_SUBSCRIPTIONS: Final = 10
+MIN_INTERVAL_MS: Final = 100.0
+SESSION_TIMEOUT_MS: Final = 60_000.0
+
+READER: Final = frozenset({"SinuReadAll"})
+PLC_WRITER: Final = frozenset({"SinuReadAll", "PlcWrite"})
+ADMIN: Final = frozenset({"SinuReadAll", "SinuWriteAll"})
+
+SD_NAMES: Final = {SD_ABS_VALUE: "TEMP_COMP_ABS_VALUE", SD_SLOPE: "TEMP_COMP_SLOPE",
+                   SD_REF_POSITION: "TEMP_COMP_REF_POSITION"}
+_SD_BY_NAME: Final = {v: k for k, v in SD_NAMES.items()}
+
+_PLC = re.compile(r"^/Plc/DB(\d+)\.DB([BWD])(\d+)(?::\[(\d+)\])?$")
+_SD = re.compile(r"^/NC/_N_AX_SEA_ACX/\$SA_([A-Z_]+)\[u(\d+)\]$")
+_AXIS = re.compile(r"^/Channel/MachineAxis/(actToolBasePos|name)\[u1,(\d+)\]$")
+_WIDTH: Final = {"B": 1, "W": 2, "D": 4}
+_S = StatusCodes
+_ANONYMOUS: Final = User(role=UserRole.Anonymous)
+
+
+def plc_path(db: int, offset: int, width: int, count: int | None = None) -> str:
+    """The BTSS path of ``count`` (None: one, scalar) elements of ``width`` bytes (1, 2,
+    4) at byte ``offset`` of data block ``db``: ``/Plc/DB900.DBD512:[240]``."""
+    letter = {1: "B", 2: "W", 4: "D"}[width]
+    return f"/Plc/DB{db}.DB{letter}{offset}" + ("" if count is None else f":[{count}]")
+
+
+def sd_path(number: int, axis: int) -> str:
+    """The BTSS path of axis setting datum SD``number`` of machine axis ``axis``
+    (1-based): ``/NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_ABS_VALUE[u1]``."""
+    return f"/NC/_N_AX_SEA_ACX/$SA_{SD_NAMES[number]}[u{axis}]"
+
+
+def position_path(axis: int) -> str:
+    """The BTSS path of machine axis ``axis``'s (1-based) position, mm."""
+    return f"/Channel/MachineAxis/actToolBasePos[u1,{axis}]"
+
+
+@dataclass(frozen=True)
+class OpcuaUser:
+    """A user of the server: password and rights (realm names, see module docstring)."""
+
+    password: str
+    rights: frozenset[str]
+
+
+class _Users:
+    """asyncua's user manager: who may log in (rights are looked up per request)."""
+
+    def __init__(self, users: Mapping[str, OpcuaUser]) -> None:
+        self.users = dict(users)
+
+    def get_user(self, iserver: Any, username: str | None = None, password: str | None = None,
+                 certificate: Any = None) -> User | None:
+        if username is None:
+            return User(role=UserRole.Anonymous)  # may browse; no NC or PLC data
+        known = self.users.get(username)
+        if known is None or password != known.password:
+            return None  # ActivateSession answers BadUserAccessDenied
+        return User(role=UserRole.User, name=username)
+
+
+def _status(code: int) -> ua.StatusCode:
+    return ua.StatusCode(ua.UInt32(code))
+
+
+def _nid(path: str, ns: int) -> ua.NodeId:
+    return ua.NodeId(ua.String(path), ua.Int16(ns))
+
+
+def _bad(code: int) -> ua.DataValue:
+    return ua.DataValue(StatusCode=_status(code))
+
+
+class _Sinumerik:
+    """The NC and PLC data of one machine behind the server: reads and writes of the
+    ``ns=2`` BTSS paths with rights checks (no asyncua state here)."""
+
+    def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], db: int) -> None:
+        self.cnc = cnc
+        self.users = users
+        self.db = db
+
+    def rights(self, user: User) -> frozenset[str]:
+        if user.role is UserRole.Admin:  # the server's own internal session
+            return ADMIN
+        known = self.users.get(user.name or "") if user.role is UserRole.User else None
+        return known.rights if known is not None else frozenset()
+
+    @staticmethod
+    def _may(rights: frozenset[str], area: str, write: bool) -> bool:
+        if write:
+            return "SinuWriteAll" in rights or f"{area}Write" in rights
+        return bool({"SinuReadAll", "SinuWriteAll", f"{area}Read", f"{area}Write"} & rights)
+
+    def _nc(self) -> SiemensNC:
+        ctl = self.cnc.runtime.controller  # looked up each time: a PLC restart replaces it
+        if not isinstance(ctl, SiemensNC):
+            raise ServiceError(_S.BadNodeIdUnknown)
+        return ctl
+
+    def _axis(self, k: str) -> int:
+        j = int(k) - 1
+        if not 0 <= j < len(self.cnc.machine.axis_names):
+            raise ServiceError(_S.BadNodeIdUnknown)
+        return j
+
+    # -- reads
+
+    def read(self, path: str, user: User, index_range: str | None) -> ua.DataValue:
+        """The value of ``path`` for ``user`` (a bad status when refused)."""
+        try:
+            return self._read(path, self.rights(user), index_range)
+        except ServiceError as e:
+            return _bad(e.code)
+
+    def _read(self, path: str, rights: frozenset[str], index_range: str | None
+              ) -> ua.DataValue:
+        if (m := _PLC.match(path)) is not None:
+            if not self._may(rights, "Plc", False):
+                raise ServiceError(_S.BadUserAccessDenied)
+            at, width, count = self._plc(m, index_range)
+            data = bytes(self.cnc.window[at:at + width * (count or 1)])
+            values = [int.from_bytes(data[i:i + width], "big")
+                      for i in range(0, len(data), width)]
+            if count is None:
+                return ua.DataValue(ua.Variant(values[0], ua.VariantType.UInt32))
+            return ua.DataValue(ua.Variant(values, ua.VariantType.UInt32, is_array=True))
+        if index_range:
+            raise ServiceError(_S.BadIndexRangeInvalid)
+        if (m := _SD.match(path)) is not None:
+            if not self._may(rights, "Sea", False):
+                raise ServiceError(_S.BadUserAccessDenied)
+            number, j = self._sd(m)
+            value = self._nc().read_sd(number, self.cnc.machine.axis_names[j])
+            return ua.DataValue(ua.Variant(value, ua.VariantType.Double))
+        if (m := _AXIS.match(path)) is not None:
+            if not self._may(rights, "Sinu", False):
+                raise ServiceError(_S.BadUserAccessDenied)
+            j = self._axis(m.group(2))
+            if m.group(1) == "name":
+                return ua.DataValue(ua.Variant(self.cnc.machine.axis_names[j],
+                                               ua.VariantType.String))
+            pos = float(self.cnc.runtime.positions[j])
+            return ua.DataValue(ua.Variant(pos, ua.VariantType.Double))
+        raise ServiceError(_S.BadNodeIdUnknown)
+
+    def _plc(self, m: re.Match[str], index_range: str | None) -> tuple[int, int, int | None]:
+        """(byte offset, element width, element count or None) of a PLC path in the
+        window's data block; refuses other blocks, index ranges and bytes outside."""
+        if int(m.group(1)) != self.db:
+            raise ServiceError(_S.BadNodeIdUnknown)
+        if index_range:
+            raise ServiceError(_S.BadIndexRangeInvalid)
+        width = _WIDTH[m.group(2)]
+        at = int(m.group(3))
+        count = None if m.group(4) is None else int(m.group(4))
+        if count == 0:
+            raise ServiceError(_S.BadNodeIdInvalid)
+        if at + width * (count or 1) > len(self.cnc.window):
+            raise ServiceError(_S.BadOutOfRange)
+        return at, width, count
+
+    def _sd(self, m: re.Match[str]) -> tuple[int, int]:
+        number = _SD_BY_NAME.get(m.group(1))
+        if number is None:
+            raise ServiceError(_S.BadNodeIdUnknown)
+        return number, self._axis(m.group(2))
+
+    # -- writes
+
+    def write(self, path: str, user: User, value: ua.DataValue, index_range: str | None
+              ) -> ua.StatusCode:
+        """Write ``value`` to ``path`` for ``user``; the status says why not."""
+        try:
+            self._write(path, self.rights(user), value, index_range)
+        except ServiceError as e:
+            return _status(e.code)
+        return ua.StatusCode()
+
+    def _write(self, path: str, rights: frozenset[str], dv: ua.DataValue,
+               index_range: str | None) -> None:
+        variant = dv.Value
+        if (m := _PLC.match(path)) is not None:
+            if not self._may(rights, "Plc", True):
+                raise ServiceError(_S.BadUserAccessDenied)
+            at, width, count = self._plc(m, index_range)
+            data = self._plc_bytes(variant, width, count)
+            self.cnc.window[at:at + len(data)] = data
+            return
+        if index_range:
+            raise ServiceError(_S.BadIndexRangeInvalid)
+        if (m := _SD.match(path)) is not None:
+            if not self._may(rights, "Sea", True):
+                raise ServiceError(_S.BadUserAccessDenied)
+            number, j = self._sd(m)
+            if variant is None or variant.VariantType is not ua.VariantType.Double \
+                    or variant.is_array:
+                raise ServiceError(_S.BadTypeMismatch)
+            try:
+                self._nc().write_sd(number, self.cnc.machine.axis_names[j], variant.Value)
+            except SiemensAlarm as e:
+                raise ServiceError(_S.BadNotWritable if e.code.endswith("_DISABLED")
+                                   else _S.BadOutOfRange) from None
+            return
+        if _AXIS.match(path) is not None:
+            raise ServiceError(_S.BadNotWritable)
+        raise ServiceError(_S.BadNodeIdUnknown)
+
+    @staticmethod
+    def _plc_bytes(variant: ua.Variant | None, width: int, count: int | None) -> bytes:
+        """The data block bytes a UInt32 value (scalar for ``count`` None, else an array of
+        exactly ``count``) stands for, each element big-endian in ``width`` bytes."""
+        if variant is None or variant.VariantType is not ua.VariantType.UInt32:
+            raise ServiceError(_S.BadTypeMismatch)
+        if count is None:
+            if variant.is_array or isinstance(variant.Value, list):
+                raise ServiceError(_S.BadTypeMismatch)
+            values = [variant.Value]
+        else:
+            if not isinstance(variant.Value, list) or len(variant.Value) != count:
+                raise ServiceError(_S.BadTypeMismatch)
+            values = variant.Value
+        limit = 1 << (8 * width)
+        if any(not 0 <= v < limit for v in values):
+            raise ServiceError(_S.BadOutOfRange)
+        if width == 4:
+            return struct.pack(f">{len(values)}I", *values)
+        if width == 2:
+            return struct.pack(f">{len(values)}H", *values)
+        return bytes(values)
+
+
+class _Session(InternalSession):
+    """A client's session: NC and PLC paths answered by the machine, subscriptions no
+    faster than the SINUMERIK's 100 ms."""
+
+    def _ours(self, node: ua.NodeId, attr: int) -> str | None:
+        if attr != AttributeIds.Value or node.NamespaceIndex != 2 \
+                or not isinstance(node.Identifier, str):
+            return None
+        return node.Identifier
+
+    def _user(self) -> User:
+        return self.user if self.user is not None else User()
+
+    async def read(self, params: ua.ReadParameters) -> list[ua.DataValue]:
+        nc: _Sinumerik = self.iserver.sinumerik  # type: ignore[attr-defined]
+        out: list[ua.DataValue | None] = []
+        rest = ua.ReadParameters()
+        rest.MaxAge, rest.TimestampsToReturn = params.MaxAge, params.TimestampsToReturn
+        for rv in params.NodesToRead:
+            path = self._ours(rv.NodeId, rv.AttributeId)
+            if path is None:
+                out.append(None)
+                rest.NodesToRead.append(rv)
+            else:
+                out.append(nc.read(path, self._user(), rv.IndexRange))
+        others = iter(await super().read(rest) if rest.NodesToRead else [])
+        return [v if v is not None else next(others) for v in out]
+
+    async def write(self, params: ua.WriteParameters) -> list[ua.StatusCode]:
+        nc: _Sinumerik = self.iserver.sinumerik  # type: ignore[attr-defined]
+        out: list[ua.StatusCode | None] = []
+        rest = ua.WriteParameters()
+        for wv in params.NodesToWrite:  # no await between ours: one step of the loop
+            path = self._ours(wv.NodeId, wv.AttributeId)
+            if path is None:
+                out.append(None)
+                rest.NodesToWrite.append(wv)
+            else:
+                out.append(nc.write(path, self._user(), wv.Value, wv.IndexRange))
+        others = iter(await super().write(rest) if rest.NodesToWrite else [])
+        return [v if v is not None else next(others) for v in out]
+
+    async def create_subscription(self, params: ua.CreateSubscriptionParameters,
+                                  callback: Callable[..., Any],
+                                  request_callback: Callable[..., Any] | None = None
+                                  ) -> ua.CreateSubscriptionResult:
+        params.RequestedPublishingInterval = max(MIN_INTERVAL_MS,
+                                                 params.RequestedPublishingInterval)
+        return await super().create_subscription(params, callback, request_callback)
+
+    async def create_monitored_items(self, params: ua.CreateMonitoredItemsParameters
+                                     ) -> list[ua.MonitoredItemCreateResult]:
+        results = await super().create_monitored_items(params)
+        for r in results:
+            r.RevisedSamplingInterval = max(MIN_INTERVAL_MS, r.RevisedSamplingInterval)
+        return results
+
+    async def modify_monitored_items(self, params: ua.ModifyMonitoredItemsParameters
+                                     ) -> list[ua.MonitoredItemModifyResult]:
+        for item in params.ItemsToModify:
+            sp = item.RequestedParameters
+            sp.SamplingInterval = max(MIN_INTERVAL_MS, sp.SamplingInterval)
+        return await super().modify_monitored_items(params)
+
+
+class _Internal(InternalServer):
+    """asyncua's internal server with the SINUMERIK's session limit (asyncua counts
+    activated sessions over the whole process, so the limit per server is kept here)."""
+
+    def __init__(self, users: _Users, sinumerik: _Sinumerik, max_sessions: int) -> None:
+        super().__init__(user_manager=users)  # type: ignore[arg-type]
+        self.sinumerik = sinumerik
+        self.max_sessions = max_sessions
+
+    def create_session(self, name: str, user: User = _ANONYMOUS,
+                       external: bool = False) -> InternalSession:
+        if external and len(self._external_sessions) >= self.max_sessions:
+            raise ServiceError(_S.BadTooManySessions)
+        return _Session(self, self.aspace, self.subscription_service, name, user=user,
+                        external=external)
+
+
+class SinumerikOpcuaServer:
+    """The OPC UA server of one simulated SINUMERIK (a ``ControllerServer``).
+
+    Parameters
+    ----------
+    cnc : WindowCNC
+        The machine: its window is data block ``db``; NC data come from its controller.
+    users : mapping of str to OpcuaUser
+    host : str
+    port : int
+        0: a free port, in :attr:`port` after :meth:`start`.
+    db : int
+        The data block holding the window.
+    max_sessions : int
+    certificate, private_key : Path, optional
+        PEM or DER files; with them the server also offers Basic256Sha256 (Sign,
+        SignAndEncrypt) beside None.
+    shelf : Path, optional
+        asyncua's cache of the standard address space (built on first use): servers
+        started from it load nodes lazily, far less memory for a fleet in one process.
+    """
+
+    def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], *,
+                 host: str = "127.0.0.1", port: int = 0, db: int = 900,
+                 max_sessions: int = MAX_SESSIONS, certificate: Path | None = None,
+                 private_key: Path | None = None, shelf: Path | None = None) -> None:
+        self.cnc = cnc
+        self.host = host
+        self.port = port
+        self.db = db
+        self.certificate, self.private_key, self.shelf = certificate, private_key, shelf
+        self.sinumerik = _Sinumerik(cnc, users, db)
+        self._internal = _Internal(_Users(users), self.sinumerik, max_sessions)
+        self.server: Server | None = None
+
+    @property
+    def endpoint(self) -> str:
+        """``opc.tcp://host:port`` (the bound port once started)."""
+        return f"opc.tcp://{self.host}:{self.port}"
+
+    async def start(self) -> None:
+        """Build the address space and listen."""
+        srv = Server(iserver=self._internal)
+        await srv.init(self.shelf)
+        srv.disable_clock()  # a fleet of servers need not rewrite CurrentTime every second
+        srv.set_endpoint(f"opc.tcp://{self.host}:{self.port}")
+        srv.set_server_name(f"SINUMERIK {self.cnc.machine.name} (simulated)")
+        srv.set_identity_tokens([ua.AnonymousIdentityToken, ua.UserNameIdentityToken])
+        policies = [ua.SecurityPolicyType.NoSecurity]
+        if self.certificate is not None and self.private_key is not None:
+            await srv.load_certificate(str(self.certificate))
+            await srv.load_private_key(str(self.private_key))
+            policies += [ua.SecurityPolicyType.Basic256Sha256_Sign,
+                         ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt]
+        srv.set_security_policy(policies)
+        iserver = srv.iserver
+        iserver.max_session_timeout_ms = SESSION_TIMEOUT_MS
+        iserver.max_subscriptions = MAX_SUBSCRIPTIONS
+        iserver.allow_remote_admin = False
+        ns = await srv.register_namespace(NAMESPACE)
+        await self._nodes(srv, ns)
+        await srv.start()
+        assert srv.bserver is not None
+        self.port = srv.bserver.port  # the bound one when asked for 0
+        self.server = srv
+
+    async def _nodes(self, srv: Server, ns: int) -> None:
+        """Browsable nodes: the window's data block and, per axis, position, name and the
+        temperature compensation setting data (values served by :class:`_Sinumerik`)."""
+        root = await srv.nodes.objects.add_folder(_nid("/Sinumerik", ns), "Sinumerik")
+        plc = await root.add_folder(_nid("/Sinumerik/Plc", ns), "Plc")
+        await plc.add_variable(_nid(f"/Plc/DB{self.db}", ns), f"DB{self.db}",
+                               ua.Variant([], ua.VariantType.UInt32, is_array=True))
+        axes = await root.add_folder(_nid("/Sinumerik/Channel/MachineAxis", ns),
+                                     "MachineAxis")
+        sea = await root.add_folder(_nid("/Sinumerik/SEA", ns), "SEA")
+        for k, name in enumerate(self.cnc.machine.axis_names, start=1):
+            await axes.add_variable(_nid(position_path(k), ns), f"actToolBasePos{k}",
+                                    ua.Variant(0.0, ua.VariantType.Double))
+            await axes.add_variable(_nid(f"/Channel/MachineAxis/name[u1,{k}]", ns),
+                                    f"name{k}", ua.Variant(name, ua.VariantType.String))
+            for number in SD_NAMES:
+                node = await sea.add_variable(_nid(sd_path(number, k), ns),
+                                              f"SD{number}[{name}]",
+                                              ua.Variant(0.0, ua.VariantType.Double))
+                await node.set_writable()
+
+    async def stop(self) -> None:
+        """Close every session and stop listening."""
+        if self.server is not None:
+            await self.server.stop()
+            self.server = None
+
+
+def sinumerik_server(users: Mapping[str, OpcuaUser], **kw: Any
+                     ) -> Callable[[WindowCNC], SinumerikOpcuaServer]:
+    """A ``server_factory`` for :class:`~machine_sim.windowcnc.WindowCNC` (keywords as
+    :class:`SinumerikOpcuaServer`'s)."""
+    def build(cnc: WindowCNC) -> SinumerikOpcuaServer:
+        return SinumerikOpcuaServer(cnc, users, **kw)
+    return build
