@@ -112,7 +112,7 @@ def raw_client(cnc: WindowCNC, user: str | None = None, password: str | None = N
 async def test_login_needs_a_known_user_and_password_and_anonymous_reads_nothing(
         tmp_path: Path) -> None:
     async with machine() as cnc:
-        with pytest.raises(LinkError, match="login as 'ednc' refused.*wrong user or password"):
+        with pytest.raises(LinkError, match=r"login as 'ednc' refused.*wrong user or password"):
             await memory(cnc, env="OPCUA_WRONG_PW").connect()
         with pytest.raises(LinkError, match="login as 'nobody' refused"):
             await memory(cnc, user="nobody").connect()
@@ -120,7 +120,7 @@ async def test_login_needs_a_known_user_and_password_and_anonymous_reads_nothing
             await memory(cnc, env="OPCUA_UNSET_PW").connect()
         missing = OpcuaMemory(f"opc.tcp://127.0.0.1:{cnc.server.port}", "ednc",
                               f"file:{tmp_path}/none")
-        with pytest.raises(LinkError, match="cannot read .*/none"):
+        with pytest.raises(LinkError, match=r"cannot read .*/none"):
             await missing.connect()
         (tmp_path / "pw").write_text("plc-pw\n")
         from_file = OpcuaMemory(f"opc.tcp://127.0.0.1:{cnc.server.port}", "ednc",
@@ -224,7 +224,7 @@ async def test_an_eleventh_session_is_refused_and_subscriptions_sample_no_faster
             for m in mems:
                 await m.connect()
             extra = memory(cnc)
-            with pytest.raises(LinkError, match="no free OPC UA session.*BadTooManySessions"):
+            with pytest.raises(LinkError, match=r"no free OPC UA session.*BadTooManySessions"):
                 await extra.connect()
             await mems[0].close()
             await extra.connect()  # a session freed is a session to take
@@ -325,7 +325,7 @@ async def test_a_connection_dropped_after_any_write_leaves_the_last_good_map() -
             client = mem._client
             assert client is not None
             client.disconnect_socket()  # dropped, no CloseSession
-            with pytest.raises(LinkError, match="connection lost|no answer|not connected"):
+            with pytest.raises(LinkError, match=r"connection lost|no answer|not connected"):
                 await mem.write(writes[k].offset, writes[k].data)
             await mem.close()
             await asyncio.sleep(0.05)  # several scans
