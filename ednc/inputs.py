@@ -5,7 +5,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -14,6 +16,7 @@ from volumetric.errors import ComponentErrorSpecError, MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
 from volumetric.model.machine import Machine, load_machine
 from volumetric.model.model import MachineModel
+from volumetric.model.modelcheck import check_model
 
 
 def parse_number(text: str, where: str) -> float:
@@ -27,10 +30,74 @@ def parse_number(text: str, where: str) -> float:
     return v
 
 
+def int_option(value: int, name: str, lo: int, hi: int | None = None,
+               meaning: str = "") -> int:
+    """``value`` when within [lo, hi], else a UserError naming the option."""
+    if value < lo or (hi is not None and value > hi):
+        where = f">= {lo}" if hi is None else f"within [{lo}, {hi}]"
+        raise UserError(f"{name} {value}: must be {where}{meaning}")
+    return value
+
+
+def float_option(value: float, name: str, lo: float, hi: float, *, lo_open: bool = False,
+                 unit: str = "") -> float:
+    """``value`` when finite and within the range (lo excluded with ``lo_open``)."""
+    low_ok = value > lo if lo_open else value >= lo
+    if not (math.isfinite(value) and low_ok and value <= hi):
+        bracket = "(" if lo_open else "["
+        raise UserError(f"{name} {value:g}: must be within {bracket}{lo:g}, {hi:g}]{unit}")
+    return value
+
+
+def check_output(path: Path | None, option: str, *, directory: bool = False) -> None:
+    """Refuse an output path that cannot be written, before any work is done (a fit of a
+    big file should not end in 'no such directory'). ``directory``: the path is a directory
+    to create (``--report``)."""
+    if path is None:
+        return
+    parent = path.parent if not directory or not path.exists() else path
+    if directory and path.exists() and not path.is_dir():
+        raise UserError(f"{option} {path}: exists and is not a directory")
+    if not directory and path.is_dir():
+        raise UserError(f"{option} {path}: is a directory; give a file name")
+    if directory and not path.exists():
+        # created with its parents by the command: the nearest existing one must be writable
+        parent = path.parent
+        while not parent.exists() and parent != parent.parent:
+            parent = parent.parent
+    elif not parent.exists():
+        raise UserError(f"{option} {path}: the directory {parent} does not exist")
+    if not parent.is_dir():
+        raise UserError(f"{option} {path}: {parent} is not a directory")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UserError(f"{option} {path}: cannot write in {parent} (permission denied)")
+    if path.exists() and not directory and not os.access(path, os.W_OK):
+        raise UserError(f"{option} {path}: the file exists and cannot be written")
+
+
+def _plain(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _plain(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
+
+
+def dump_json(value: Any, indent: int | None = None) -> str:
+    """JSON text that any parser reads: a non-finite float (which ``json.dumps`` writes as
+    ``Infinity``/``NaN``, not JSON) is written as null, numpy scalars as numbers."""
+    return json.dumps(_plain(value), indent=indent, allow_nan=False)
+
+
 def read_machine(path: Path) -> Machine:
-    """A machine description (formats.md §1)."""
+    """A machine description (formats.md §1), with ``pivots_mm`` wherever a table's rotary
+    axis needs it (:func:`volumetric.model.machine.missing_pivots`)."""
     try:
-        return load_machine(path)
+        return load_machine(path, require_pivots=True)
     except MachineSpecError as exc:
         raise UserError(str(exc)) from None
 
@@ -64,6 +131,8 @@ class ReadingsTravel:
 
     def check(self, m: Measurements) -> Measurements:
         """``m`` unchanged, or a UserError naming the line, axis, value and travel."""
+        if self.rows_seen == 0:
+            self.check_axes(m)
         for _, axis in self.axes:
             column = m.q[:, _STANDARD_AXES.index(axis.name)]
             lo, hi = axis.travel
@@ -81,6 +150,24 @@ class ReadingsTravel:
         return m
 
 
+    def check_axes(self, m: Measurements) -> None:
+        """The readings' rotary columns match the machine's rotary axes: a three-axis
+        campaign fitted against a five-axis description would read as every table at 0°,
+        and a rotary column of a machine without that axis is another machine's file."""
+        names = {a.name for _, a in self.axes}
+        for j, axis in enumerate("ABC"):
+            column = f"{axis.lower()}_deg"
+            if axis in names and not m.has_rotary[j]:
+                raise UserError(
+                    f"{self.path}: no {column} column, but the machine has rotary axis "
+                    f"{axis}: these readings are not of this machine (a campaign without "
+                    "its rotary axes), or the description is another machine's")
+            if axis not in names and m.has_rotary[j] and np.any(m.q[:, 3 + j] != 0):
+                raise UserError(
+                    f"{self.path}: column {column} moves axis {axis}, which the machine "
+                    "does not have; check the description's chain")
+
+
 def read_model(path: Path, machine: Machine | None = None) -> MachineModel:
     """What ``ednc fit`` (or ``diagnose --out``) wrote, checked against ``machine``."""
     try:
@@ -91,8 +178,10 @@ def read_model(path: Path, machine: Machine | None = None) -> MachineModel:
         raise UserError(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
     except UnicodeDecodeError:
         raise UserError(f"{path}: not a text file") from None
+    except RecursionError:
+        raise UserError(f"{path}: nested too deeply to be a model") from None
     try:
-        model = MachineModel.from_json(data)
+        model = check_model(data)
         if machine is not None:
             if model.machine and model.machine != machine.name:
                 # each machine has its own errors: another's model compensates errors this
@@ -101,7 +190,7 @@ def read_model(path: Path, machine: Machine | None = None) -> MachineModel:
                     f"{path}: the model is of machine {model.machine!r}, the description of "
                     f"{machine.name!r}; fit this machine's own readings (or correct the "
                     "'machine' entry if it is the same machine renamed)")
-            model.geometry.check(machine)
+            check_model(data, machine)
     except ComponentErrorSpecError as exc:
         raise UserError(f"{path}: {exc}") from None
     return model

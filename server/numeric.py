@@ -21,7 +21,7 @@ from volumetric.identify.fit import FitError, fit
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import FORMAT as MODEL_FORMAT
-from volumetric.model.model import MachineModel
+from volumetric.model.modelcheck import check_model as check_model_content
 from volumetric.verify.iso230_6 import DiagonalTestError, diagonal_ranges, improvement
 
 __all__ = [
@@ -98,13 +98,10 @@ def count_measurement_rows(text: str, source: str) -> int:
 def check_model(body: dict[str, Any], description: dict[str, Any]) -> None:
     """Raise :class:`ModelError` unless ``body`` is a model (``MachineModel.to_json``) whose
     error names all belong to the machine described by ``description``."""
-    if body.get("format") != MODEL_FORMAT:
-        raise ModelError(f"format: expected {MODEL_FORMAT!r}, got {body.get('format')!r}")
+    # the check `ednc predict`, `compensate` and `map` make of a model file (format, at
+    # least one error, finite terms on the machine's axes, the machine's error names)
     try:
-        model = MachineModel.from_json(body)
-        model.geometry.check(parse_machine(description))
-    # from_json names the entry for the shapes it expects; TypeError and KeyError are the
-    # shapes it does not (a list where an object belongs): still the client's error.
+        check_model_content(body, parse_machine(description))
     except (ValueError, TypeError, KeyError) as exc:
         raise ModelError(str(exc)) from None
 

@@ -6,7 +6,6 @@ Also holds the input readers ``ednc map`` shares (model file, temperatures, weig
 from __future__ import annotations
 
 import csv
-import json
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -17,7 +16,7 @@ import typer
 from numpy.typing import NDArray
 
 from ednc.cli import UserError
-from ednc.inputs import parse_number, read_machine, read_model
+from ednc.inputs import dump_json, parse_number, read_machine, read_model
 from volumetric.compensate.solver import Compensation, CompensationError, Weights, compensate
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.components import GeometricErrors
@@ -156,13 +155,26 @@ def read_points(path: Path, machine: Machine) -> F64:
     return np.array(out)
 
 
-def _result_json(machine: Machine, c: Compensation) -> dict[str, Any]:
+def approach_shift(machine: Machine, model: MachineModel, approach: str) -> F64:
+    """What each axis's correction adds for the approach direction, mm (or degrees), (A,).
+
+    A backlash B lets the axis lag B/2 behind its motion, around the position the rigid
+    model describes (its mean over both approaches): the correction after a positive
+    approach is B/2 more, after a negative one B/2 less (how every map kind builds it, and
+    what ``ednc lookup`` applies on the positive approach)."""
+    sign = 1.0 if approach == "+" else -1.0
+    rev = {k.lower(): v for k, v in model.reversal_um().items()}
+    return np.array([sign * 0.5 * rev.get(a.key, 0.0) * 1e-3 for a in machine.axes])
+
+
+def _result_json(machine: Machine, c: Compensation, shift: F64,
+                 approach: str, backlash: dict[str, float]) -> dict[str, Any]:
     keys = [a.key for a in machine.axes]
     points = []
     for n in range(c.q.shape[0]):
         item: dict[str, Any] = {
             "q": dict(zip(keys, c.q[n].tolist(), strict=True)),
-            "correction": dict(zip(keys, c.dq[n].tolist(), strict=True)),
+            "correction": dict(zip(keys, (c.dq[n] + shift).tolist(), strict=True)),
             "error_um": {b: c.error_um[k, n].tolist() for k, b in enumerate(c.branches)},
             "residual_um": {b: c.residual_um[k, n].tolist()
                             for k, b in enumerate(c.branches)},
@@ -177,6 +189,8 @@ def _result_json(machine: Machine, c: Compensation) -> dict[str, Any]:
         "machine": machine.name,
         "axes": keys,
         "units": {k: _unit(machine, i) for i, k in enumerate(keys)},
+        "approach": approach,
+        "backlash_um": backlash,
         "spindles": list(c.branches),
         "points": points,
         "max_error_um": {b: v.tolist() for b, v in zip(c.branches, c.max_error_um(),
@@ -188,13 +202,21 @@ def _result_json(machine: Machine, c: Compensation) -> dict[str, Any]:
     }
 
 
-def _result_text(machine: Machine, c: Compensation) -> str:
+def _result_text(machine: Machine, c: Compensation, shift: F64,
+                 approach: str, backlash: dict[str, float]) -> str:
     keys = [a.key for a in machine.axes]
-    lines = [f"{machine.name}: corrections (mm, degrees on rotary axes) and tool-tip errors "
-             "(µm, x y z) before -> after"]
+    side = "positive" if approach == "+" else "negative"
+    lash = ""
+    if backlash:
+        lash = "; backlash " + ", ".join(
+            f"{k} {v:g} µm ({'+' if approach == '+' else '-'}{v / 2:g} µm in d{k})"
+            for k, v in backlash.items()) + ", not in the tool-tip errors"
+    lines = [f"{machine.name}: corrections (mm, degrees on rotary axes) for the {side} "
+             f"approach (--approach){lash}, and tool-tip errors (µm, x y z) before -> after"]
     for n in range(c.q.shape[0]):
         where = " ".join(f"{k}={v:g}" for k, v in zip(keys, c.q[n], strict=True))
-        corr = "  ".join(f"d{k} {v:+.6f}" for k, v in zip(keys, c.dq[n], strict=True))
+        corr = "  ".join(f"d{k} {v:+.6f}" for k, v in zip(keys, c.dq[n] + shift,
+                                                           strict=True))
         lines.append(f"point {n + 1}: {where}")
         lines.append(f"  {corr}")
         for k, b in enumerate(c.branches):
@@ -232,10 +254,16 @@ def register(app: typer.Typer) -> None:
         extrapolate: Annotated[bool, typer.Option(
             "--extrapolate", help="Allow points outside the travel (the model extrapolates "
                                   "there; refused by default).")] = False,
+        approach: Annotated[str, typer.Option(
+            "--approach", help="+ or -: the direction each axis last moved; a model's "
+                               "backlash B adds +B/2 (or -B/2) to that axis's correction, "
+                               "as the maps do.")] = "+",
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     ) -> None:
         """Corrections per axis that minimise the weighted tool-tip errors, and what is left
         of them per spindle."""
+        if approach not in ("+", "-"):
+            raise UserError(f"--approach {approach!r}: expected + (positive) or - (negative)")
         machine = read_machine(machine_path)
         model = read_model(model_path, machine)
         if (points is None) == (not point):
@@ -250,7 +278,9 @@ def register(app: typer.Typer) -> None:
             result = compensate(machine, geo, q, weights=w)
         except (CompensationError, ComponentErrorSpecError) as exc:
             raise UserError(str(exc)) from None
+        shift = approach_shift(machine, model, approach)
+        backlash = {k.lower(): float(v) for k, v in model.reversal_um().items()}
         if as_json:
-            typer.echo(json.dumps(_result_json(machine, result)))
+            typer.echo(dump_json(_result_json(machine, result, shift, approach, backlash)))
         else:
-            typer.echo(_result_text(machine, result))
+            typer.echo(_result_text(machine, result, shift, approach, backlash))

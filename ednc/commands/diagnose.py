@@ -2,14 +2,20 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ednc.cli import UserError
-from ednc.inputs import ReadingsTravel, read_machine
+from ednc.inputs import (
+    ReadingsTravel,
+    check_output,
+    dump_json,
+    float_option,
+    int_option,
+    read_machine,
+)
 from ednc.progress import CommandProgress, read_shown, wanted
 from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
 from volumetric.diagnose.text import effects_text
@@ -19,6 +25,8 @@ MAX_READINGS = 100_000
 """Readings a diagnosis takes by default. Its held-out tests judge 30 contiguous chunks,
 and 100 000 readings give each chunk thousands; more cost time and memory in proportion
 (measured: 200 000 readings, 46 s of CPU and 0.9 GB) without changing the verdict."""
+PER_TEST = 2000
+"""Fewest readings a test keeps in the draw (what resolves a period or a reversal)."""
 
 
 def register(app: typer.Typer) -> None:
@@ -47,15 +55,26 @@ def register(app: typer.Typer) -> None:
         ranked candidates (formats.md section 3), plus not_assessed: what the readings
         cannot support.
         """
+        int_option(max_readings, "--max-readings", 0, meaning=" (0: all readings)")
+        if holdout_after is not None:
+            float_option(holdout_after, "--holdout-after", -3.2e9, 3.2e9, unit=" s")
+        check_output(out, "--out")
+        check_output(report, "--report", directory=True)
         m = read_machine(machine)
         with CommandProgress(wanted(as_json)) as progress:
             readings = read_shown(data, progress)
+            travel = ReadingsTravel(m, data)
+            travel.check_axes(readings)
             if not outside_travel:
-                ReadingsTravel(m, data).check(readings)
+                travel.check(readings)
             if max_readings > 0 and len(readings) > max_readings:
-                typer.echo(f"diagnosing a random {max_readings} of the {len(readings)} "
-                           "readings (every test keeps its share; --max-readings)", err=True)
-                readings = subsample(readings, max_readings)
+                total = len(readings)
+                readings = subsample(readings, max_readings, per_test=PER_TEST)
+                # every test keeps at least PER_TEST readings, so the draw can exceed the
+                # limit: say what is diagnosed, not what was asked
+                typer.echo(f"diagnosing {len(readings)} of the {total} readings, drawn at "
+                           f"random within each test (--max-readings {max_readings}; every "
+                           f"test keeps its share and at least {PER_TEST})", err=True)
             progress.stage(f"diagnosing {len(readings)} readings")
             try:
                 d = diagnose(m, readings, holdout_after=holdout_after)
@@ -66,9 +85,12 @@ def register(app: typer.Typer) -> None:
 
             write_report(m, readings, d, report, data_file=data, machine_file=machine)
         if out is not None:
-            out.write_text(json.dumps(d.model.to_json(), indent=1))
+            try:
+                out.write_text(dump_json(d.model.to_json(), indent=1))
+            except OSError as exc:
+                raise UserError(f"--out {out}: cannot write ({exc.strerror or exc})") from None
         if as_json:
-            typer.echo(json.dumps(d.to_json()))
+            typer.echo(dump_json(d.to_json()))
             return
         for line in effects_text(d):
             typer.echo(line)

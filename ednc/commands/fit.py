@@ -3,7 +3,6 @@
 
 from __future__ import annotations
 
-import json
 import re
 from collections.abc import Iterator
 from pathlib import Path
@@ -12,7 +11,7 @@ from typing import Annotated
 import typer
 
 from ednc.cli import UserError
-from ednc.inputs import ReadingsTravel, read_machine
+from ednc.inputs import ReadingsTravel, check_output, dump_json, read_machine
 from ednc.progress import CommandProgress, wanted
 from volumetric.identify.fit import FitError, FitResult, fit_blocks
 from volumetric.measure.measurement import (
@@ -93,11 +92,15 @@ def register(app: typer.Typer) -> None:
         Degrees are chosen by BIC; parameters the readings cannot separate are named and
         fixed at zero; uncertainties are in the model's info.
         """
+        check_output(out, "--out")
         m = read_machine(machine)
         result = _fit_file(m, data, as_json, outside_travel)
-        text = json.dumps(result.model.to_json(), indent=1)
+        text = dump_json(result.model.to_json(), indent=1)
         if out is not None:
-            out.write_text(text)
+            try:
+                out.write_text(text)
+            except OSError as exc:
+                raise UserError(f"--out {out}: cannot write ({exc.strerror or exc})") from None
         if as_json:
             typer.echo(text)
         else:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
@@ -10,6 +9,7 @@ import numpy as np
 import typer
 
 from ednc.cli import UserError
+from ednc.inputs import dump_json
 from volumetric.measure.measurement import MeasurementFormatError, read_measurements
 from volumetric.verify.iso230_2 import PositioningResult, PositioningTestError, evaluate_positioning
 
@@ -31,7 +31,7 @@ def register(app: typer.Typer) -> None:
         """
         result = evaluate_file(data, test)
         if as_json:
-            typer.echo(json.dumps(result.summary()))
+            typer.echo(dump_json(result.summary()))
         else:
             typer.echo(format_table(result))
 

@@ -12,7 +12,6 @@ them.
 from __future__ import annotations
 
 import csv
-import json
 from pathlib import Path
 from typing import Annotated, Any
 
@@ -22,7 +21,7 @@ from numpy.typing import NDArray
 
 from ednc.cli import UserError
 from ednc.commands.compensate import parse_temperatures
-from ednc.inputs import parse_number
+from ednc.inputs import dump_json, parse_number
 from machine_sim.chaineval import StructureError, sensor_key
 from machine_sim.lookup import FactoredLadder, GridMap, TablesMap
 from protocol.codes import MapEncoding
@@ -105,6 +104,59 @@ def read_points(path: Path, axes: list[str], needed: list[str]) -> tuple[F64, li
     return np.array(out), [a for a in axes if a in cols]
 
 
+def map_travel(p: Payload, axes: list[str]) -> dict[str, tuple[float, float]]:
+    """Per axis (upper case) the range the map covers, mm or degrees: a grid's or a
+    factored map's nodes, a tables map's chain travel. Outside it the endpoint would
+    extrapolate (or clamp), as a model outside its travel: refused as ``ednc compensate``
+    refuses points outside the description's travel."""
+    if isinstance(p, TablesPayload):
+        return {a.name.upper(): (float(a.travel[0]), float(a.travel[1])) for a in p.axes}
+    if isinstance(p, FactoredPayload):
+        return {a.name.upper(): _factored_range(p, a) for a in p.axes}
+    return {g.name.upper(): (float(g.start), float(g.start + g.step * (g.count - 1)))
+            for g in p.grid if g.name.upper() in axes}
+
+
+def _factored_range(p: FactoredPayload, a: Any) -> tuple[float, float]:
+    """A factored axis's node range, mm or degrees: nodes at ``start`` by ``step`` (or, in
+    the fixed-point layout, ``start`` counts by ``2^shift`` counts of the increment)."""
+    if hasattr(a, "shift"):
+        inc = float(p.increment_mm)
+        lo = float(a.start) * inc
+        return lo, lo + float(2 ** int(a.shift)) * inc * (int(a.count) - 1)
+    return float(a.start), float(a.start + a.step * (a.count - 1))
+
+
+def check_travel(q: F64, axes: list[str], given: list[str],
+                 travel: dict[str, tuple[float, float]]) -> None:
+    """Refuse points outside the map's range, in the words ``ednc compensate`` uses."""
+    for k, a in enumerate(axes):
+        if a not in travel or a not in given:
+            continue
+        lo, hi = travel[a]
+        span = max(hi - lo, 1.0)
+        outside = (q[:, k] < lo - 1e-9 * span) | (q[:, k] > hi + 1e-9 * span)
+        if outside.any():
+            i = int(np.flatnonzero(outside)[0])
+            raise UserError(
+                f"point {i + 1}: {a} = {q[i, k]:g} {_unit(a)} is outside its travel "
+                f"[{lo:g}, {hi:g}] ({int(outside.sum())} of {len(q)} points are); the map "
+                "is not valid there (--extrapolate to compute anyway)")
+
+
+def check_temperatures(p: Payload, temperatures: dict[str, float]) -> None:
+    """Refuse a temperature the map does not use, as ``ednc compensate`` refuses one the
+    model does not use: a typo would otherwise leave a term at its reference silently."""
+    uses = sorted({r.sensor for r in p.thermal})
+    keys = {sensor_key(s) for s in uses}
+    unknown = sorted(k for k in temperatures if sensor_key(k) not in keys)
+    if unknown:
+        said = ", ".join(uses) or "no temperatures: it has no thermal records"
+        raise UserError(f"--temperature {', '.join(unknown)}: the map does not use "
+                        f"{'this sensor' if len(unknown) == 1 else 'these sensors'} "
+                        f"(it uses {said})")
+
+
 def evaluate(p: Payload, q: F64, axes: list[str],
              temperatures: dict[str, float]) -> F64:
     """Corrections (N, len(axes)), mm or degrees, that the endpoint applies at q."""
@@ -147,6 +199,9 @@ def register(app: typer.Typer) -> None:
         temperature: Annotated[list[str] | None, typer.Option(
             "--temperature", help="SENSOR=°C for a tables map's thermal records; may "
                                   "repeat.")] = None,
+        extrapolate: Annotated[bool, typer.Option(
+            "--extrapolate", help="Allow points outside the map's travel (refused by "
+                                  "default, as by 'ednc compensate').")] = False,
         as_json: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     ) -> None:
         """Corrections the machine endpoint applies at each point (positive approach),
@@ -154,7 +209,11 @@ def register(app: typer.Typer) -> None:
         p = read_map(map_path)
         axes, needed = map_axes(p)
         q, given = read_points(points, axes, needed)
-        corr = evaluate(p, q, axes, parse_temperatures(temperature or []))
+        temperatures = parse_temperatures(temperature or [])
+        check_temperatures(p, temperatures)
+        if not extrapolate:
+            check_travel(q, axes, given, map_travel(p, axes))
+        corr = evaluate(p, q, axes, temperatures)
         keys = [a.lower() for a in axes]
         if as_json:
             body: dict[str, Any] = {
@@ -166,7 +225,7 @@ def register(app: typer.Typer) -> None:
                             "correction": dict(zip(keys, corr[n].tolist(), strict=True))}
                            for n in range(q.shape[0])],
             }
-            typer.echo(json.dumps(body))
+            typer.echo(dump_json(body))
             return
         typer.echo(f"{p.machine} map version {p.version}: corrections (mm, degrees on rotary "
                    f"axes), positive approach")

@@ -2,14 +2,13 @@
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ednc.cli import UserError
-from ednc.inputs import read_data, read_machine, read_model
+from ednc.inputs import ReadingsTravel, dump_json, read_data, read_machine, read_model
 from volumetric.diagnose.predict import PredictionError, predict
 
 
@@ -28,13 +27,14 @@ def register(app: typer.Typer) -> None:
         m = read_machine(machine)
         mm = read_model(model, m)
         readings = read_data(data)
+        ReadingsTravel(m, data).check_axes(readings)
         try:
             p = predict(m, mm, readings)
         except PredictionError as exc:
             raise UserError(f"{data}: {exc}") from exc
         out = p.to_json()
         if as_json:
-            typer.echo(json.dumps(out))
+            typer.echo(dump_json(out))
             return
         typer.echo(f"{out['n_readings']} displacement readings: RMS {out['rms_um']:.3f} µm with "
                    f"the model, {out['rms_rigid_um']:.3f} µm rigid part alone; worst "

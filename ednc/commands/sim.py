@@ -93,6 +93,18 @@ def register(app: typer.Typer) -> None:
                            "container per machine, each with its own address.")] = None,
     ) -> None:
         """Run simulated machines against a center, or write a simulated campaign."""
+        from ednc.inputs import check_output, float_option, int_option
+
+        int_option(seed, "--seed", 0, 2**63 - 1)
+        int_option(machines, "--machines", 0, 100_000)
+        if cycle_ms is not None:
+            float_option(cycle_ms, "--cycle-ms", 0.0, 60_000.0, lo_open=True, unit=" ms")
+        if duration is not None:
+            float_option(duration, "--duration", 0.0, 1e9, lo_open=True, unit=" s")
+        if controller not in ("mixed", "fanuc", "siemens"):
+            raise UserError(f"--controller {controller!r}: expected mixed, fanuc or siemens")
+        check_output(campaign, "--campaign")
+        check_output(truth, "--truth")
         if campaign is not None:
             if center is not None or machines or fleet is not None:
                 raise UserError("--campaign writes a file; it does not take --center, "
@@ -323,7 +335,7 @@ def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
     if machine_path is None:
         raise UserError("--campaign needs --machine M.json")
     try:
-        m = load_machine(machine_path)
+        m = load_machine(machine_path, require_pivots=True)
     except MachineSpecError as exc:
         raise UserError(str(exc)) from exc
     rng = np.random.default_rng(seed)

@@ -247,7 +247,65 @@ def _travel(
         raise MachineSpecError(f"travel_mm.{key}: expected two numbers, got {value!r}") from None
     if not (math.isfinite(lo) and math.isfinite(hi)) or not lo < hi:
         raise MachineSpecError(f"travel_mm.{key}: need finite low < high, got {value!r}")
+    limit, unit = ((MAX_ROTARY_TRAVEL_DEG, "°") if kind == "rotary" else
+                   (MAX_LINEAR_TRAVEL_MM, " mm"))
+    if max(abs(lo), abs(hi)) > limit:
+        raise MachineSpecError(
+            f"travel_mm.{key}: [{lo:g}, {hi:g}] reaches beyond ±{limit:g}{unit}, more than "
+            f"any {'rotary' if kind == 'rotary' else 'linear'} axis travels; check the unit "
+            f"(travel_mm is in mm, rotary axes in degrees)")
     return (lo, hi)
+
+
+MAX_LINEAR_TRAVEL_MM = 100_000.0
+"""Largest |end| of a linear axis's travel, mm: 100 m, beyond the largest gantry. Past it a
+description is a unit slip (µm for mm), and the kinematics would work with positions whose
+squares overflow the arithmetic a map build does."""
+MAX_ROTARY_TRAVEL_DEG = 36_000.0
+"""Largest |end| of a rotary axis's travel, degrees: a hundred turns."""
+PIVOT_MARGIN_MM = 10.0
+"""How far inside the linear travels a table's rotary axis must pass when its pivot is
+left at the default origin (the smallest R-test ball radius, machine_sim.testprograms)."""
+
+
+def missing_pivots(spec: Mapping[str, Any], machine: Machine) -> str | None:
+    """Why the description needs ``pivots_mm`` it lacks, or None.
+
+    A rotary axis on the workpiece side (a table) turns about a line in the machine's
+    frame; without ``pivots_mm`` that line passes through the origin. When the origin lies
+    at the edge of (or outside) the linear travels across the axis, no tool tip can reach
+    around the axis: the table's axis is not where the description says, and everything
+    computed from it (an R-test, the Abbe arms of its errors) is wrong. Such a description
+    must say where its rotary axes are. A pivot given explicitly is taken as given.
+
+    Parameters
+    ----------
+    spec : mapping
+        The description as written (to know which pivots were given).
+    machine : Machine
+        The parsed description.
+    """
+    given = spec.get("pivots_mm") or {}
+    lo, hi = machine.travel_lo, machine.travel_hi
+    linear = {a.key: (lo[i], hi[i]) for i, a in enumerate(machine.axes)
+              if a.kind == "linear" and a.key in ("x", "y", "z")}
+    lacking = []
+    for a in machine.axes:
+        if a.kind != "rotary" or a.side != "workpiece" or a.name in given:
+            continue
+        across = [k for k, d in zip("xyz", a.direction, strict=True)
+                  if abs(d) < 0.5 and k in linear]
+        if any(not (linear[k][0] + PIVOT_MARGIN_MM <= 0.0 <= linear[k][1] - PIVOT_MARGIN_MM)
+               for k in across):
+            lacking.append(a.name)
+    if not lacking:
+        return None
+    mid = [(linear[k][0] + linear[k][1]) / 2 if k in linear else 0.0 for k in "xyz"]
+    example = ", ".join(f'"{n}": [{mid[0]:g}, {mid[1]:g}, {mid[2]:g}]' for n in lacking)
+    return (f"pivots_mm: the rotary {'axis' if len(lacking) == 1 else 'axes'} "
+            f"{', '.join(lacking)} of the table need a point on each axis (mm, machine "
+            f"coordinates at zero position): without it the axis passes through the origin, at "
+            f"the edge of the linear travel; add for example \"pivots_mm\": {{{example}}}")
 
 
 def _tool_length(value: object, where: str) -> float:
@@ -402,16 +460,29 @@ def _tool_direction(axis_dir: tuple[float, float, float]) -> tuple[float, float,
     return (-axis_dir[0], -axis_dir[1], -axis_dir[2])
 
 
-def load_machine(path: str | Path) -> Machine:
-    """Read a machine description JSON file; errors name the file."""
+def load_machine(path: str | Path, *, require_pivots: bool = False) -> Machine:
+    """Read a machine description JSON file; errors name the file.
+
+    With ``require_pivots``, a table's rotary axis that needs ``pivots_mm`` and lacks it
+    is refused too (:func:`missing_pivots`): the commands that compute with the axes ask
+    for it; reading the format alone does not.
+    """
     p = Path(path)
     try:
         spec = json.loads(p.read_text())
     except OSError as exc:
-        raise MachineSpecError(f"{p}: cannot read ({exc.strerror})") from None
+        raise MachineSpecError(f"{p}: cannot read ({exc.strerror or exc})") from None
+    except UnicodeDecodeError:
+        raise MachineSpecError(f"{p}: not a text file (UTF-8 JSON expected)") from None
     except json.JSONDecodeError as exc:
         raise MachineSpecError(f"{p}: not JSON ({exc.msg} at line {exc.lineno})") from None
+    except RecursionError:
+        raise MachineSpecError(f"{p}: nested too deeply to be a machine description") from None
     try:
-        return parse_machine(spec)
+        machine = parse_machine(spec)
+        problem = missing_pivots(spec, machine) if require_pivots else None
     except MachineSpecError as exc:
         raise MachineSpecError(f"{p}: {exc}") from None
+    if problem is not None:
+        raise MachineSpecError(f"{p}: {problem}")
+    return machine

@@ -1,0 +1,82 @@
+"""The one check of a saved model (what ``ednc fit --out`` or ``ednc diagnose --out``
+writes) before anything computes with it: the offline commands and the service's model
+upload call :func:`check_model` alike, so they refuse exactly the same files.
+
+A model must say it is one (``"format": "ednc-model/1"``), hold at least one error (an
+empty object compensates nothing, yet predicted an RMS "as if real"), name only errors of
+the machine it is applied to, and carry finite numbers in every term on axes the machine
+has.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import fields
+from typing import Any
+
+from volumetric.errors import ComponentErrorSpecError
+from volumetric.model.machine import Machine
+from volumetric.model.model import FORMAT, MachineModel
+
+__all__ = ["ModelContentError", "check_model"]
+
+
+class ModelContentError(ComponentErrorSpecError):
+    """A model file that is not a model, or not one of this machine."""
+
+
+def check_model(data: Any, machine: Machine | None = None) -> MachineModel:
+    """The model ``data`` holds, checked (against ``machine`` when given).
+
+    Parameters
+    ----------
+    data : object
+        The parsed JSON.
+    machine : Machine, optional
+        The machine the model is to be applied to.
+
+    Raises
+    ------
+    ModelContentError
+        Not an object, another format, no error at all, a term with a non-finite number or
+        on an axis the machine lacks, an error name of another machine (the message names
+        the entry). A model of another machine *name* is the caller's to judge (the
+        message differs between a file and an upload).
+    """
+    if not isinstance(data, Mapping):
+        raise ModelContentError(f"a model is a JSON object (as 'ednc fit --out' writes), "
+                                f"not {type(data).__name__}")
+    if data.get("format") != FORMAT:
+        raise ModelContentError(f"format: expected {FORMAT!r} (what 'ednc fit --out' "
+                                f"writes), got {data.get('format')!r}")
+    try:
+        model = MachineModel.from_json(data)
+    except ComponentErrorSpecError as exc:
+        raise ModelContentError(str(exc)) from None
+    # from_json names the entry for the shapes it expects; these are the shapes it does
+    # not (a list where an object belongs)
+    except (ValueError, TypeError, KeyError, AttributeError) as exc:
+        raise ModelContentError(f"not a model: {exc}") from None
+    if not (model.geometry.components or model.geometry.locations or model.terms):
+        raise ModelContentError("the model holds no error (no components, locations or "
+                                "terms): it would compensate nothing")
+    keys = None if machine is None else {a.key for a in machine.axes}
+    for i, term in enumerate(model.terms):
+        kind = getattr(term, "kind", None) or type(term).__name__
+        for f in fields(term):
+            value = getattr(term, f.name)
+            if isinstance(value, float) and not math.isfinite(value):
+                raise ModelContentError(f"terms[{i}] ({kind}): {f.name} = {value} is not "
+                                        "finite")
+        axis = str(term.axis).lower()
+        if keys is not None and axis not in keys:
+            assert machine is not None
+            raise ModelContentError(f"terms[{i}] ({kind}): machine {machine.name!r} has no "
+                                    f"axis {axis!r} (its axes are {' '.join(sorted(keys))})")
+    if machine is not None:
+        try:
+            model.geometry.check(machine)
+        except ComponentErrorSpecError as exc:
+            raise ModelContentError(str(exc)) from None
+    return model
