@@ -4,10 +4,26 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
-from typing import Annotated
+import sys
+from typing import Annotated, TextIO
 
 import typer
 from rich.console import Console
+
+PIPE_WIDTH = 400
+"""Columns a console has when the output is not a terminal: wide enough that no table of
+the demo is wrapped or its cells cut ("mac…"), as rich does at its default of 80."""
+
+
+def demo_console(file: TextIO | None = None) -> Console:
+    """The demo's console: the terminal's width on a terminal; on a pipe or a file plain
+    text (no colour, no control codes) at :data:`PIPE_WIDTH` columns, so every table is
+    complete and each of its rows one line."""
+    stream = file if file is not None else sys.stdout
+    if stream.isatty():
+        return Console(file=file)
+    return Console(file=stream, width=PIPE_WIDTH, no_color=True, color_system=None,
+                   force_terminal=False, soft_wrap=True)
 
 
 def register(app: typer.Typer) -> None:
@@ -31,8 +47,11 @@ def register(app: typer.Typer) -> None:
         from ednc.cli import UserError
         from ednc.demo import run_numeric_demo
 
-        console = Console()
-        console.rule("EDNC control center demo: measure, identify, diagnose, map")
+        console = demo_console()
+        if console.is_terminal:
+            console.rule("EDNC control center demo: measure, identify, diagnose, map")
+        else:
+            console.print("EDNC control center demo: measure, identify, diagnose, map")
         prepared = run_numeric_demo(console, warm=offline)
         if offline:
             return

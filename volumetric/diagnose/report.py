@@ -21,6 +21,7 @@ import datetime as dt
 import html
 from collections.abc import Mapping
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -103,6 +104,30 @@ def relevant_sensors(d: Diagnosis, columns: Mapping[str, str]) -> tuple[list[str
     return keep, (f"Residuals against {', '.join(left)} are left out: no thermal candidate "
                   f"with {'it' if len(left) == 1 else 'them'} passed the significance test "
                   f"(z ≥ {Z_MIN:g}){best}.")
+
+
+def _effects_table(effects: list[dict[str, Any]]) -> str:
+    """One row per named effect: what, axis, sensor, estimate, held-out RMS after it."""
+    e = html.escape
+    rows = []
+    for n, x in enumerate(effects, start=1):
+        est = x.get("estimate") or {}
+        if x.get("effect") == "unexplained":
+            what = (f"the residual still follows {est.get('correlates_with', '?')} "
+                    f"({float(est.get('structure_um', float('nan'))):.3g} µm RMS); no effect "
+                    "of the library explains it")
+            estimate = e(what)
+        else:
+            estimate = "<br>".join(f"{e(k)}: {e(v)}" for k, v in estimate_rows(est)
+                                   if k not in ("dynamic", "components")) or "—"
+        rows.append(f"<tr><td class='num'>{n}</td><td>{e(str(x.get('effect')))}</td>"
+                    f"<td>{e(str(x.get('axis') or ''))}</td>"
+                    f"<td>{e(str(x.get('sensor') or ''))}</td><td>{estimate}</td>"
+                    f"<td class='num'>{float(x.get('rms_after_um', float('nan'))):.3f}</td>"
+                    "</tr>")
+    return ("<table class='effects'><tr><th>#</th><th>effect</th><th>axis</th>"
+            "<th>sensor</th><th>estimate</th><th>held-out RMS after (µm)</th></tr>"
+            + "".join(rows) + "</table>")
 
 
 def _image(path: Path, caption: str) -> str:
@@ -195,8 +220,15 @@ def _page(machine: Machine, m: Measurements, d: Diagnosis, figures: list[tuple[s
     parts = [f"<h1>Diagnosis of {e(machine.name)}</h1>",
              f"<p class='meta'>{e(data_name)} · {e(now.strftime('%Y-%m-%d %H:%M UTC'))}</p>",
              f"<table class='summary'>{table}</table>"]
-    if d.effect in SIGN_NOTES:
-        parts.append(f"<p class='note'>Sign convention: {e(SIGN_NOTES[d.effect])}</p>")
+    effects: list[dict[str, Any]] = list(d.details.get("effects", []))
+    if effects:
+        parts.append("<h2>Effects found</h2><p>Every cause the diagnosis names, strongest "
+                     "first; the held-out RMS is with all effects up to and including "
+                     "this one.</p>" + _effects_table(effects))
+    for kind in dict.fromkeys(str(x.get("effect")) for x in effects or [{"effect": d.effect}]):
+        if kind in SIGN_NOTES:
+            parts.append(f"<p class='note'>Sign convention ({e(kind)}): "
+                         f"{e(SIGN_NOTES[kind])}</p>")
     if d.not_assessed:
         items = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in d.not_assessed.items())
         parts.append(f"<h2>Not assessed</h2><ul>{items}</ul>")
