@@ -163,7 +163,7 @@ class FanucPMC(Compensator):
         if c.factored:
             accepted |= MapEncoding.FACTORED
         store = MapStore(machine, axes, accepted=accepted,
-                         limit_mm=c.limit_counts * c.increment_mm)
+                         limit_mm=c.limit_counts * c.increment_mm, integer_ladder=True)
         super().__init__(axes, store, expiry_ramp_s=c.expiry_ramp_s)
         self.temperatures = TemperatureStore(
             c.stale_after_s, plausible_C=c.plausible_C,

@@ -28,6 +28,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
+from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,10 +38,11 @@ from protocol.mapfactored import FactoredPayload
 from protocol.mapformat import THERMAL_DRIFT, ErrorMapPayload, ThermalRecord
 from protocol.maptables import TablesPayload
 
+from . import ladder
 from .chaineval import ChainBatch, sensor_key
 
-__all__ = ["ActiveMap", "FactoredLadder", "FleetLadder", "FleetLookup", "GridMap", "TablesMap",
-           "active_map", "interpolate"]
+__all__ = ["ActiveMap", "FactoredLadder", "FleetLadder", "FleetLookup", "GridLadder", "GridMap",
+           "TablesMap", "active_map", "interpolate", "positions_in_counts", "readings_mC"]
 
 F64 = NDArray[np.float64]
 I64 = NDArray[np.int64]
@@ -281,39 +283,49 @@ class TablesMap:
         return self.batch.corrections(None, np.atleast_2d(np.asarray(q, dtype=float)))
 
 
+def positions_in_counts(q: F64, counts_per_unit: int) -> I64:
+    """Positions (mm or degrees) as the PMC's position registers hold them: counts,
+    ``floor(q · P + 0.5)`` in double precision (protocol/README.md §6.1)."""
+    return np.floor(np.asarray(q, dtype=np.float64) * counts_per_unit + 0.5).astype(np.int64)
+
+
+def readings_mC(temperatures: Mapping[str, float]) -> dict[str, int]:
+    """Temperatures (°C) by the name the Temperatures message carries, in m°C rounded
+    half up (exactly, from the double): what the ladder's thermal records match, by exact
+    name. The machine's own store keys a sensor by its column (``T_spindle_C``): that is
+    the store's spelling of ``spindle``, undone here."""
+    out: dict[str, int] = {}
+    for key, celsius in temperatures.items():
+        c = float(celsius)
+        if not np.isfinite(c):
+            continue
+        name = key[2:-2] if len(key) > 4 and key.startswith("T_") and key.endswith("_C") \
+            else key
+        out[name] = (Fraction(c) * 1000 + Fraction(1, 2)).__floor__()
+    return out
+
+
 class FactoredLadder:
-    """A factored map (format version 4) as a PMC ladder evaluates it, written from
-    protocol/README.md §6.5 alone.
-
-    Per scan: every basis table is looked up once at its axis's position (linear
-    interpolation between the two nodes around it, held at the ends); every term looks its
-    own table up and multiplies it by its basis values; the products add into the fields.
-    Then the rotary corrections are rounded to counts, each down or up; for each of those
-    choices the linear corrections get ``sensitivity × (rounded - field)`` of every rotary
-    axis and are rounded to counts; the choice with the smallest sum of squared linear
-    rounding residuals wins (the first one on a tie, down before up, the first rotary axis
-    changing slowest); each count is clamped to its axis's limit. Values are int32 times
-    ``2^exponent``; the simulation multiplies them out in float64, which is exact for
-    products a PLC forms in 64-bit fixed point.
-
-    Thermal records fold, per new temperature, into a constant and a slope per axis (as
-    for grids, :meth:`GridMap.set_temperatures`), added to the correction fields before
-    rounding.
+    """A factored map (format version 5) as the PMC ladder evaluates it: the integer
+    arithmetic of :mod:`machine_sim.ladder` (protocol/README.md §6.5), the tables decoded
+    once at load. Positions in mm (degrees) are rounded to counts first, as the PMC's
+    position registers hold them; temperatures are folded (in m°C) into a constant and a
+    slope per axis when they change.
     """
 
     def __init__(self, p: FactoredPayload,
                  temperatures: Mapping[str, float] | None = None) -> None:
         self.payload = p
         self.machine, self.version, self.valid_s = p.machine, p.version, p.valid_s
-        self.grid = tuple(a.name.upper() for a in p.axes)
+        self.program = ladder.factored_program(p)
+        self.grid = self.program.axes
         self.outputs = self.grid
+        self.per_unit = p.counts_per_unit
         self.inc = p.increment_mm
-        self.reversal = np.array([0.0 if a.reversal is None else a.reversal * self.inc
-                                  for a in p.axes])
-        self.limit_counts = np.array([a.limit for a in p.axes], dtype=np.int64)
-        self.rot = [i for i, a in enumerate(p.axes) if a.rotary]
-        self.lin = [i for i, a in enumerate(p.axes) if not a.rotary]
-        self.thermal_mm = np.zeros((2, len(p.axes)))
+        self.reversal = self.program.reversal.astype(np.float64) * self.inc
+        d = len(self.grid)
+        self.c0 = np.zeros(d, dtype=np.int64)
+        self.c1 = np.zeros(d, dtype=np.int64)
         if temperatures:
             self.set_temperatures(temperatures)
 
@@ -324,67 +336,27 @@ class FactoredLadder:
 
     def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
         """Fold the latest temperatures (°C by sensor label) into constants and slopes."""
-        self.thermal_mm = thermal_constants(self.payload.thermal, self.outputs, temperatures)
+        self.c0, self.c1 = ladder.thermal_constants(self.program.thermal, len(self.grid),
+                                                    readings_mC(temperatures))
 
-    @staticmethod
-    def _table(values: F64, start: float, step: float, x: F64) -> F64:
-        n = values.shape[0]
-        if n == 1:
-            return np.full(x.shape[0], values[0])
-        u = np.clip((x - start) / step, 0.0, n - 1)
-        i = np.minimum(u.astype(np.int64), n - 2)
-        f = u - i
-        out: F64 = values[i] + (values[i + 1] - values[i]) * f
-        return out
+    def _counts_in(self, q: F64) -> I64:
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        if qa.shape[1] != len(self.grid):
+            raise ValueError(f"factored map needs positions of axes {' '.join(self.grid)}: "
+                             f"shape (N, {len(self.grid)}), got {qa.shape}")
+        return positions_in_counts(qa, self.per_unit)
 
     def fields(self, q: F64) -> F64:
-        """Every field at positions q (N, D) → (N, n_fields), mm, degrees, mm/degree."""
-        p = self.payload
-        qa = np.atleast_2d(np.asarray(q, dtype=float))
-        if qa.shape[1] != len(p.axes):
-            raise ValueError(f"factored map needs positions of axes {' '.join(self.grid)}: "
-                             f"shape (N, {len(p.axes)}), got {qa.shape}")
-        basis = [self._table(np.ldexp(np.array(b.values, dtype=float), b.exponent), b.start,
-                             b.step, qa[:, b.axis]) for b in p.bases]
-        out = np.zeros((qa.shape[0], p.n_fields))
-        for t in p.terms:
-            a = p.axes[t.axis]
-            v = self._table(np.ldexp(np.array(t.values, dtype=float), t.exponent), a.start,
-                            a.step, qa[:, t.axis])
-            for b in t.factors:
-                v = v * basis[b]
-            out[:, t.field] += v
-        return out
+        """Every field at positions q (N, D) → (N, n_fields), mm (degrees) and counts per
+        count, from the ladder's fixed-point accumulators."""
+        acc = ladder.factored_fields(self.program, self._counts_in(q)).astype(np.float64)
+        acc /= 65536.0
+        acc[:, :len(self.grid)] *= self.inc
+        return acc
 
-    def counts(self, q: F64) -> NDArray[np.int64]:
+    def counts(self, q: F64) -> I64:
         """What the ladder writes, counts (N, D), for a positive approach."""
-        qa = np.atleast_2d(np.asarray(q, dtype=float))
-        f = self.fields(qa)
-        d = len(self.grid)
-        c = f[:, :d] + self.thermal_mm[0] + self.thermal_mm[1] * qa
-        c = np.clip(c / self.inc, -self.limit_counts, self.limit_counts)  # counts from here
-        lim = self.limit_counts
-        n = c.shape[0]
-        if not self.rot or not self.lin:
-            rounded: NDArray[np.int64] = np.clip(np.rint(c), -lim, lim).astype(np.int64)
-            return rounded
-        s = f[:, d:].reshape(n, len(self.lin), len(self.rot))
-        down = np.floor(c[:, self.rot])
-        best = np.zeros((n, d), dtype=np.int64)
-        best_cost = np.full(n, np.inf)
-        for choice in range(1 << len(self.rot)):
-            up = np.array([(choice >> (len(self.rot) - 1 - j)) & 1
-                           for j in range(len(self.rot))], dtype=float)
-            r = down + up
-            lin = c[:, self.lin] + np.einsum("nlr,nr->nl", s, r - c[:, self.rot])
-            lr = np.rint(lin)
-            cost = ((lin - lr) ** 2).sum(axis=1)
-            win = cost < best_cost
-            best_cost[win] = cost[win]
-            best[np.ix_(win, self.rot)] = r[win].astype(np.int64)
-            best[np.ix_(win, self.lin)] = lr[win].astype(np.int64)
-        clamped: NDArray[np.int64] = np.clip(best, -lim, lim)
-        return clamped
+        return ladder.factored_counts(self.program, self._counts_in(q), self.c0, self.c1)
 
     def lookup(self, q: F64) -> F64:
         """Applied corrections for a positive approach at positions q (N, D) → (N, D),
@@ -393,25 +365,63 @@ class FactoredLadder:
         return out
 
 
-def thermal_constants(records: Sequence[ThermalRecord], outputs: Sequence[str],
-                      temperatures: Mapping[str, float]) -> F64:
-    """Per output, the thermal records' correction as a constant (mm) and a slope (mm per
-    mm of that output's position), (2, K): what a ladder computes once per temperature."""
-    temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
-    out = np.zeros((2, len(outputs)))
-    for rec in records:
-        t = temps.get(sensor_key(rec.sensor))
-        if t is None or not np.isfinite(t):
-            continue
-        k = list(outputs).index(rec.axis.upper())
-        dt = t - rec.t_ref_C
-        if rec.kind == THERMAL_DRIFT:  # -ΔE = -k·ΔT µm
-            out[0, k] -= rec.coefficient * dt * 1e-3
-        else:  # -ΔE = -k·ΔT·(q - q_min)·1e-3 µm, q in mm
-            slope = rec.coefficient * dt * 1e-6
-            out[0, k] += slope * rec.q_min
-            out[1, k] -= slope
-    return out
+@dataclass(frozen=True, eq=False)
+class GridLadder(GridMap):
+    """An int32 grid map (format version 1 or 3) as the Fanuc-style ladder evaluates it:
+    :func:`machine_sim.ladder.grid_counts` (protocol/README.md §6.1, §6.4), integers
+    only; :meth:`lookup` gives whole increments. :class:`GridMap`'s float values stay for
+    the store's checks and the fleet benchmark."""
+
+    program: ladder.GridProgram | None = field(default=None, repr=False)
+    per_unit: int = 1000
+    consts: list[I64] = field(default_factory=list, repr=False)
+
+    @staticmethod
+    def from_payload(p: ErrorMapPayload,
+                     temperatures: Mapping[str, float] | None = None) -> GridLadder:
+        """The ladder of an int32 grid payload (ValueError for float32 or a grid whose
+        start or step is not whole counts)."""
+        if p.encoding is not MapEncoding.INT32_INCREMENTS:
+            raise ValueError("the integer ladder takes int32 grid maps only")
+        g = GridMap.from_payload(p)
+        per_unit = round(1.0 / p.increment_mm)
+        prog = ladder.grid_program(p, per_unit, g.inputs)
+        k = len(g.outputs)
+        out = GridLadder(
+            machine=g.machine, version=g.version, valid_s=g.valid_s, grid=g.grid,
+            start=g.start, step=g.step, count=g.count, outputs=g.outputs, values=g.values,
+            reversal=g.reversal, thermal=g.thermal, inputs=g.inputs, program=prog,
+            per_unit=per_unit,
+            consts=[np.zeros(k, dtype=np.int64), np.zeros(k, dtype=np.int64)])
+        if temperatures:
+            out.set_temperatures(temperatures)
+        return out
+
+    def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
+        """The latest temperatures (°C by sensor label), folded in m°C into the ladder's
+        constants and slopes (exact names)."""
+        if self.program is None:
+            return
+        c0, c1 = ladder.thermal_constants(self.program.thermal, len(self.outputs),
+                                          readings_mC(temperatures))
+        self.consts[:] = [c0, c1]
+
+    def counts(self, q: F64) -> I64:
+        """What the ladder writes, counts (N, K), for a positive approach at positions q
+        (N, len(inputs)) mm or degrees."""
+        assert self.program is not None
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        if qa.shape[1] != len(self.inputs):
+            raise ValueError(f"map of grid {self.grid} needs positions of axes "
+                             f"{' '.join(self.inputs)}: shape (N, {len(self.inputs)}), got "
+                             f"{qa.shape}")
+        return ladder.grid_counts(self.program, positions_in_counts(qa, self.per_unit),
+                                  self.consts[0], self.consts[1])
+
+    def lookup(self, q: F64) -> F64:
+        """Applied corrections (whole increments), mm, (N, K)."""
+        out: F64 = self.counts(q).astype(np.float64) / self.per_unit
+        return out
 
 
 ActiveMap = GridMap | TablesMap | FactoredLadder

@@ -40,7 +40,7 @@ from protocol.maptransfer import MapAccepted, MapAssembler, MapRejected
 from protocol.messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject
 
 from .chaineval import StructureError
-from .lookup import ActiveMap, FactoredLadder, GridMap, TablesMap
+from .lookup import ActiveMap, FactoredLadder, GridLadder, GridMap, TablesMap
 
 __all__ = ["MapStore", "StoreEvent"]
 
@@ -70,10 +70,15 @@ class MapStore:
         Largest compensation magnitude the controller accepts, mm (degrees).
     max_bytes : int
         Staging memory.
+    integer_ladder : bool
+        Evaluate int32 grid maps with the PMC ladder's integer arithmetic
+        (:class:`~machine_sim.lookup.GridLadder`), as the Fanuc-style machine does.
     """
 
     def __init__(self, machine: str, axes: Sequence[str], *, accepted: MapEncoding,
-                 limit_mm: float, max_bytes: int = MAX_MAP_BYTES) -> None:
+                 limit_mm: float, max_bytes: int = MAX_MAP_BYTES,
+                 integer_ladder: bool = False) -> None:
+        self.integer_ladder = integer_ladder
         self.machine = machine
         self.axes = tuple(a.upper() for a in axes)
         self.limit_mm = float(limit_mm)
@@ -106,13 +111,21 @@ class MapStore:
             built: ActiveMap
             if isinstance(p, ErrorMapPayload):
                 problem = self.check(p)
+                if problem is None and self.integer_ladder:
+                    try:  # the integer ladder needs start and step in whole counts
+                        ladder_grid = GridLadder.from_payload(p)
+                    except ValueError as exc:
+                        problem = f"map does not suit the integer ladder: {exc}"
             elif isinstance(p, FactoredPayload):
                 p = self._clamped_factored(p)
                 problem = self.check_factored(p)
             else:
                 problem = self.check_tables(p)
             if problem is None:
-                if isinstance(p, ErrorMapPayload):
+                if isinstance(p, ErrorMapPayload) and self.integer_ladder:
+                    built = ladder_grid
+                    built.set_temperatures(self.temperatures)
+                elif isinstance(p, ErrorMapPayload):
                     built = GridMap.from_payload(p, self.temperatures)
                 elif isinstance(p, FactoredPayload):
                     built = FactoredLadder(p, self.temperatures)
@@ -198,7 +211,8 @@ class MapStore:
             if a.reversal is not None and abs(a.reversal * p.increment_mm) > self.limit_mm:
                 return (f"map reversal {a.reversal * p.increment_mm:.6g} for axis {a.name} "
                         f"exceeds the controller's ±{self.limit_mm:g}")
-        span = [(a.start, a.start + (a.count - 1) * a.step) for a in p.axes]
+        span = [(a.start / p.counts_per_unit,
+                 (a.start + ((a.count - 1) << a.shift)) / p.counts_per_unit) for a in p.axes]
         probes = [[0.5 * (lo + hi) for lo, hi in span]]
         if len(span) <= 6:
             probes += [list(c) for c in itertools.product(*span)]

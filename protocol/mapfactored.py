@@ -1,81 +1,114 @@
-"""The ``factored`` map payload (format version 4): sums of products of 1-D tables, for
-endpoints that only look up, multiply and add in fixed point (protocol/README.md §6.5).
+"""The ``factored`` map payload (format version 5): sums of products of 1-D tables, for
+endpoints that only look up, multiply, shift and add in integers (a Fanuc PMC ladder;
+protocol/README.md §6.5 gives the per-scan arithmetic bit for bit).
 
+Every field is an integer: positions, starts, limits and reversals in counts of the
+increment (``1 / counts_per_unit`` mm, or degrees on a rotary axis); every table's node
+spacing a power of two in counts (so the index is a shift); table values int16 (basis
+tables in Q14, term tables times ``2^exponent``); thermal records in binary fixed point.
 Every multi-byte field is little-endian, as in the other map kinds. Layout::
 
     offset   size  field
          0      4  magic b"EDMP"
-         4      2  format version u16 = 4
+         4      2  format version u16 = 5
          6      1  value encoding u8 = 1 (int32 increments: the endpoint rounds to them)
          7      1  axes D, 1..8 (the machine's axes in its order: inputs and outputs)
-         8      2  basis tables B u16, 0..256
+         8      1  basis tables B, 0..254
+         9      1  thermal records H, 0..32
         10      2  terms T u16, 1..4096
-        12      4  reserved, zero
+        12      4  counts_per_unit P u32 >= 1: counts per mm (per degree on a rotary axis)
         16     32  machine name, ASCII, NUL-padded
         48      4  map version u32 (>= 1)
         52      4  valid_s u32 (0 = no limit)
-        56      8  increment f64 > 0: mm (degrees on a rotary axis) per count
-        64   36 D  axes, each: name 4 ASCII NUL-padded; flags u8 (bit 0 rotary, bit 1 has a
-                   reversal value); reserved 3 zero; reversal int32 counts (0 when absent);
-                   limit int32 counts (> 0); term nodes u32 (1..4096); start f64; step
-                   f64 (> 0), mm or degrees: the grid of every term table of this axis
-    then B basis tables, each 24 + 4 n bytes: axis u8 (< D); exponent i8 (-126..126);
-                   reserved 2 zero; nodes n u32 (1..4096); start f64; step f64 (> 0);
-                   n values int32
-    then T terms, each 16 + 4 n bytes: field u16; axis u8 (< D); exponent i8;
-                   factors m u8 (0..4); flags u8 (bit 0: a constant, n = 1); reserved 2
-                   zero; 4 basis indices u16 (the first m < B, the others 0xFFFF); n
-                   values int32 (n the term nodes of its axis, or 1 for a constant)
-    then           thermal records H u32 (0..32) and H records of 48 bytes (as in format
-                   version 3; each names a linear axis of the map)
+        56      8  reserved, zero
+        64  20 D  axes, each: name 4 ASCII NUL-padded; flags u8 (bit 0 rotary, bit 1 has a
+                   reversal value); shift k u8 (0..24: term node spacing 2^k counts); term
+                   nodes n u16 (1..4096); start i32 counts; reversal i32 counts (0 when
+                   absent); limit i32 counts (> 0)
+    then B basis tables, each 8 + 2 n bytes: axis u8 (< D); shift k u8 (0..24); nodes n
+                   u16 (1..4096); start i32 counts; n values int16, Q14 (|v| <= 2^14)
+    then T terms, each 8 + 2 n bytes: field u8; axis u8 (< D); exponent i8 (-60..8);
+                   m u8 (bits 0-2: factors 0..4; bit 7: a constant, n = 1; others 0);
+                   4 basis indices u8 (the first m < B, the rest 0xFF); n values int16
+                   (|v| < 2^15): n = the term nodes of its axis, or 1 for a constant
+    then H thermal records, each 32 bytes: sensor 16 (the name the Temperatures message
+                   carries, printable ASCII, NUL-padded); axis u8 (a linear axis < D);
+                   kind u8 (1 drift, 2 expansion); reserved 2 zero; coefficient i32
+                   (drift: 2^-32 counts per m°C; expansion: 2^-48 counts per count per
+                   m°C); t_ref i32 (m°C); q_min i32 (counts; 0 for a drift)
 
-Nothing follows; the length is exactly what the header, axes and tables describe. Every
-table value is an int32 ``v`` with ``|v| < 2^30`` meaning ``v · 2^exponent``. Fields:
-``0 .. D-1`` the correction of each axis (mm or degrees); then, for each linear axis ``l``
-(in axis order, slowest) and rotary axis ``r``, field ``D + l·R + r`` (``l``, ``r`` counted
-among the linear and rotary axes, R rotary axes): the sensitivity ``S_lr``, mm per degree.
+Nothing follows; the length is exactly what the header, axes and tables describe. Fields:
+``0 .. D-1`` the correction of each axis (counts); then, for each linear axis ``l`` (in
+axis order, slowest) and rotary axis ``r``, field ``D + l·R + r`` (``l``, ``r`` counted
+among the linear and rotary axes, R rotary axes): the sensitivity ``S_lr``, counts of
+linear axis l per count of rotary axis r.
 """
 
 from __future__ import annotations
 
+import re
 import struct
 from dataclasses import dataclass
+from fractions import Fraction
 from typing import Final
 
 from . import _check as check
 from .codes import MapEncoding
-from .limits import MAX_NAME_BYTES
+from .limits import MAX_LABEL_BYTES, MAX_NAME_BYTES
 from .mapformat import (
     _AXIS_RE,
     MAP_MAGIC,
     MAX_THERMAL,
+    THERMAL_DRIFT,
+    THERMAL_EXPANSION,
     MapFormatError,
     ThermalRecord,
     _name_field,
     _name_from,
-    pack_thermal,
-    thermal_at,
 )
 
-FACTORED_FORMAT_VERSION: Final = 4
+FACTORED_FORMAT_VERSION: Final = 5
+RETIRED_FACTORED_VERSION: Final = 4
+"""Format version 4 (f64 grids, int32 values, no fixed-point rules) is refused by name."""
 MAX_AXES: Final = 8
-MAX_BASES: Final = 256
+MAX_BASES: Final = 254
 MAX_TERMS: Final = 4096
 MAX_NODES: Final = 4096
 MAX_FACTORS: Final = 4
-VALUE_LIMIT: Final = 1 << 30
-"""|value| < 2^30: one bit of headroom, so two neighbouring values add without overflow."""
-NO_FACTOR: Final = 0xFFFF
+MAX_SHIFT: Final = 24
+BASIS_ONE: Final = 1 << 14
+"""Basis values are Q14: 2^14 is 1.0, the largest magnitude allowed."""
+VALUE_LIMIT: Final = 1 << 15
+"""Term values are int16 with |v| < 2^15 (−32768 excluded, so negation never overflows)."""
+EXPONENT_RANGE: Final = (-60, 8)
+"""Term exponents: a value times 2^(e+1) stays within 2^39, a shift below 63 bits."""
+DRIFT_SHIFT: Final = 32
+"""A drift record's coefficient is in 2^-32 counts per m°C."""
+EXPANSION_SHIFT: Final = 48
+"""An expansion record's coefficient is in 2^-48 counts per count per m°C."""
+NO_FACTOR: Final = 0xFF
 
-_HEAD = struct.Struct("<4sHBBHHI32sIId")  # 64 bytes
-_AXIS = struct.Struct("<4sB3siiIdd")  # 36 bytes
-_BASIS = struct.Struct("<BbHIdd")  # 24 bytes
-_TERM = struct.Struct("<HBbBB2s4H")  # 16 bytes
-_COUNT = struct.Struct("<I")
-_THERMAL_SIZE = 48
+_HEAD = struct.Struct("<4sHBBBBHI32sII8s")  # 64 bytes
+_AXIS = struct.Struct("<4sBBHiii")  # 20 bytes
+_BASIS = struct.Struct("<BBHi")  # 8 bytes
+_TERM = struct.Struct("<BBbB4B")  # 8 bytes
+_THERMAL = struct.Struct("<16sBB2siii")  # 32 bytes
+_LABEL = re.compile(r"[\x21-\x7e]{1,16}")
+_I32 = (-(1 << 31), (1 << 31) - 1)
 
 
-def _values(what: str, values: tuple[int, ...], n: int | None = None) -> None:
+def round_half_up(x: Fraction) -> int:
+    """The tie rule of every map kind (protocol/README.md §6): the integer nearest ``x``,
+    halves rounded up (towards +infinity), ``floor(x + 1/2)``."""
+    return (x + Fraction(1, 2)).__floor__()
+
+
+def _int(what: str, v: object, lo: int, hi: int) -> None:
+    if not isinstance(v, int) or isinstance(v, bool) or not lo <= v <= hi:
+        raise ValueError(f"{what} must be an int in {lo}..{hi}, got {v!r}")
+
+
+def _values(what: str, values: tuple[int, ...], bound: int, n: int | None = None) -> None:
     if not isinstance(values, tuple) or not values:
         raise ValueError(f"{what} values must be a non-empty tuple of ints")
     if n is not None and len(values) != n:
@@ -83,27 +116,24 @@ def _values(what: str, values: tuple[int, ...], n: int | None = None) -> None:
     if len(values) > MAX_NODES:
         raise ValueError(f"{what} has {len(values)} values, at most {MAX_NODES}")
     for i, v in enumerate(values):
-        if not isinstance(v, int) or isinstance(v, bool) or not -VALUE_LIMIT < v < VALUE_LIMIT:
-            raise ValueError(f"{what} value {i} must be an int with |v| < 2^30, got {v!r}")
-
-
-def _exponent(what: str, e: int) -> None:
-    if not isinstance(e, int) or isinstance(e, bool) or not -126 <= e <= 126:
-        raise ValueError(f"{what} exponent must be an int in -126..126, got {e!r}")
+        if not isinstance(v, int) or isinstance(v, bool) or not -bound <= v <= bound:
+            raise ValueError(f"{what} value {i} must be an int with |v| <= {bound}, "
+                             f"got {v!r}")
 
 
 @dataclass(frozen=True, slots=True)
 class FactoredAxis:
-    """One machine axis of a factored map: its flags, reversal and limit in counts, and
-    the grid (``count`` nodes from ``start`` by ``step``) of its term tables."""
+    """One machine axis of a factored map: flags, reversal and limit in counts, and the
+    grid of its term tables (``count`` nodes from ``start`` counts, spacing ``2^shift``
+    counts)."""
 
     name: str
     rotary: bool
     reversal: int | None
     limit: int
     count: int
-    start: float
-    step: float
+    start: int
+    shift: int
 
     def __post_init__(self) -> None:
         if not isinstance(self.name, str) or not _AXIS_RE.fullmatch(self.name):
@@ -111,45 +141,35 @@ class FactoredAxis:
                              f"a letter, got {self.name!r}")
         if not isinstance(self.rotary, bool):
             raise ValueError(f"axis {self.name} rotary must be a bool")
-        if self.reversal is not None and (
-                not isinstance(self.reversal, int) or isinstance(self.reversal, bool)
-                or not -(1 << 31) <= self.reversal < 1 << 31):
-            raise ValueError(f"axis {self.name} reversal must be an int32 count or None, "
-                             f"got {self.reversal!r}")
-        check.uint(f"axis {self.name} limit", self.limit, 31, minimum=1)
-        check.uint(f"axis {self.name} term nodes", self.count, 13, minimum=1)
-        if self.count > MAX_NODES:
-            raise ValueError(f"axis {self.name} term nodes {self.count} > {MAX_NODES}")
-        check.finite(f"axis {self.name} start", self.start)
-        check.finite(f"axis {self.name} step", self.step)
-        if self.step <= 0:
-            raise ValueError(f"axis {self.name} step must be > 0, got {self.step}")
+        if self.reversal is not None:
+            _int(f"axis {self.name} reversal", self.reversal, *_I32)
+        _int(f"axis {self.name} limit", self.limit, 1, _I32[1])
+        _int(f"axis {self.name} term nodes", self.count, 1, MAX_NODES)
+        _int(f"axis {self.name} start", self.start, *_I32)
+        _int(f"axis {self.name} shift", self.shift, 0, MAX_SHIFT)
 
 
 @dataclass(frozen=True, slots=True)
 class BasisTable:
-    """A shared factor: ``values[i] · 2^exponent`` at ``start + i·step`` of axis ``axis``."""
+    """A shared factor: ``values[i] / 2^14`` at ``start + i·2^shift`` counts of axis
+    ``axis``."""
 
     axis: int
-    exponent: int
-    start: float
-    step: float
+    start: int
+    shift: int
     values: tuple[int, ...]
 
     def __post_init__(self) -> None:
-        check.uint("basis table axis", self.axis, 8)
-        _exponent("basis table", self.exponent)
-        check.finite("basis table start", self.start)
-        check.finite("basis table step", self.step)
-        if self.step <= 0:
-            raise ValueError(f"basis table step must be > 0, got {self.step}")
-        _values("basis table", self.values)
+        _int("basis table axis", self.axis, 0, MAX_AXES - 1)
+        _int("basis table start", self.start, *_I32)
+        _int("basis table shift", self.shift, 0, MAX_SHIFT)
+        _values("basis table", self.values, BASIS_ONE)
 
 
 @dataclass(frozen=True, slots=True)
 class TermTable:
-    """One term: a table on its axis's term grid, times basis tables ``factors``, added to
-    field ``field``."""
+    """One term: ``values[i] · 2^exponent`` on its axis's term grid (or one value for a
+    constant), times basis tables ``factors``, added to field ``field``."""
 
     field: int
     axis: int
@@ -158,17 +178,67 @@ class TermTable:
     values: tuple[int, ...]
 
     def __post_init__(self) -> None:
-        check.uint("term field", self.field, 16)
-        check.uint("term axis", self.axis, 8)
-        _exponent("term", self.exponent)
+        _int("term field", self.field, 0, 255)
+        _int("term axis", self.axis, 0, MAX_AXES - 1)
+        _int("term exponent", self.exponent, *EXPONENT_RANGE)
         if not isinstance(self.factors, tuple) or len(self.factors) > MAX_FACTORS:
             raise ValueError(f"term factors must be a tuple of at most {MAX_FACTORS} basis "
                              f"indices, got {self.factors!r}")
         for b in self.factors:
-            check.uint("term factor", b, 16)
-            if b == NO_FACTOR:
-                raise ValueError(f"term factor {NO_FACTOR:#x} means none; leave it out")
-        _values("term", self.values)
+            _int("term factor", b, 0, MAX_BASES - 1)
+        _values("term", self.values, VALUE_LIMIT - 1)
+
+
+@dataclass(frozen=True, slots=True)
+class FactoredThermal:
+    """A thermal record in fixed point (module docstring): ``sensor`` exactly as the
+    Temperatures message names it, ``axis`` the index of a linear axis."""
+
+    sensor: str
+    axis: int
+    kind: int
+    coefficient: int
+    t_ref_mC: int
+    q_min: int = 0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.sensor, str) or not _LABEL.fullmatch(self.sensor) \
+                or len(self.sensor) > MAX_LABEL_BYTES:
+            raise ValueError(f"thermal sensor must be 1 to {MAX_LABEL_BYTES} printable ASCII "
+                             f"characters without spaces, got {self.sensor!r}")
+        _int("thermal record axis", self.axis, 0, MAX_AXES - 1)
+        if self.kind not in (THERMAL_DRIFT, THERMAL_EXPANSION) or isinstance(self.kind, bool):
+            raise ValueError(f"thermal record kind must be 1 (drift) or 2 (expansion), "
+                             f"got {self.kind!r}")
+        _int(f"thermal record {self.sensor} coefficient", self.coefficient, *_I32)
+        _int(f"thermal record {self.sensor} t_ref", self.t_ref_mC, *_I32)
+        _int(f"thermal record {self.sensor} q_min", self.q_min, *_I32)
+        if self.kind == THERMAL_DRIFT and self.q_min:
+            raise ValueError(f"thermal record {self.sensor}: a drift has q_min 0")
+
+
+def thermal_fixed(rec: ThermalRecord, axis: int, counts_per_unit: int) -> FactoredThermal:
+    """The fixed-point record of ``rec`` (f64 fields, as in format versions 2 and 3) for
+    an endpoint of ``counts_per_unit`` counts per mm: the conversion rule of
+    protocol/README.md §6.1, exact (rational arithmetic on the f64 values), halves up.
+
+    Raises
+    ------
+    ValueError
+        When a converted field does not fit an int32.
+    """
+    p = Fraction(counts_per_unit)
+    coef = Fraction(rec.coefficient)
+    if rec.kind == THERMAL_DRIFT:
+        # µm/K → counts per m°C: coefficient · 1e-3 (K per m°C) · P / 1000 (counts per µm)
+        k = round_half_up(coef * p / 1_000_000 * (1 << DRIFT_SHIFT))
+        q_min = 0
+    else:
+        # µm/(m·K) → counts per count per m°C: µm per m is 1e-6 mm per mm, a m°C 1e-3 K
+        k = round_half_up(coef / 1_000_000_000 * (1 << EXPANSION_SHIFT))
+        q_min = round_half_up(Fraction(rec.q_min) * p)
+    return FactoredThermal(rec.sensor, axis, rec.kind, k,
+                           round_half_up(Fraction(rec.t_ref_C) * 1000), q_min)
 
 
 @dataclass(frozen=True, slots=True)
@@ -179,20 +249,18 @@ class FactoredPayload:
     machine: str
     version: int
     valid_s: int
-    increment_mm: float
+    counts_per_unit: int
     axes: tuple[FactoredAxis, ...]
     bases: tuple[BasisTable, ...]
     terms: tuple[TermTable, ...]
-    thermal: tuple[ThermalRecord, ...] = ()
+    thermal: tuple[FactoredThermal, ...] = ()
     encoding: MapEncoding = MapEncoding.INT32_INCREMENTS
 
     def __post_init__(self) -> None:
         check.name("machine", self.machine, MAX_NAME_BYTES)
         check.uint("map version", self.version, 32, minimum=1)
         check.uint("valid_s", self.valid_s, 32)
-        check.finite("increment", self.increment_mm)
-        if self.increment_mm <= 0:
-            raise ValueError(f"increment must be > 0, got {self.increment_mm}")
+        check.uint("counts_per_unit", self.counts_per_unit, 32, minimum=1)
         if self.encoding is not MapEncoding.INT32_INCREMENTS:
             raise ValueError("a factored map's encoding is INT32_INCREMENTS")
         if not 1 <= len(self.axes) <= MAX_AXES:
@@ -223,11 +291,10 @@ class FactoredPayload:
                 if j >= len(self.bases):
                     raise ValueError(f"term {i} multiplies basis table {j}, the map has "
                                      f"{len(self.bases)}")
-        linear = {a.name for a in self.axes if not a.rotary}
         for i, th in enumerate(self.thermal):
-            if th.axis not in linear:
+            if th.axis >= d or self.axes[th.axis].rotary:
                 raise ValueError(f"thermal record {i}: axis {th.axis} is not a linear axis "
-                                 f"of the map ({' '.join(sorted(linear))})")
+                                 f"of the map")
 
     @property
     def n_fields(self) -> int:
@@ -236,30 +303,43 @@ class FactoredPayload:
         return len(self.axes) + (len(self.axes) - r) * r
 
     @property
+    def increment_mm(self) -> float:
+        """mm (degrees) per count, ``1 / counts_per_unit``."""
+        return 1.0 / self.counts_per_unit
+
+    @property
     def format_version(self) -> int:
         return FACTORED_FORMAT_VERSION
+
+
+def payload_size(p: FactoredPayload) -> int:
+    """Encoded length: 64 + 20 D + Σ (8 + 2 n) over basis tables and terms + 32 H."""
+    return (_HEAD.size + _AXIS.size * len(p.axes)
+            + sum(_BASIS.size + 2 * len(b.values) for b in p.bases)
+            + sum(_TERM.size + 2 * len(t.values) for t in p.terms)
+            + _THERMAL.size * len(p.thermal))
 
 
 def encode_factored(p: FactoredPayload) -> bytes:
     """The wire bytes of ``p`` (layout in the module docstring)."""
     parts = [_HEAD.pack(MAP_MAGIC, FACTORED_FORMAT_VERSION, int(p.encoding), len(p.axes),
-                        len(p.bases), len(p.terms), 0, _name_field(p.machine, 32), p.version,
-                        p.valid_s, float(p.increment_mm))]
+                        len(p.bases), len(p.thermal), len(p.terms), p.counts_per_unit,
+                        _name_field(p.machine, 32), p.version, p.valid_s, bytes(8))]
     for a in p.axes:
         flags = (1 if a.rotary else 0) | (2 if a.reversal is not None else 0)
-        parts.append(_AXIS.pack(_name_field(a.name, 4), flags, bytes(3), a.reversal or 0,
-                                a.limit, a.count, float(a.start), float(a.step)))
+        parts.append(_AXIS.pack(_name_field(a.name, 4), flags, a.shift, a.count, a.start,
+                                a.reversal or 0, a.limit))
     for b in p.bases:
-        parts.append(_BASIS.pack(b.axis, b.exponent, 0, len(b.values), float(b.start),
-                                 float(b.step)))
-        parts.append(struct.pack(f"<{len(b.values)}i", *b.values))
+        parts.append(_BASIS.pack(b.axis, b.shift, len(b.values), b.start))
+        parts.append(struct.pack(f"<{len(b.values)}h", *b.values))
     for t in p.terms:
         factors = (*t.factors, *([NO_FACTOR] * (MAX_FACTORS - len(t.factors))))
-        parts.append(_TERM.pack(t.field, t.axis, t.exponent, len(t.factors),
-                                1 if len(t.values) == 1 else 0, bytes(2), *factors))
-        parts.append(struct.pack(f"<{len(t.values)}i", *t.values))
-    parts.append(_COUNT.pack(len(p.thermal)))
-    parts += [pack_thermal(th) for th in p.thermal]
+        m = len(t.factors) | (0x80 if len(t.values) == 1 else 0)
+        parts.append(_TERM.pack(t.field, t.axis, t.exponent, m, *factors))
+        parts.append(struct.pack(f"<{len(t.values)}h", *t.values))
+    for th in p.thermal:
+        parts.append(_THERMAL.pack(_name_field(th.sensor, 16), th.axis, th.kind, bytes(2),
+                                   th.coefficient, th.t_ref_mC, th.q_min))
     return b"".join(parts)
 
 
@@ -268,18 +348,18 @@ def _need(data: bytes, end: int, what: str) -> None:
         raise MapFormatError(f"map payload is {len(data)} bytes, {what} needs {end}")
 
 
-def _ints(data: bytes, at: int, n: int, what: str) -> tuple[int, ...]:
-    _need(data, at + 4 * n, what)
-    values: tuple[int, ...] = struct.unpack_from(f"<{n}i", data, at)
+def _int16s(data: bytes, at: int, n: int, bound: int, what: str) -> tuple[int, ...]:
+    _need(data, at + 2 * n, what)
+    values: tuple[int, ...] = struct.unpack_from(f"<{n}h", data, at)
     for i, v in enumerate(values):
-        if not -VALUE_LIMIT < v < VALUE_LIMIT:
-            raise MapFormatError(f"{what} value {i} at offset {at + 4 * i} is {v}, "
-                                 f"|v| must be < 2^30")
+        if not -bound <= v <= bound:
+            raise MapFormatError(f"{what} value {i} at offset {at + 2 * i} is {v}, "
+                                 f"|v| must be <= {bound}")
     return values
 
 
 def decode_factored(data: bytes) -> FactoredPayload:
-    """Parse and check a factored map (format version 4).
+    """Parse and check a factored map (format version 5).
 
     Raises
     ------
@@ -289,10 +369,13 @@ def decode_factored(data: bytes) -> FactoredPayload:
         the text names the field and its offset.
     """
     _need(data, _HEAD.size, "the 64-byte header")
-    (magic, fmt, enc, n_axes, n_bases, n_terms, reserved, machine_raw, version, valid_s,
-     increment) = _HEAD.unpack_from(data, 0)
+    (magic, fmt, enc, n_axes, n_bases, n_thermal, n_terms, per_unit, machine_raw, version,
+     valid_s, reserved) = _HEAD.unpack_from(data, 0)
     if magic != MAP_MAGIC:
         raise MapFormatError(f"map magic is {magic!r}, expected {MAP_MAGIC!r}")
+    if fmt == RETIRED_FACTORED_VERSION:
+        raise MapFormatError("map format version 4 at offset 4: factored maps are format "
+                             f"version {FACTORED_FORMAT_VERSION} now (integer fields)")
     if fmt != FACTORED_FORMAT_VERSION:
         raise MapFormatError(f"map format version {fmt} at offset 4, a factored map is "
                              f"version {FACTORED_FORMAT_VERSION}")
@@ -304,95 +387,94 @@ def decode_factored(data: bytes) -> FactoredPayload:
     if n_bases > MAX_BASES:
         raise MapFormatError(f"map has {n_bases} basis tables (offset 8), at most "
                              f"{MAX_BASES}")
+    if n_thermal > MAX_THERMAL:
+        raise MapFormatError(f"map has {n_thermal} thermal records (offset 9), at most "
+                             f"{MAX_THERMAL}")
     if not 1 <= n_terms <= MAX_TERMS:
         raise MapFormatError(f"map has {n_terms} terms (offset 10), 1 to {MAX_TERMS}")
-    if reserved:
-        raise MapFormatError("map header reserved bytes 12..15 are not zero")
+    if per_unit < 1:
+        raise MapFormatError("map counts_per_unit (offset 12) must be >= 1")
+    if any(reserved):
+        raise MapFormatError("map header reserved bytes 56..63 are not zero")
     try:
         machine = _name_from(machine_raw, "machine name", 16)
         at = _HEAD.size
         _need(data, at + _AXIS.size * n_axes, f"its {n_axes} axis records")
         axes = []
         for i in range(n_axes):
-            raw, flags, pad, rev, limit, count, start, step = _AXIS.unpack_from(data, at)
-            if flags & ~3 or any(pad):
-                raise MapFormatError(f"axis {i} at offset {at} has unknown flags "
-                                     f"0x{flags:02x} or non-zero reserved bytes")
+            raw, flags, shift, count, start, rev, limit = _AXIS.unpack_from(data, at)
+            if flags & ~3:
+                raise MapFormatError(f"axis {i} at offset {at + 4} has unknown flags "
+                                     f"0x{flags:02x}")
             if not flags & 2 and rev:
-                raise MapFormatError(f"axis {i} at offset {at + 8}: reversal is not 0 "
+                raise MapFormatError(f"axis {i} at offset {at + 12}: reversal is not 0 "
                                      f"though flagged absent")
-            if limit < 1:
-                raise MapFormatError(f"axis {i} at offset {at + 12}: limit {limit} counts "
-                                     f"must be > 0")
-            if not 1 <= count <= MAX_NODES:
-                raise MapFormatError(f"axis {i} at offset {at + 16}: {count} term nodes, "
-                                     f"1 to {MAX_NODES} allowed")
             try:
                 axes.append(FactoredAxis(_name_from(raw, f"axis {i} name", at),
                                          bool(flags & 1), rev if flags & 2 else None, limit,
-                                         count, start, step))
+                                         count, start, shift))
             except ValueError as exc:
                 raise MapFormatError(f"axis {i} at offset {at}: {exc}") from None
             at += _AXIS.size
         bases = []
         for i in range(n_bases):
             _need(data, at + _BASIS.size, f"basis table {i}")
-            axis, exponent, pad2, n, start, step = _BASIS.unpack_from(data, at)
-            if pad2:
-                raise MapFormatError(f"basis table {i} at offset {at + 2}: reserved bytes "
-                                     f"are not zero")
+            axis, shift, n, start = _BASIS.unpack_from(data, at)
             if axis >= n_axes:
                 raise MapFormatError(f"basis table {i} at offset {at}: axis {axis}, the map "
                                      f"has {n_axes}")
             if not 1 <= n <= MAX_NODES:
-                raise MapFormatError(f"basis table {i} at offset {at + 4}: {n} nodes, 1 to "
+                raise MapFormatError(f"basis table {i} at offset {at + 2}: {n} nodes, 1 to "
                                      f"{MAX_NODES} allowed")
-            values = _ints(data, at + _BASIS.size, n, f"basis table {i}")
+            values = _int16s(data, at + _BASIS.size, n, BASIS_ONE, f"basis table {i}")
             try:
-                bases.append(BasisTable(axis, exponent, start, step, values))
+                bases.append(BasisTable(axis, start, shift, values))
             except ValueError as exc:
                 raise MapFormatError(f"basis table {i} at offset {at}: {exc}") from None
-            at += _BASIS.size + 4 * n
+            at += _BASIS.size + 2 * n
         terms = []
         for i in range(n_terms):
             _need(data, at + _TERM.size, f"term {i}")
-            fld, axis, exponent, m, flags, pad3, *raw_factors = _TERM.unpack_from(data, at)
-            if flags & ~1 or any(pad3):
-                raise MapFormatError(f"term {i} at offset {at + 5}: unknown flags "
-                                     f"0x{flags:02x} or non-zero reserved bytes")
+            fld, axis, exponent, m, *raw_factors = _TERM.unpack_from(data, at)
+            if m & 0x78 or (m & 7) > MAX_FACTORS:
+                raise MapFormatError(f"term {i} at offset {at + 3}: byte 0x{m:02x}, factors "
+                                     f"0..{MAX_FACTORS} in bits 0-2, constant in bit 7")
             if axis >= n_axes:
-                raise MapFormatError(f"term {i} at offset {at + 2}: axis {axis}, the map has "
+                raise MapFormatError(f"term {i} at offset {at + 1}: axis {axis}, the map has "
                                      f"{n_axes}")
-            if m > MAX_FACTORS:
-                raise MapFormatError(f"term {i} at offset {at + 4}: {m} factors, at most "
-                                     f"{MAX_FACTORS}")
-            factors = tuple(raw_factors[:m])
-            if any(f == NO_FACTOR or f >= n_bases for f in factors) or \
-                    any(f != NO_FACTOR for f in raw_factors[m:]):
-                raise MapFormatError(f"term {i} at offset {at + 8}: basis indices "
-                                     f"{tuple(raw_factors)} with {m} factors; the map has "
-                                     f"{n_bases} basis tables, unused slots 0xFFFF")
-            n = 1 if flags & 1 else axes[axis].count
-            values = _ints(data, at + _TERM.size, n, f"term {i}")
+            k = m & 7
+            factors = tuple(raw_factors[:k])
+            if any(f >= n_bases for f in factors) or \
+                    any(f != NO_FACTOR for f in raw_factors[k:]):
+                raise MapFormatError(f"term {i} at offset {at + 4}: basis indices "
+                                     f"{tuple(raw_factors)} with {k} factors; the map has "
+                                     f"{n_bases} basis tables, unused slots 0xFF")
+            n = 1 if m & 0x80 else axes[axis].count
+            values = _int16s(data, at + _TERM.size, n, VALUE_LIMIT - 1, f"term {i}")
             try:
                 terms.append(TermTable(fld, axis, exponent, factors, values))
             except ValueError as exc:
                 raise MapFormatError(f"term {i} at offset {at}: {exc}") from None
-            at += _TERM.size + 4 * n
-        _need(data, at + _COUNT.size, "the thermal record count")
-        (h,) = _COUNT.unpack_from(data, at)
-        if h > MAX_THERMAL:
-            raise MapFormatError(f"map has {h} thermal records (offset {at}), at most "
-                                 f"{MAX_THERMAL}")
-        at += _COUNT.size
-        _need(data, at + _THERMAL_SIZE * h, f"its {h} thermal records")
-        thermal = tuple(thermal_at(data, at + _THERMAL_SIZE * i, i) for i in range(h))
-        at += _THERMAL_SIZE * h
+            at += _TERM.size + 2 * n
+        _need(data, at + _THERMAL.size * n_thermal, f"its {n_thermal} thermal records")
+        thermal = []
+        for i in range(n_thermal):
+            raw_sensor, axis, kind, pad, coef, t_ref, q_min = _THERMAL.unpack_from(data, at)
+            if any(pad):
+                raise MapFormatError(f"thermal record {i} at offset {at + 18}: reserved "
+                                     f"bytes are not zero")
+            try:
+                thermal.append(FactoredThermal(
+                    _name_from(raw_sensor, f"thermal record {i} sensor", at), axis, kind,
+                    coef, t_ref, q_min))
+            except ValueError as exc:
+                raise MapFormatError(f"thermal record {i} at offset {at}: {exc}") from None
+            at += _THERMAL.size
         if len(data) != at:
             raise MapFormatError(f"map payload is {len(data)} bytes, its header and tables "
                                  f"describe {at}")
-        return FactoredPayload(machine, version, valid_s, increment, tuple(axes),
-                               tuple(bases), tuple(terms), thermal)
+        return FactoredPayload(machine, version, valid_s, per_unit, tuple(axes),
+                               tuple(bases), tuple(terms), tuple(thermal))
     except MapFormatError:
         raise
     except ValueError as exc:
@@ -400,11 +482,18 @@ def decode_factored(data: bytes) -> FactoredPayload:
 
 
 __all__ = [
+    "BASIS_ONE",
+    "DRIFT_SHIFT",
+    "EXPANSION_SHIFT",
     "FACTORED_FORMAT_VERSION",
     "BasisTable",
     "FactoredAxis",
     "FactoredPayload",
+    "FactoredThermal",
     "TermTable",
     "decode_factored",
     "encode_factored",
+    "payload_size",
+    "round_half_up",
+    "thermal_fixed",
 ]

@@ -52,7 +52,12 @@ from typing import Final, Literal
 from . import _check as check
 from .codes import MapEncoding
 from .limits import MAX_MAP_BYTES, MAX_NAME_BYTES
-from .mapfactored import FACTORED_FORMAT_VERSION, FactoredPayload, decode_factored
+from .mapfactored import (
+    FACTORED_FORMAT_VERSION,
+    RETIRED_FACTORED_VERSION,
+    FactoredPayload,
+    decode_factored,
+)
 from .mapformat import (
     _OUT,
     _THERMAL,
@@ -499,10 +504,10 @@ def decode_payload(data: bytes) -> ErrorMapPayload | TablesPayload | FactoredPay
         return decode_map(data)
     if fmt == TABLES_FORMAT_VERSION:
         return decode_tables(data)
-    if fmt == FACTORED_FORMAT_VERSION:
-        return decode_factored(data)
+    if fmt in (FACTORED_FORMAT_VERSION, RETIRED_FACTORED_VERSION):
+        return decode_factored(data)  # refuses the retired version 4 by name
     raise MapFormatError(f"map format version {fmt} at offset 4, this end reads 1 (grid), "
-                         f"2 (tables), 3 (grid with thermal records) and 4 (factored)")
+                         f"2 (tables), 3 (grid with thermal records) and 5 (factored)")
 
 
 def decode_tables(data: bytes) -> TablesPayload:

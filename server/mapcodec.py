@@ -25,9 +25,11 @@ from protocol.mapfactored import (
     BasisTable,
     FactoredAxis,
     FactoredPayload,
+    FactoredThermal,
     TermTable,
     decode_factored,
     encode_factored,
+    thermal_fixed,
 )
 from protocol.mapformat import (
     GRID_THERMAL_FORMAT_VERSION,
@@ -130,16 +132,33 @@ _THERMAL_KINDS = {"thermal_drift": 1, "thermal_expansion": 2}
 _THERMAL_NAMES = {v: k for k, v in _THERMAL_KINDS.items()}
 
 
+def wire_sensor(column: str) -> str:
+    """The sensor name a thermal record carries: exactly the name the Temperatures message
+    carries (``T_spindle_C`` → ``spindle``), so that a machine matching names exactly
+    applies it; MapBuildError when it does not fit the record's 16 bytes."""
+    name = column[2:-2] if column.startswith("T_") and column.endswith("_C") and \
+        len(column) > 4 else column
+    if not 1 <= len(name.encode("utf-8")) <= 16 or not name.isascii() or \
+            not all("!" <= ch <= "~" for ch in name):
+        raise MapBuildError(f"thermal sensor {column!r}: the map's record carries "
+                            f"{name!r}, which must be 1 to 16 printable ASCII characters "
+                            f"without spaces")
+    return name
+
+
 def _records(terms: tuple[ThermalTerm, ...]) -> tuple[ThermalRecord, ...]:
-    """The wire records of the model's thermal terms (both map kinds)."""
-    return tuple(ThermalRecord(th.sensor, th.axis.upper(), _THERMAL_KINDS[th.kind],
-                               float(th.coefficient), float(th.t_ref_C), float(th.q_min))
+    """The wire records of the model's thermal terms (all map kinds)."""
+    return tuple(ThermalRecord(wire_sensor(th.sensor), th.axis.upper(),
+                               _THERMAL_KINDS[th.kind], float(th.coefficient),
+                               float(th.t_ref_C), float(th.q_min))
                  for th in terms)
 
 
 def _terms(records: tuple[ThermalRecord, ...]) -> tuple[ThermalTerm, ...]:
+    # the model names a sensor by its column (T_<sensor>_C)
     return tuple(ThermalTerm(_THERMAL_NAMES[r.kind],  # type: ignore[arg-type]
-                             r.axis.lower(), r.sensor, r.coefficient, r.t_ref_C, r.q_min)
+                             r.axis.lower(), f"T_{r.sensor}_C", r.coefficient, r.t_ref_C,
+                             r.q_min)
                  for r in records)
 
 
@@ -222,56 +241,69 @@ def _limit(t: TablesMap, kind: str) -> float:
     return max(vals, default=1.0)
 
 
-def _ints(values: Any, exponent: int) -> tuple[int, ...]:
-    return tuple(int(v) for v in np.rint(np.ldexp(np.asarray(values, dtype=float), -exponent)))
+def _ints(values: Any) -> tuple[int, ...]:
+    return tuple(int(v) for v in np.asarray(values, dtype=np.int64))
 
 
 def factored_to_payload(f: FactoredMap) -> FactoredPayload:
-    """The wire payload of a factored map (format version 4, protocol/README.md §6.5).
+    """The wire payload of a factored map (format version 5, protocol/README.md §6.5).
 
     Raises
     ------
     MapBuildError
         When a field does not fit the wire format.
     """
-    inc = f.increment
+    inc, per_unit = f.increment, f.counts_per_unit
     try:
         return FactoredPayload(
-            machine=f.machine, version=f.version, valid_s=f.valid_s, increment_mm=inc,
+            machine=f.machine, version=f.version, valid_s=f.valid_s,
+            counts_per_unit=per_unit,
             axes=tuple(FactoredAxis(n, r, None if rev is None else round(rev / inc),
-                                    max(1, round(lim / inc)), g.count, float(g.start),
-                                    float(g.step))
+                                    max(1, round(lim / inc)), g.count, g.start, g.shift)
                        for n, r, rev, lim, g in zip(f.axes, f.rotary, f.reversal, f.limits,
                                                     f.grids, strict=True)),
-            bases=tuple(BasisTable(b.axis, b.exponent, float(b.start), float(b.step),
-                                   _ints(b.values, b.exponent)) for b in f.bases),
+            bases=tuple(BasisTable(b.axis, b.start, b.shift, _ints(b.values))
+                        for b in f.bases),
             terms=tuple(TermTable(t.field, t.table.axis, t.table.exponent, t.factors,
-                                  _ints(t.table.values, t.table.exponent)) for t in f.terms),
-            thermal=_records(f.thermal),
+                                  _ints(t.table.values)) for t in f.terms),
+            thermal=tuple(thermal_fixed(r, f.axes.index(r.axis.upper()), per_unit)
+                          for r in _records(f.thermal)),
         )
     except ValueError as exc:
         raise MapBuildError(f"map of {f.machine!r} cannot be encoded: {exc}") from None
 
 
 def factored_from_payload(p: FactoredPayload) -> FactoredMap:
-    """The factored map a payload carries (temperatures are not on the wire)."""
-    inc = p.increment_mm
-    grids = tuple(AxisGrid(a.count, a.start, a.step) for a in p.axes)
+    """The factored map a payload carries (temperatures are not on the wire; thermal
+    records come back from their fixed point, to 2^-32 counts per m°C)."""
+    inc = 1.0 / p.counts_per_unit
+    grids = tuple(AxisGrid(a.count, a.start, a.shift) for a in p.axes)
     return FactoredMap(
         machine=p.machine, version=p.version, controller="fanuc",
         axes=tuple(a.name for a in p.axes), rotary=tuple(a.rotary for a in p.axes),
         increment=inc, limits=tuple(a.limit * inc for a in p.axes),
         reversal=tuple(None if a.reversal is None else a.reversal * inc for a in p.axes),
         grids=grids,
-        bases=tuple(Table1D(b.axis, b.start, b.step,
-                            np.ldexp(np.asarray(b.values, dtype=float), b.exponent),
-                            b.exponent) for b in p.bases),
-        terms=tuple(Term(t.field, Table1D(t.axis, grids[t.axis].start, grids[t.axis].step,
-                                          np.ldexp(np.asarray(t.values, dtype=float),
-                                                   t.exponent), t.exponent), t.factors)
+        bases=tuple(Table1D(b.axis, b.start, b.shift, np.array(b.values, dtype=np.int64),
+                            -14) for b in p.bases),
+        terms=tuple(Term(t.field, Table1D(t.axis, grids[t.axis].start, grids[t.axis].shift,
+                                          np.array(t.values, dtype=np.int64), t.exponent),
+                         t.factors)
                     for t in p.terms),
-        valid_s=p.valid_s, thermal=_terms(p.thermal),
+        valid_s=p.valid_s, thermal=tuple(_term_of(r, p) for r in p.thermal),
     )
+
+
+def _term_of(r: FactoredThermal, p: FactoredPayload) -> ThermalTerm:
+    """A fixed-point record back as a model term (its coefficient to the record's
+    resolution)."""
+    if r.kind == 1:
+        coef = r.coefficient / 2.0**32 * 1e6 / p.counts_per_unit
+    else:
+        coef = r.coefficient / 2.0**48 * 1e9
+    return ThermalTerm(_THERMAL_NAMES[r.kind],  # type: ignore[arg-type]
+                       p.axes[r.axis].name.lower(), f"T_{r.sensor}_C", coef,
+                       r.t_ref_mC / 1000, r.q_min / p.counts_per_unit)
 
 
 def encode(content: MapContent) -> bytes:

@@ -98,7 +98,7 @@ async def test_a_lagged_thermal_model_is_applied_with_its_history(tmp_path: Path
         kind = FactoredLadder if spec is THERMAL else TablesMap
         assert isinstance(store.active, kind)
         sensors = {r.sensor for r in store.active.payload.thermal}
-        assert sensors == {"T_spindle_C", "T_lag1_C"}, sensors
+        assert sensors == {"spindle", "lag1"}, sensors  # as the Temperatures carry them
         for k in range(len(t_s)):
             when = start + dt.timedelta(seconds=float(t_s[k]))
             r = await plant.client.post(f"/api/machines/{name}/temperatures", json={

@@ -1,4 +1,4 @@
-"""The factored map (format version 4): golden bytes, round trips, every truncation and
+"""The factored map (format version 5): golden bytes, round trips, every truncation and
 corruption refused with a reason, the machine's ladder against the center's reference,
 the store keeping its last good map."""
 
@@ -19,11 +19,12 @@ from protocol.mapfactored import (
     BasisTable,
     FactoredAxis,
     FactoredPayload,
+    FactoredThermal,
     TermTable,
     decode_factored,
     encode_factored,
 )
-from protocol.mapformat import MapFormatError, ThermalRecord
+from protocol.mapformat import MapFormatError
 from protocol.maptransfer import MapAccepted, MapAssembler, MapRejected, split_into_chunks
 from protocol.messages import MapAck, MapReject
 from server.mapcodec import (
@@ -34,38 +35,34 @@ from server.mapcodec import (
     kind_of,
 )
 from tests.support.kinematics import machine, random_errors
-from volumetric.compensate.factoredmap import FactoredMap, build_factored_map, quantized
+from volumetric.compensate.factoredmap import FactoredMap, build_factored_map
 from volumetric.model.model import MachineModel
 
 TINY = FactoredPayload(
-    "m1", 2, 0, 0.001,
-    (FactoredAxis("C", True, None, 50, 2, -180.0, 360.0),
-     FactoredAxis("X", False, -3, 500, 3, 0.0, 50.0)),
-    (BasisTable(0, -30, -180.0, 180.0, (-(1 << 29), 0, 1 << 29)),),
+    "m1", 2, 0, 1000,
+    (FactoredAxis("C", True, None, 50, 2, -180000, 19),
+     FactoredAxis("X", False, -3, 500, 3, 0, 15)),
+    (BasisTable(0, -180000, 17, (-(1 << 14), 0, 1 << 14)),),
     (TermTable(1, 1, -20, (0,), (1, -2, 3)), TermTable(2, 0, -10, (), (7, 8))),
-    (ThermalRecord("x_screw", "X", 2, 11.5, 20.0, 0.0),),
+    (FactoredThermal("x_screw", 1, 2, 3_236_971, 20000, 0),),
 )
 TINY_BYTES = bytes.fromhex(
-    "45444d50 0400 01 02 0100 0200 00000000"      # EDMP v4 int32, 2 axes, 1 basis, 2 terms
-    "6d31" + "00" * 30 +                            # machine "m1"
-    "02000000 00000000 fca9f1d24d62503f"            # version 2, valid_s 0, increment 0.001
-    # axis C: rotary, no reversal, limit 50, 2 term nodes from -180 by 360
-    "43000000 01 000000 00000000 32000000 02000000"
-    "00000000008066c0 0000000000807640"
-    # axis X: linear with reversal -3, limit 500, 3 term nodes from 0 by 50
-    "58000000 02 000000 fdffffff f4010000 03000000"
-    "0000000000000000 0000000000004940"
-    # basis 0: axis 0, exponent -30, 3 nodes from -180 by 180: -2^29, 0, 2^29
-    "00 e2 0000 03000000 00000000008066c0 0000000000806640"
-    "000000e0 00000000 00000020"
+    "45444d50 0500 01 02 01 01 0200 e8030000"     # EDMP v5 int32, 2 axes, 1 basis, 1 record,
+    "6d31" + "00" * 30 +                            # 2 terms, 1000 counts/mm; machine "m1"
+    "02000000 00000000 0000000000000000"            # version 2, valid_s 0, reserved
+    # axis C: rotary, no reversal, shift 19, 2 term nodes from -180000, limit 50
+    "43000000 01 13 0200 e040fdff 00000000 32000000"
+    # axis X: linear with reversal -3, shift 15, 3 term nodes from 0, limit 500
+    "58000000 02 0f 0300 00000000 fdffffff f4010000"
+    # basis 0: axis 0, shift 17, 3 nodes from -180000: -1, 0, 1 in Q14
+    "00 11 0300 e040fdff 00c0 0000 0040"
     # term 0: field 1, axis 1, exponent -20, 1 factor (basis 0), values 1 -2 3
-    "0100 01 ec 01 000000 0000 ffff ffff ffff 01000000 feffffff 03000000"
+    "01 01 ec 01 00ffffff 0100 feff 0300"
     # term 1: field 2 (the sensitivity S_XC), axis 0, exponent -10, no factors, 7 8
-    "0200 00 f6 00 000000 ffff ffff ffff ffff 07000000 08000000"
-    # one thermal record
-    "01000000"
-    "785f7363726577000000000000000000 58000000 02 000000"
-    "0000000000002740 0000000000003440 0000000000000000"
+    "02 00 f6 00 ffffffff 0700 0800"
+    # thermal record: x_screw, axis 1, expansion, 3236971 · 2^-48 per m°C (11.5 µm/(m·K)),
+    # t_ref 20000 m°C, q_min 0
+    "785f7363726577000000000000000000 01 02 0000 6b643100 204e0000 00000000"
 )
 
 
@@ -89,25 +86,33 @@ def _patched(offset: int, fmt: str, value: int) -> bytes:
     return bytes(data)
 
 
-BASIS_AT = 64 + 2 * 36
-TERM_AT = BASIS_AT + 24 + 12
+BASIS_AT = 64 + 2 * 20
+TERM_AT = BASIS_AT + 8 + 6
+THERMAL_AT = TERM_AT + 14 + 12
 
 
 @pytest.mark.parametrize(("offset", "fmt", "value", "why"), [
-    (4, "<H", 5, "format version 5"),
+    (4, "<H", 4, "format version 4 at offset 4: factored maps are format version 5"),
+    (4, "<H", 6, "format version 6"),
     (6, "<B", 2, "encoding 2"),
     (7, "<B", 0, "0 axes"),
     (10, "<H", 0, "0 terms"),
-    (12, "<I", 1, "reserved"),
+    (12, "<I", 0, "counts_per_unit"),
+    (56, "<I", 1, "reserved"),
     (64 + 4, "<B", 4, "unknown flags"),
-    (64 + 8, "<i", 9, "reversal is not 0 though flagged absent"),
-    (64 + 12, "<i", 0, "limit 0"),
+    (64 + 5, "<B", 25, "shift must be an int in 0..24"),
+    (64 + 12, "<i", 9, "reversal is not 0 though flagged absent"),
+    (64 + 16, "<i", 0, "limit must be an int in 1.."),
     (BASIS_AT, "<B", 2, "axis 2"),
-    (BASIS_AT + 24, "<i", 1 << 30, "< 2\\^30"),
-    (TERM_AT, "<H", 3, "field 3"),
-    (TERM_AT + 8, "<H", 1, "basis indices"),
-    (TERM_AT + 10, "<H", 0, "unused slots 0xFFFF"),
-    (TERM_AT + 4, "<B", 5, "5 factors"),
+    (BASIS_AT + 8, "<h", (1 << 14) + 1, "<= 16384"),
+    (TERM_AT, "<B", 3, "field 3"),
+    (TERM_AT + 3, "<B", 5, "byte 0x05"),
+    (TERM_AT + 4, "<B", 1, "basis indices"),
+    (TERM_AT + 5, "<B", 0, "unused slots 0xFF"),
+    (TERM_AT + 8, "<h", -(1 << 15), "<= 32767"),
+    (THERMAL_AT + 16, "<B", 0, "not a linear axis"),
+    (THERMAL_AT + 17, "<B", 3, "kind must be 1"),
+    (THERMAL_AT + 18, "<B", 1, "reserved"),
 ])
 def test_a_corrupt_field_is_refused_with_its_reason(offset: int, fmt: str, value: int,
                                                      why: str) -> None:
@@ -119,7 +124,9 @@ def test_a_payload_that_cannot_be_valid_cannot_be_built() -> None:
     with pytest.raises(ValueError, match="term 0 has 2 values"):
         dataclasses.replace(TINY, terms=(TermTable(0, 1, 0, (), (1, 2)),))
     with pytest.raises(ValueError, match="not a linear axis"):
-        dataclasses.replace(TINY, thermal=(ThermalRecord("s", "Z", 1, 1.0, 20.0),))
+        dataclasses.replace(TINY, thermal=(FactoredThermal("s", 0, 1, 1, 20000),))
+    with pytest.raises(ValueError, match="a drift has q_min 0"):
+        FactoredThermal("s", 1, 1, 1, 20000, 5)
 
 
 # --- a built map: the center's reference and the machine's ladder agree ---
@@ -186,11 +193,17 @@ def test_rounding_rotary_first_beats_plain_rounding(
                           st.floats(-310, 10)), min_size=1, max_size=8))
 def test_machine_ladder_matches_the_center(four_axis: tuple[FactoredMap, MachineModel],
                                            points: list[tuple[float, ...]]) -> None:
+    """The machine's integer ladder and the center's reference of §6.5 write the same
+    counts; the fixed-point fields stay within 2^-12 counts of the float tables."""
     fm, _ = four_axis
     q = np.array(points, dtype=float)
     ladder = FactoredLadder(decode_factored(encode(fm)))
-    assert np.allclose(ladder.fields(q), fm.fields(q), rtol=0, atol=1e-12)
+    assert np.array_equal(ladder.counts(q), fm.applied_counts(q))
     assert np.array_equal(ladder.lookup(q), fm.applied(q))
+    whole = np.floor(q * 1000 + 0.5) / 1000  # positions in whole counts: no rounding of q
+    got, want = ladder.fields(whole), fm.fields(whole)
+    assert np.abs(got[:, :4] - want[:, :4]).max() <= 2.0**-12 * fm.increment
+    assert np.abs(got[:, 4:] - want[:, 4:]).max() <= 2.0**-12
 
 
 def test_payload_round_trip_keeps_the_content(
@@ -201,10 +214,36 @@ def test_payload_round_trip_keeps_the_content(
     assert factored_to_payload(back) == factored_to_payload(fm)
 
 
-def test_quantized_clamps_to_the_limits() -> None:
-    c = np.array([[0.9, 0.2]])
-    out = quantized(c, np.zeros((1, 1)), (1,), (0,), 0.001, np.array([0.05, 0.5]))
-    assert out[0, 0] == pytest.approx(0.05) and out[0, 1] == pytest.approx(0.2)
+def test_the_ladder_clamps_to_the_limits() -> None:
+    """A correction beyond its axis's limit is clamped (before and after the rotary
+    choice), by the machine's ladder and the center's reference alike."""
+    big = dataclasses.replace(TINY, terms=(TermTable(1, 1, 0, (), (30000, 30000, 30000)),
+                                           TermTable(0, 0, 0, (), (-900, -900))))
+    q = np.array([[10.0, 120.0], [-170.0, 3.0]])
+    machine_counts = FactoredLadder(big).counts(q)
+    center_counts = factored_from_payload(big).applied_counts(q)
+    assert machine_counts.tolist() == [[-50, 500], [-50, 500]]
+    assert np.array_equal(center_counts, machine_counts)
+
+
+def test_thermal_records_fold_in_millicelsius_by_exact_name() -> None:
+    """TINY's expansion record (11.5 µm/(m·K) as 3236971 · 2^-48 counts per count per
+    m°C) at 31 °C, 11,000 m°C over t_ref: the slope c1 = -R(3236971 · 11000, 16) =
+    -543315 · 2^-32 per count; at X = 400 mm (400,000 counts) R(c1 · q, 16) = -3316132 ·
+    2^-16 counts, rounded once: -51 counts (11.5 · 11 · 0.4 = 50.6 µm). A reading of
+    another name changes nothing."""
+    flat = dataclasses.replace(TINY, terms=(TermTable(2, 0, -10, (), (7, 8)),))
+    lad = FactoredLadder(flat)
+    q = np.array([[0.0, 400.0]])
+    assert lad.counts(q).tolist() == [[0, 0]]
+    lad.set_temperatures({"T_x_screw_C": 31.0})  # the store's column spelling of x_screw
+    assert lad.c1.tolist() == [0, -543315]
+    assert lad.counts(q).tolist() == [[0, -51]]
+    center = factored_from_payload(flat)
+    assert center.applied_counts(q, {"T_x_screw_C": 31.0}).tolist() == [[0, -51]]
+    # the readings the machine has now: none of that exact name, so the record adds 0
+    lad.set_temperatures({"x_scre": 31.0, "screw": 31.0, "X_SCREW": 31.0})
+    assert lad.counts(q).tolist() == [[0, 0]]
 
 
 # --- the machine's store ---

@@ -149,8 +149,8 @@ VALUES_AT = THERMAL_AT + 48
 
 @pytest.mark.parametrize(("at", "raw", "pattern"), [
     (0, b"EDMQ", r"map magic is b'EDMQ'"),
-    (4, struct.pack("<H", 5),
-     r"map format version 5 at offset 4, this end reads 1 .* 2 .* 3 .* and 4"),
+    (4, struct.pack("<H", 6),
+     r"map format version 6 at offset 4, this end reads 1 .* 2 .* 3 .* and 5"),
     (6, b"\x03", r"value encoding 3 at offset 6"),
     (7, b"\x03", r"map kind 3 at offset 7"),
     (8, b"\x00", r"0 output axes \(offset 8\)"),

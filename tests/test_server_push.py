@@ -145,7 +145,7 @@ async def test_a_grid_with_thermal_records_is_not_rebuilt_for_temperatures(
             await until(lambda: store.version == 1)
             active = store.active
             assert isinstance(active, GridMap) and [r.sensor for r in active.thermal] == [
-                "T_spindle_C"]
+                "spindle"]  # the name the Temperatures message carries
             board.update("vmc-01", "spindle", 24.0, source="mqtt")
             board.update("vmc-01", "spindle", 27.5, source="mqtt")
             # a wake rebuilds only when the inputs changed: the temperatures are not inputs

@@ -133,7 +133,7 @@ def test_fanuc_scan_adds_the_thermal_records_and_rounds_once() -> None:
     coef = np.array([[3.0, 0.2, -0.1], [-7.0, 0.05, 0.3], [11.0, -0.15, 0.0]])
     values = np.rint(linear_field(grid, coef)).astype(np.int64)
     records = (ThermalRecord("spindle", "Z", 1, -2.5, 20.0),  # drift of Z
-               ThermalRecord("T_x_C", "X", 2, 11.5, 20.0, 0.0))  # expansion of X
+               ThermalRecord("x", "X", 2, 11.5, 20.0, 0.0))  # expansion of X (exact name)
     p = dataclasses.replace(payload(values), thermal=records)
     plain = fanuc(max_step_counts=1000, thermal_records=False)  # version-1 grids only
     refused = push(plain, p)

@@ -382,12 +382,22 @@ class _Lines:
         return float(prob.tip_um(qt, ddq).max())
 
 
-def _grid_for(prob: MapProblem, names: Sequence[str], counts: Sequence[int]) -> list[GridDim]:
+def _grid_for(prob: MapProblem, names: Sequence[str], counts: Sequence[int],
+              increment: float | None = None) -> list[GridDim]:
+    """The grid of ``counts`` nodes per axis over the travel; with an ``increment`` (an
+    int32 map) start and step are whole counts (the ladder's integer index, protocol/README.md
+    §6.1), the step rounded up so that the grid still covers the travel."""
     dims = []
     for i, c in enumerate(counts):
         if c >= 2:
             lo, hi = float(prob.lo[i]), float(prob.hi[i])
-            dims.append(GridDim(names[i], lo, (hi - lo) / (c - 1), c))
+            if increment is None:
+                dims.append(GridDim(names[i], lo, (hi - lo) / (c - 1), c))
+                continue
+            per_unit = round(1.0 / increment)
+            lo_c = math.floor(lo * per_unit + 1e-9)
+            step_c = max(1, math.ceil((hi * per_unit - lo_c) / (c - 1) - 1e-9))
+            dims.append(GridDim(names[i], lo_c / per_unit, step_c / per_unit, c))
     return dims
 
 
@@ -532,7 +542,7 @@ def build_map(
             errs[i] = lines.error(i, counts[i])
         if all(c == 1 for c in counts):  # constant correction: one axis, two equal nodes
             counts[0] = 2
-        grid = _grid_for(prob, names, counts)
+        grid = _grid_for(prob, names, counts, increment if ctrl == "fanuc" else None)
         values = prob.exact(_node_positions(prob, names, grid)).reshape(
             (*(g.count for g in grid), n_out))
         centres = _cell_centres(prob, names, grid, rng, check_points // 2)

@@ -1,0 +1,252 @@
+"""The Fanuc-style PMC ladder's map arithmetic, in integers only (protocol/README.md §6.1,
+§6.4, §6.5), written from the README.
+
+A map is turned into integer tables once, when it is loaded (:func:`factored_program`,
+:func:`grid_program`); every scan then works on int64 numbers alone: positions in counts
+of the increment, shifts, integer products rescaled after each multiply, one tie rule
+(halves rounded up: ``(x + 2^(s-1)) >> s``). Thermal records fold, once per new
+temperature (in m°C), into a constant (2^-16 counts) and a slope (2^-32 counts per count)
+per axis. Nothing in this module touches a float: ``tests/test_ladder_integer.py`` checks
+its source for float literals, true division and float conversions, and runs it on
+Python ints. Converting a position in mm to counts, or a temperature in °C to m°C, is the
+caller's business (:mod:`machine_sim.lookup`), as it is the PMC's position register's.
+
+Shapes: positions (N, D) counts; results (N, K) counts, int64.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from fractions import Fraction
+
+import numpy as np
+from numpy.typing import NDArray
+
+from protocol.mapfactored import FactoredPayload, FactoredThermal, thermal_fixed
+from protocol.mapformat import THERMAL_DRIFT, ErrorMapPayload, ThermalRecord
+
+I64 = NDArray[np.int64]
+__all__ = ["FactoredProgram", "GridProgram", "factored_counts", "factored_program",
+           "grid_counts", "grid_program", "half_up_shift", "thermal_constants"]
+
+
+def half_up_shift(x: I64, s: int) -> I64:
+    """``x / 2^s`` rounded half up, ``(x + 2^(s-1)) >> s`` (arithmetic shift); ``x · 2^-s``
+    for s <= 0."""
+    if s > 0:
+        out: I64 = (x + (1 << (s - 1))) >> s
+        return out
+    if s < 0:
+        left: I64 = x << -s
+        return left
+    return x
+
+
+def _i64(values: Sequence[int]) -> I64:
+    return np.array(values, dtype=np.int64)
+
+
+@dataclass(frozen=True)
+class _Table:
+    start: int
+    shift: int
+    values: I64
+
+    def lookup(self, q: I64) -> I64:
+        """§6.5 step 1: the value at q (counts), times 2^15."""
+        v = self.values
+        n = v.shape[0]
+        if n == 1:
+            return np.full(q.shape[0], v[0] << 15, dtype=np.int64)
+        x = np.clip(q - self.start, 0, (n - 1) << self.shift)
+        i = np.minimum(x >> self.shift, n - 2)
+        r = x - (i << self.shift)
+        out: I64 = (v[i] << 15) + half_up_shift((v[i + 1] - v[i]) * r, self.shift - 15)
+        return out
+
+
+@dataclass(frozen=True)
+class _Term:
+    field: int
+    axis: int
+    exponent: int
+    factors: tuple[int, ...]
+    table: _Table
+
+
+@dataclass(frozen=True)
+class FactoredProgram:
+    """A factored map as integer tables (loaded once)."""
+
+    axes: tuple[str, ...]
+    rotary: tuple[int, ...]
+    linear: tuple[int, ...]
+    limit: I64
+    reversal: I64
+    n_fields: int
+    bases: tuple[tuple[int, _Table], ...]
+    terms: tuple[_Term, ...]
+    thermal: tuple[FactoredThermal, ...]
+
+
+def factored_program(p: FactoredPayload) -> FactoredProgram:
+    """The integer tables of a decoded factored map (§6.5)."""
+    bases = tuple((b.axis, _Table(b.start, b.shift, _i64(b.values))) for b in p.bases)
+    terms = tuple(_Term(t.field, t.axis, t.exponent, t.factors,
+                        _Table(p.axes[t.axis].start, p.axes[t.axis].shift, _i64(t.values)))
+                  for t in p.terms)
+    return FactoredProgram(
+        axes=tuple(a.name.upper() for a in p.axes),
+        rotary=tuple(i for i, a in enumerate(p.axes) if a.rotary),
+        linear=tuple(i for i, a in enumerate(p.axes) if not a.rotary),
+        limit=_i64([a.limit for a in p.axes]),
+        reversal=_i64([0 if a.reversal is None else a.reversal for a in p.axes]),
+        n_fields=p.n_fields, bases=bases, terms=terms, thermal=p.thermal)
+
+
+def thermal_constants(records: Sequence[FactoredThermal], n_axes: int,
+                      readings_mC: Mapping[str, int]) -> tuple[I64, I64]:
+    """Per axis, the thermal constant (2^-16 counts) and slope (2^-32 counts per count)
+    at the readings (m°C by the exact name the Temperatures message carries); a record
+    whose sensor has no reading adds nothing (§6.4, §6.5)."""
+    c0 = np.zeros(n_axes, dtype=np.int64)
+    c1 = np.zeros(n_axes, dtype=np.int64)
+    for rec in records:
+        t = readings_mC.get(rec.sensor)
+        if t is None:
+            continue
+        dt = t - rec.t_ref_mC
+        if rec.kind == THERMAL_DRIFT:
+            c0[rec.axis] -= (rec.coefficient * dt + (1 << 15)) >> 16
+        else:
+            s = (rec.coefficient * dt + (1 << 15)) >> 16
+            c1[rec.axis] -= s
+            c0[rec.axis] += (s * rec.q_min + (1 << 15)) >> 16
+    return c0, c1
+
+
+def factored_fields(prog: FactoredProgram, q: I64) -> I64:
+    """§6.5 steps 1-2: every field at positions q (N, D) counts, in 2^-16 counts
+    (corrections) or 2^-16 counts per count (sensitivities), (N, n_fields)."""
+    basis = [t.lookup(q[:, axis]) for axis, t in prog.bases]
+    acc = np.zeros((q.shape[0], prog.n_fields), dtype=np.int64)
+    for term in prog.terms:
+        p = term.table.lookup(q[:, term.axis])
+        for b in term.factors:
+            p = half_up_shift(p * basis[b], 29)
+        acc[:, term.field] += half_up_shift(p, -(term.exponent + 1))
+    return acc
+
+
+def factored_counts(prog: FactoredProgram, q: I64, c0: I64, c1: I64) -> I64:
+    """§6.5: the counts the ladder writes for a positive approach at positions q (N, D)
+    counts, thermal constants c0, c1 (D,) → (N, D)."""
+    d = len(prog.axes)
+    acc = factored_fields(prog, q)
+    lim = prog.limit
+    c = np.clip(acc[:, :d] + c0 + half_up_shift(c1 * q, 16), -(lim << 16), lim << 16)
+    rot, lin = _i64(prog.rotary), _i64(prog.linear)
+    if not rot.size or not lin.size:
+        plain: I64 = np.clip(half_up_shift(c, 16), -lim, lim)
+        return plain
+    n = q.shape[0]
+    sens = acc[:, d:].reshape(n, len(lin), len(rot))
+    down = c[:, rot] >> 16
+    best = np.zeros((n, d), dtype=np.int64)
+    best_cost = np.zeros(n, dtype=np.int64)
+    for choice in range(1 << len(rot)):
+        up = _i64([(choice >> (len(rot) - 1 - j)) & 1 for j in range(len(rot))])
+        r_counts = down + up
+        moved = (r_counts << 16) - c[:, rot]
+        want = c[:, lin] + half_up_shift((sens * moved[:, None, :]).sum(axis=2), 16)
+        l_counts = half_up_shift(want, 16)
+        resid = want - (l_counts << 16)
+        cost = (resid * resid).sum(axis=1)
+        win = np.ones(n, dtype=bool) if choice == 0 else cost < best_cost
+        best_cost[win] = cost[win]
+        best[np.ix_(win, rot)] = r_counts[win]
+        best[np.ix_(win, lin)] = l_counts[win]
+    out: I64 = np.clip(best, -lim, lim)
+    return out
+
+
+@dataclass(frozen=True)
+class GridProgram:
+    """An int32 grid map (format version 1 or 3) as integers (loaded once)."""
+
+    start: I64
+    step: I64
+    count: I64
+    strides: I64
+    values: I64
+    outputs: tuple[str, ...]
+    reversal: I64
+    thermal: tuple[FactoredThermal, ...]
+    slope_cols: I64
+    """(K,) the column of the positions holding each output's own position, -1 if none."""
+
+
+def _whole_counts(x: float, per_unit: int, what: str) -> int:
+    """An f64 field holding a whole number of counts (§6.1's conversion rule)."""
+    v = Fraction(x) * per_unit
+    n = (v + Fraction(1, 2)).__floor__()
+    if abs(v - n) > Fraction(1, 1_000_000):
+        raise ValueError(f"{what} is not a whole number of counts")
+    return n
+
+
+def grid_program(p: ErrorMapPayload, per_unit: int, inputs: Sequence[str]) -> GridProgram:
+    """The integer form of an int32 grid map for an endpoint of ``per_unit`` counts per
+    mm (§6.1's conversion: start and step whole counts; thermal records as §6.5's fixed
+    point); ``inputs`` the axes whose positions a lookup takes (grid axes first).
+
+    Raises
+    ------
+    ValueError
+        A start or step that is not whole counts.
+    """
+    raw = np.frombuffer(p.values, dtype="<i4").astype(np.int64).reshape(-1, len(p.outputs))
+    count = _i64([g.count for g in p.grid])
+    strides = np.ones(len(p.grid), dtype=np.int64)
+    for j in range(len(p.grid) - 2, -1, -1):
+        strides[j] = strides[j + 1] * count[j + 1]
+    outputs = tuple(o.name.upper() for o in p.outputs)
+    step = _i64([_whole_counts(g.step, per_unit, f"grid axis {g.name} step") for g in p.grid])
+    if np.any(step < 1):
+        raise ValueError("a grid step must be at least one count")
+    return GridProgram(
+        start=_i64([_whole_counts(g.start, per_unit, f"grid axis {g.name} start")
+                    for g in p.grid]),
+        step=step, count=count, strides=strides, values=raw, outputs=outputs,
+        reversal=_i64([0 if o.reversal is None else int(o.reversal) for o in p.outputs]),
+        thermal=tuple(_record(r, outputs, per_unit) for r in p.thermal),
+        slope_cols=_i64([list(inputs).index(o) if o in inputs else -1 for o in outputs]))
+
+
+def _record(r: ThermalRecord, outputs: Sequence[str], per_unit: int) -> FactoredThermal:
+    return thermal_fixed(r, list(outputs).index(r.axis.upper()), per_unit)
+
+
+def grid_counts(prog: GridProgram, q: I64, c0: I64, c1: I64) -> I64:
+    """§6.1 and §6.4: the counts the ladder writes for a positive approach at positions
+    q (N, len(inputs)) counts, thermal constants c0, c1 (K,) → (N, K)."""
+    d = prog.start.shape[0]
+    x = np.clip(q[:, :d] - prog.start, 0, (prog.count - 1) * prog.step)
+    i = np.minimum(x // prog.step, prog.count - 2)
+    f = ((x - i * prog.step) << 16) // prog.step  # Q16, 0 .. 2^16
+    base = (i * prog.strides).sum(axis=1)
+    # corners: bit j of the corner index set = the upper node along grid axis j
+    corners = [prog.values[base + sum(((c >> (d - 1 - j)) & 1) * int(prog.strides[j])
+                                      for j in range(d))] << 16
+               for c in range(1 << d)]
+    # reduce the last grid axis first: pairs of corners differing in its bit
+    for j in range(d - 1, -1, -1):
+        fj = f[:, j:j + 1]
+        corners = [lo + half_up_shift((hi - lo) * fj, 16)
+                   for lo, hi in zip(corners[0::2], corners[1::2], strict=True)]
+    g = corners[0]
+    cols = prog.slope_cols
+    pos = np.where(cols >= 0, q[:, np.maximum(cols, 0)], 0)
+    out: I64 = half_up_shift(g + c0 + half_up_shift(c1 * pos, 16), 16)
+    return out
