@@ -19,7 +19,7 @@ from tests.support import cec_eval
 from volumetric.compensate.cec import apply_tables, cec_export
 from volumetric.compensate.cec_check import tool_tip
 from volumetric.compensate.cec_text import CecFile, cec_text
-from volumetric.model.components import GeometricErrors
+from volumetric.model.components import GeometricErrors, Polynomial, Sinusoid
 from volumetric.model.kinematics import tool_pose
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import BacklashTerm, MachineModel, ThermalTerm
@@ -215,3 +215,28 @@ def test_export_help_says_what_each_format_carries() -> None:
     for word in ("MULT_BY_TABLE", "DIRECTION", "modulo", "transformation data",
                  "did not identify"):
         assert word in flat, word
+
+
+def test_a_short_ballscrew_period_is_named_with_what_the_points_leave() -> None:
+    m = parse_machine(M3)
+    geo = GeometricErrors({"EXX": Sinusoid(3.0, 10.0)})
+    text, e = write(m, geo, control="828d")
+    (named,) = [x for x in e.left_out if x.error.startswith("EXX")]  # type: ignore[attr-defined]
+    assert "points at step" in named.reason and 1.0 < named.effect_um <= 3.0
+    q = points(m, 4000, 2)
+    dq = cec_eval.compensation(cec_eval.parse(text), {"X1": 0, "Y1": 1, "Z1": 2}, q)
+    assert residual_um(m, geo, q, dq).max() <= named.effect_um + 0.05
+
+
+def test_work_z_folds_an_abbe_term_that_does_not_fit_exactly_at_that_height() -> None:
+    m = parse_machine(M3)
+    geo = GeometricErrors({"EBY": Polynomial((0.0, 30.0), 0.0, 500.0)})  # pitch of Y
+    q = points(m, 1000, 4)
+    q[:, 2] = -100.0  # the working height
+    cols = {"X1": 0, "Y1": 1, "Z1": 2}
+    left = {}
+    for fold in (None, {"Z": -100.0}):
+        text, _ = write(m, geo, max_tables=1, fold_at=fold)  # no room for the product
+        dq = cec_eval.compensation(cec_eval.parse(text), cols, q)
+        left[fold is None] = residual_um(m, geo, q, dq).max()
+    assert left[True] > 3.0 and left[False] < 0.1  # µm: exact at the height asked for

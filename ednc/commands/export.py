@@ -64,7 +64,7 @@ def register(app: typer.Typer) -> None:
             "--model", help="Model JSON as written by 'ednc fit' or 'ednc diagnose'.")],
         fmt: Annotated[str, typer.Option("--format", help=HELP_FORMAT)],
         out: Annotated[Path, typer.Option(
-            "--out", help="cec: the file. iso230-1: a directory for X.csv, ..., "
+            "--out", help="cec: the file (or a directory: EDNC_CEC.MPF in it). iso230-1: a directory for X.csv, ..., "
                           "locations.csv, or a file ending in .csv for all tables in one "
                           "(blocks separated by a blank line).")],
         tolerance_um: Annotated[float, typer.Option(
@@ -92,6 +92,10 @@ def register(app: typer.Typer) -> None:
         tool_length: Annotated[float | None, typer.Option(
             "--tool-length", help="Tool length the Abbe arms are taken with, mm (default: "
                                   "the machine description's).")] = None,
+        work_z: Annotated[float | None, typer.Option(
+            "--work-z", help="cec: the z (mm) at which an Abbe term with arm z that does "
+                             "not fit as a product is folded into a 1-D table (exact "
+                             "there; default: the middle of the z travel).")] = None,
         step: Annotated[float | None, typer.Option(
             "--step", help="iso230-1: row step of the linear axes, mm (default: a round "
                            "step giving 20-50 rows).")] = None,
@@ -130,6 +134,12 @@ def register(app: typer.Typer) -> None:
             raise UserError(f"machine {machine.name!r} has {len(machine.branches)} "
                             "spindles; native exports cover one tool tip")
         names = parse_axis_names(axis_names, machine)
+        if work_z is not None:
+            if "Z" not in machine.axis_names:
+                raise UserError(f"--work-z: machine {machine.name!r} has no Z axis")
+            lo, hi = machine.axis("Z").travel
+            if not lo <= work_z <= hi:
+                raise UserError(f"--work-z {work_z:g}: outside the z travel {lo:g}..{hi:g} mm")
         model = read_model(model_path, machine)
         temps = parse_temperatures(temperature or [])
         tool = machine.branches[0].tool_length_mm if tool_length is None else tool_length
@@ -141,7 +151,8 @@ def register(app: typer.Typer) -> None:
             e = cec_export(machine, geo, tool_mm=tool, control=control,
                            max_tables=max_tables, max_points=max_points,
                            tolerance_um=tolerance_um, positioning=not lec,
-                           backlash_um=backlash)
+                           backlash_um=backlash,
+                           fold_at=None if work_z is None else {"Z": work_z})
             left = list(e.left_out) + [LeftOut(n, None, f"thermal ({w}): left to the "
                                               "temperature path, not a static table")
                                        for n, w in thermal]
@@ -149,6 +160,8 @@ def register(app: typer.Typer) -> None:
             figures = tool_tip(machine, geo, e)
             note = f"model {model_path.name}" + (
                 f" at {', '.join(f'{k}={v:g} C' for k, v in temps.items())}" if temps else "")
+            if out.is_dir():  # a directory: the file goes in it, named as the control does
+                out = out / ("NC_CEC.INI" if program == "ini" else "EDNC_CEC.MPF")
             spec = CecFile(program, program_name(out.stem), names, first_table)
             text = cec_text(e, figures, machine_name=machine.name, model_note=note, f=spec)
             _write(out, text)

@@ -229,6 +229,7 @@ def cec_export(machine: Machine, geometry: GeometricErrors, *, tool_mm: float,
                control: str = "840d", max_tables: int | None = None,
                max_points: int | None = None, tolerance_um: float = 0.5,
                positioning: bool = True, backlash_um: Mapping[str, float] | None = None,
+               fold_at: Mapping[str, float] | None = None,
                plan: CecPlan | None = None) -> CecExport:
     """The CEC tables of a model's geometry, within a control's limits.
 
@@ -249,12 +250,16 @@ def cec_export(machine: Machine, geometry: GeometricErrors, *, tool_mm: float,
     positioning : bool
         False leaves EXX, ..., ECC to the leadscrew tables (named in ``left_out``).
     backlash_um : mapping of axis name (``X``) to reversal µm, optional
+    fold_at : mapping of axis name to position, optional
+        Where an arm along that axis is taken for a product that is not written
+        (:func:`~volumetric.compensate.cec_plan.plan_cec`).
     """
     tables_cap, points_cap = CONTROLS[control]
     max_tables = tables_cap if max_tables is None else max_tables
     max_points = points_cap if max_points is None else max_points
     backlash = {k.upper(): v for k, v in (backlash_um or {}).items() if v}
-    plan = plan or plan_cec(machine, geometry, tool_mm, positioning=positioning)
+    plan = plan or plan_cec(machine, geometry, tool_mm, positioning=positioning,
+                           fold_at=fold_at)
     lin = plan.linear
     travel = {a.name: a.travel for a in machine.axes}
     half = {k: 0.5 * (travel[k][1] - travel[k][0]) for k in lin}

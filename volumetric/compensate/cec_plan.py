@@ -34,7 +34,7 @@ its tool-tip effect.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -139,7 +139,8 @@ def _linear(k: float) -> Fn:
 
 
 def plan_cec(machine: Machine, geometry: GeometricErrors, tool_mm: float, *,
-             positioning: bool = True, n_fit: int = 600, seed: int = 0) -> CecPlan:
+             positioning: bool = True, fold_at: Mapping[str, float] | None = None,
+             n_fit: int = 600, seed: int = 0) -> CecPlan:
     """The shares of :class:`CecPlan` for a model's geometry.
 
     Parameters
@@ -153,6 +154,10 @@ def plan_cec(machine: Machine, geometry: GeometricErrors, tool_mm: float, *,
     positioning : bool
         False leaves the positioning errors of each axis (EXX, ..., ECC) to the
         leadscrew (LEC) tables: they are named in ``left`` instead.
+    fold_at : mapping of axis name to position, optional
+        Where an Abbe arm along that axis is taken when its product is not written (the
+        working height for Z, ``--work-z``): the product's share at that position is in
+        the 1-D table of its factor's axis. Default: the middle of the axis's travel.
     n_fit : int
         Random points the affine shapes are fitted on (a second set checks them).
     """
@@ -164,6 +169,8 @@ def plan_cec(machine: Machine, geometry: GeometricErrors, tool_mm: float, *,
     design = np.column_stack([np.ones(q.shape[0]), q[:, lin_cols]])
     half = {k: 0.5 * (machine.axis(k).travel[1] - machine.axis(k).travel[0]) for k in lin}
     centre = {k: 0.5 * (machine.axis(k).travel[0] + machine.axis(k).travel[1]) for k in lin}
+    centre.update({k.upper(): float(v) for k, v in (fold_at or {}).items()
+                   if k.upper() in centre})
     plan = CecPlan(machine, geometry, tool_mm, lin, centre)
     coefs: dict[str, F64] = {}
 

@@ -6,7 +6,8 @@ tables onto one axis add and may cancel. Three choices are tried and the best ke
 by the worst plus the RMS tool-tip error the first-order correction leaves: greedy from
 nothing, adding the group that lowers that most per table it costs, or most outright,
 until the table count is reached or nothing lowers it; and the groups by the size of their
-own share, largest first, each with the tables it needs. The
+own share, largest first, each with the tables it needs. The best of the three is then
+improved by exchanging one or two of its tables for others while that lowers the score. The
 judgement is on random points over the travel with random traversing directions; what is
 not chosen is named with its own tool-tip effect.
 """
@@ -68,7 +69,7 @@ def group_shares(plan: CecPlan, backlash: Mapping[str, float], n: int = 1500,
 
 def _score(rest: F64) -> float:
     norm = np.linalg.norm(rest, axis=1)
-    return float(norm.max() + np.sqrt(np.mean(norm * norm)))
+    return float(norm.max() + 0.25 * np.sqrt(np.mean(norm * norm)))
 
 
 def select_groups(needs: Mapping[str, Sequence[str]], shares: Mapping[str, F64],
@@ -124,7 +125,53 @@ def select_groups(needs: Mapping[str, Sequence[str]], shares: Mapping[str, F64],
         return chosen
 
     options = [greedy(True), greedy(False), by_size()]
-    return min(options, key=lambda keys: _score(total - carried(keys)))
+    start = min(options, key=lambda keys: _score(total - carried(keys)))
+    return _improve(start, needs, shares, total, max_tables)
+
+
+def _improve(start: set[str], needs: Mapping[str, Sequence[str]],
+             shares: Mapping[str, F64], total: F64, max_tables: int) -> set[str]:
+    """Hill-climb from a choice: exchange one or two tables for as many others (a
+    product needs its factor and its arm at once) while that lowers the score."""
+    keys = sorted({t for ts in needs.values() for t in ts})
+    # a group is carried when every table it needs is written
+    carried_by = [(set(ts), shares[g]) for g, ts in needs.items() if g in shares]
+    consts = [(k[6:], v) for k, v in shares.items() if k.startswith("const:")]
+
+    def score(state: frozenset[str]) -> float:
+        out = np.zeros_like(total)
+        for ts, v in carried_by:
+            if ts <= state:
+                out = out + v
+        for d, v in consts:
+            if any(t.startswith("1d:") and t.endswith(":" + d) for t in state):
+                out = out + v
+        return _score(total - out)
+
+    state = frozenset(start)
+    best = score(state)
+    for _ in range(50):
+        outside = [k for k in keys if k not in state]
+        moves: list[frozenset[str]] = []
+        room = max_tables - len(state)
+        moves += [state | {a} for a in outside] if room >= 1 else []
+        moves += [state - {r} | {a} for r in state for a in outside]
+        found = min(moves, key=score, default=None)
+        if found is None or score(found) >= best - 1e-12:
+            inside = sorted(state)
+            pairs_out = [(inside[i], inside[j]) for i in range(len(inside))
+                         for j in range(i + 1, len(inside))]
+            pairs_in = [(outside[i], outside[j]) for i in range(len(outside))
+                        for j in range(i + 1, len(outside))]
+            moves = [state - set(po) | set(pi) for po in pairs_out for pi in pairs_in]
+            if room >= 1:
+                moves += [state - {r} | set(pi) for r in state for pi in pairs_in]
+            found = min(moves, key=score, default=None)
+            if found is None or score(found) >= best - 1e-12:
+                return set(state)
+        state = found
+        best = score(found)
+    return set(state)
 
 
 __all__ = ["group_shares", "select_groups"]
