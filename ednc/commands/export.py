@@ -64,7 +64,8 @@ def register(app: typer.Typer) -> None:
             "--model", help="Model JSON as written by 'ednc fit' or 'ednc diagnose'.")],
         fmt: Annotated[str, typer.Option("--format", help=HELP_FORMAT)],
         out: Annotated[Path, typer.Option(
-            "--out", help="cec: the file (or a directory: EDNC_CEC.MPF in it). iso230-1: a directory for X.csv, ..., "
+            "--out", help="cec: the file (or a directory: EDNC_CEC.MPF in it). "
+                          "iso230-1: a directory for X.csv, ..., "
                           "locations.csv, or a file ending in .csv for all tables in one "
                           "(blocks separated by a blank line).")],
         tolerance_um: Annotated[float, typer.Option(
