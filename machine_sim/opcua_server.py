@@ -436,20 +436,17 @@ class SinumerikOpcuaServer:
     certificate, private_key : Path, optional
         PEM or DER files; with them the server also offers Basic256Sha256 (Sign,
         SignAndEncrypt) beside None.
-    shelf : Path, optional
-        asyncua's cache of the standard address space (built on first use): servers
-        started from it load nodes lazily, far less memory for a fleet in one process.
     """
 
     def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], *,
                  host: str = "127.0.0.1", port: int = 0, db: int = 900,
                  max_sessions: int = MAX_SESSIONS, certificate: Path | None = None,
-                 private_key: Path | None = None, shelf: Path | None = None) -> None:
+                 private_key: Path | None = None) -> None:
         self.cnc = cnc
         self.host = host
         self.port = port
         self.db = db
-        self.certificate, self.private_key, self.shelf = certificate, private_key, shelf
+        self.certificate, self.private_key = certificate, private_key
         self.sinumerik = _Sinumerik(cnc, users, db)
         self._internal = _Internal(_Users(users), self.sinumerik, max_sessions)
         self.server: Server | None = None
@@ -462,7 +459,7 @@ class SinumerikOpcuaServer:
     async def start(self) -> None:
         """Build the address space and listen."""
         srv = Server(iserver=self._internal)
-        await srv.init(self.shelf)
+        await srv.init()
         srv.disable_clock()  # a fleet of servers need not rewrite CurrentTime every second
         srv.set_endpoint(f"opc.tcp://{self.host}:{self.port}")
         srv.set_server_name(f"SINUMERIK {self.cnc.machine.name} (simulated)")

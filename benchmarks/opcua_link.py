@@ -1,0 +1,211 @@
+"""100 SINUMERIK-style machines over OPC UA: connect all, push a map to each.
+
+    .venv/bin/python benchmarks/opcua_link.py [--machines 100] [--workers 4] [--cycle-ms 100]
+
+The machines (WindowCNC over a SiemensNC, each with its own asyncua OPC UA server,
+machine_sim/opcua_server.py) run in ``--workers`` separate processes, so the center side
+is measured alone: this process holds one :class:`~server.controllers.opcua.OpcuaMemory`
+(asyncua client, user with PlcWrite) per machine, in one event loop. Measured:
+
+* connect: all sessions opened at once (login included), wall time and this process's CPU;
+* push: every machine gets its map at once (its name in the map; a Siemens-style tables
+  map of a five-axis machine at 1 µm, 5.4 kB, built once): status read, the writes of
+  ``plan_map_write`` in blocks of ``OpcuaMemory.block`` bytes, the status polled every
+  100 ms (the SINUMERIK's fastest sampling) until the PLC's ack; wall time, per-push
+  latency p50/max and CPU of this process per push; every ack must say applied with the
+  map's version;
+* peer in the same run: the same push again in 246-byte blocks (the Modbus link's
+  block, 123 registers), so the cost of the block size is seen side by side.
+
+The machines' controller cycle is ``--cycle-ms`` (100 ms by default instead of the
+SINUMERIK's 4 ms IPO cycle: 100 machines at 4 ms would need 25,000 Python cycles a
+second on this 2-core machine; the PLC program handles a switch in its next cycle either
+way, so the ack comes up to one cycle later than on a real controller).
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import dataclasses
+import json
+import os
+import resource
+import statistics
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+import numpy as np  # noqa: E402
+
+from machine_sim.opcua_server import PLC_WRITER, OpcuaUser, sinumerik_server  # noqa: E402
+from machine_sim.truth import random_geometry  # noqa: E402
+from machine_sim.windowcnc import WindowCNC  # noqa: E402
+from protocol.ctrlmem import (  # noqa: E402
+    STATUS_AT,
+    STATUS_SIZE,
+    Layout,
+    decode_identity,
+    decode_status,
+    plan_map_write,
+)
+from server.controllers.opcua import OpcuaMemory  # noqa: E402
+from server.mapcodec import build_for, encode  # noqa: E402
+from volumetric.model.machine import Machine, parse_machine  # noqa: E402
+from volumetric.model.model import MachineModel  # noqa: E402
+
+PASSWORD_ENV = "EDNC_BENCH_OPCUA_PW"
+PASSWORD = "bench-plc-pw"
+def name_of(i: int) -> str:
+    return f"sie-{i:05d}"
+
+
+def machine_of(i: int) -> Machine:
+    """A five-axis Siemens-style machine (the test fleet's 5ax-04 chain and pivots)."""
+    return parse_machine({
+        "name": name_of(i), "controller": "siemens", "ip": "127.0.0.1",
+        "chain": "w C A X b Y Z t",
+        "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0], "a": [-120, 120],
+                      "c": [-360, 360]},
+        "pivots_mm": {"C": [400.0, 300.0, -200.0], "A": [400.0, 300.0, -150.0]},
+        "tool_length_mm": 100.0})
+
+
+# -- the machines (worker processes)
+
+async def serve(first: int, count: int, cycle_s: float) -> None:
+    """Run machines first..first+count-1; print their ports as one JSON line; run until
+    stdin closes."""
+    users = {"ednc": OpcuaUser(PASSWORD, PLC_WRITER)}
+    cncs = [WindowCNC(machine_of(i), sinumerik_server(users), seed=i, cycle_s=cycle_s)
+            for i in range(first, first + count)]
+    for c in cncs:
+        await c.__aenter__()
+    print(json.dumps({"ports": [c.server.port for c in cncs]}), flush=True)
+    loop = asyncio.get_running_loop()
+    await loop.run_in_executor(None, sys.stdin.read)
+    for c in cncs:
+        await c.__aexit__(None, None, None)
+
+
+# -- the center side (this process)
+
+def cpu_s() -> float:
+    r = resource.getrusage(resource.RUSAGE_SELF)
+    return r.ru_utime + r.ru_stime
+
+
+async def push(mem: OpcuaMemory, payload: bytes, version: int) -> float:
+    """Deliver ``payload`` as ``version``; returns the latency to the PLC's ack, s."""
+    t0 = time.perf_counter()
+    ident = decode_identity(await mem.read(0, 64))
+    st = decode_status(await mem.read(STATUS_AT, STATUS_SIZE))
+    target = 2 if st.active == 1 else 1
+    seq = st.ack_seq % 0x3FFF + 1
+    for w in plan_map_write(Layout(ident.capacity), target, payload, version, seq,
+                            block=mem.block):
+        await mem.write(w.offset, w.data)
+    while True:
+        await asyncio.sleep(0.1)
+        st = decode_status(await mem.read(STATUS_AT, STATUS_SIZE))
+        if st.ack_seq == seq:
+            break
+    if st.ack_code != 0 or st.applied_version != version:
+        raise RuntimeError(f"{mem.address}: ack {st.ack_code}, version {st.applied_version}")
+    return time.perf_counter() - t0
+
+
+async def push_all(mems: list[OpcuaMemory], payloads: list[bytes], version: int
+                   ) -> dict[str, Any]:
+    c0, t0 = cpu_s(), time.perf_counter()
+    lat = await asyncio.gather(*(push(m, p, version) for m, p in zip(mems, payloads,
+                                                                     strict=True)))
+    wall, cpu = time.perf_counter() - t0, cpu_s() - c0
+    return {"wall_s": wall, "cpu_per_push_ms": 1000 * cpu / len(mems),
+            "p50_s": statistics.median(lat), "max_s": max(lat)}
+
+
+async def center(n: int, workers: int, cycle_ms: float) -> None:
+    m = machine_of(0)
+    truth = random_geometry(m, np.random.default_rng(4), scale=2.0, form="table")
+    content = build_for(m, MachineModel(m.name, truth), {}, tolerance_um=1.0,
+                        controller="siemens")
+
+    def payload(i: int, version: int) -> bytes:
+        mach = content.machine
+        named = name_of(i) if isinstance(mach, str) else dataclasses.replace(mach,
+                                                                             name=name_of(i))
+        return encode(dataclasses.replace(content, machine=named,  # type: ignore[arg-type]
+                                          version=version))
+
+    print(f"map: {type(content).__name__}, {len(payload(0, 1))} bytes")
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    per = -(-n // workers)
+    procs = []
+    t0 = time.perf_counter()
+    for w in range(workers):
+        first, count = w * per, min(per, n - w * per)
+        if count <= 0:
+            break
+        procs.append(subprocess.Popen(
+            [sys.executable, __file__, "--serve", str(first), str(count),
+             "--cycle-ms", str(cycle_ms)],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+            env=env, text=True))
+    ports: list[int] = []
+    for p in procs:
+        assert p.stdout is not None
+        line = await asyncio.to_thread(p.stdout.readline)
+        ports += json.loads(line)["ports"]
+    print(f"{len(ports)} machines serving in {len(procs)} processes after "
+          f"{time.perf_counter() - t0:.1f} s")
+    os.environ[PASSWORD_ENV] = PASSWORD
+    mems = [OpcuaMemory(f"opc.tcp://127.0.0.1:{port}", "ednc", f"env:{PASSWORD_ENV}",
+                        timeout_s=30.0) for port in ports]
+    try:
+        c0, t0 = cpu_s(), time.perf_counter()
+        await asyncio.gather(*(m.connect() for m in mems))
+        wall, cpu = time.perf_counter() - t0, cpu_s() - c0
+        print(f"connect all {n}: {wall:.2f} s wall, {1000 * cpu / n:.1f} ms CPU per session")
+        rows = []
+        for label, block, version in (("960-byte blocks", 960, 1),
+                                      ("246-byte blocks (peer)", 246, 2)):
+            for m in mems:
+                m.block = block
+            r = await push_all(mems, [payload(i, version) for i in range(n)], version)
+            rows.append((label, r))
+            print(f"push all {n}, {label}: {r['wall_s']:.2f} s wall, latency p50 "
+                  f"{r['p50_s']:.2f} s max {r['max_s']:.2f} s, "
+                  f"{r['cpu_per_push_ms']:.1f} ms CPU per push")
+        ratio = rows[1][1]["cpu_per_push_ms"] / rows[0][1]["cpu_per_push_ms"]
+        print(f"CPU per push, 246-byte / 960-byte blocks: {ratio:.2f}")
+    finally:
+        await asyncio.gather(*(m.close() for m in mems))
+        for p in procs:
+            assert p.stdin is not None
+            p.stdin.close()
+        for p in procs:
+            p.wait(timeout=120)
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--machines", type=int, default=100)
+    ap.add_argument("--workers", type=int, default=4)
+    ap.add_argument("--cycle-ms", type=float, default=100.0)
+    ap.add_argument("--serve", type=int, nargs=2, metavar=("FIRST", "COUNT"),
+                    help=argparse.SUPPRESS)
+    a = ap.parse_args()
+    if a.serve:
+        asyncio.run(serve(a.serve[0], a.serve[1], a.cycle_ms / 1000))
+    else:
+        asyncio.run(center(a.machines, a.workers, a.cycle_ms))
+
+
+if __name__ == "__main__":
+    main()
