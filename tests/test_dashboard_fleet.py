@@ -194,22 +194,26 @@ def test_real_machines_on_the_dashboard(center_with_fleet: Live, tmp_path: Path)
             page.goto(live.url + "/")
             expect(page.locator("#machines > tbody > tr")).to_have_count(3)
             for name in ("vmc-01", "dmu-02"):
-                row = page.locator(f'tr[data-machine="{name}"]')
-                # Connected, authenticated, its first map pushed and acknowledged.
-                expect(row).to_have_class("health-ok", timeout=30_000)
+                row = page.locator(f'#machines > tbody > tr[data-machine="{name}"]')
+                # Connected, authenticated, its first map pushed and acknowledged...
+                expect(row.locator('[data-field="maps"]')).to_have_text("v1 / v1 / v1",
+                                                                        timeout=30_000)
                 expect(row.locator('[data-field="connected"]')).to_have_text("connected")
-                expect(row.locator('[data-field="maps"]')).to_have_text("v1 / v1 / v1")
+                # ... but delivered is not accurate: nobody verified it yet
+                expect(row).to_have_class("health-unknown")
+                expect(page.locator(f'#accuracy tr[data-machine="{name}"] li').first
+                       ).to_contain_text("never verified")
                 expect(row.locator('[data-field="owner"]')).to_have_text(
                     f"served by {NODE}")
                 position = row.locator('[data-field="pos-X"]')
                 expect(position).to_have_text(MM)
                 first = position.inner_text()
                 expect(position).not_to_have_text(first, timeout=10_000)  # the axis moves
-            dmu = page.locator('tr[data-machine="dmu-02"]')
+            dmu = page.locator('#machines > tbody > tr[data-machine="dmu-02"]')
             temperature = dmu.locator('[data-field^="temp-"]').first
             expect(temperature).to_contain_text("°C")
             expect(temperature).to_have_attribute("title", re.compile(r"^telemetry, \d+ s ago$"))
-            refused = page.locator('tr[data-machine="vmc-03"]')
+            refused = page.locator('#machines > tbody > tr[data-machine="vmc-03"]')
             expect(refused).to_have_class("health-offline")
             # its first wrong answer is refused as such; the retries after it are throttled
             refusal = page.locator('#events tr[data-kind="refused"]').filter(
@@ -229,6 +233,19 @@ def test_real_machines_on_the_dashboard(center_with_fleet: Live, tmp_path: Path)
                     expect(cells).to_have_count(len(out["values"]) * len(out["values"][0]))
             expect(page.locator('#live-values [data-field="pos-X"]')).to_have_text(MM)
             page.screenshot(path=str(tmp_path / "fleet-machine.png"), full_page=True)
+            # a map that is not a grid is not captioned as one (Fanuc-style factored maps)
+            for name in ("vmc-01", "dmu-02"):
+                kind = httpx.get(f"{live.url}/api/machines/{name}/maps/latest/grid").json()[
+                    "kind"]
+                page.goto(live.url + f"/machines/{name}")
+                caption = page.locator('[data-field="map-caption"]')
+                expect(caption).to_contain_text({"grid": "grid of", "tables": "component tables",
+                                                 "factored": "factored map"}[kind])
+                if kind != "grid":
+                    expect(caption).not_to_contain_text("grid of")
+                expect(page.locator('#accuracy [data-field="map-facts"]')).to_contain_text(
+                    {"grid": "grid map", "tables": "component tables",
+                     "factored": "factored map"}[kind])
             assert errors == []
         finally:
             browser.close()

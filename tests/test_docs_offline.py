@@ -33,6 +33,7 @@ async def test_api_docs_load_only_what_the_app_serves(client: httpx.AsyncClient,
                                                       page: str) -> None:
     r = await client.get(page)
     assert r.status_code == 200
+    assert r.headers["content-security-policy"].startswith("default-src 'self';")
     html = r.text
     assert re.search(r"https?://|[\"'(]//", html) is None, "a host outside the app"
     assets = ASSET.findall(html)

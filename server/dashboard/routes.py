@@ -163,10 +163,16 @@ async def _grid(db: DatabaseDep, machine: MachineRow, version: int | None,
             except MachineSpecError as exc:
                 raise MapSliceError(f"the registered description does not parse: {exc}"
                                     ) from None
-            return await asyncio.to_thread(slice_tables, payload, described, u, v)
-        return await asyncio.to_thread(slice_map, payload, u, v)
+            grid = await asyncio.to_thread(slice_tables, payload, described, u, v)
+        else:
+            grid = await asyncio.to_thread(slice_map, payload, u, v)
     except MapSliceError as exc:
         raise unprocessable(["query"], str(exc), "grid_axis") from None
+    temps = row.temperatures if isinstance(row.temperatures, dict) else {}
+    return grid.model_copy(update={
+        "thermal_records": len(payload.thermal), "bytes": row.size_bytes,
+        "built_at_C": {str(k): float(t) for k, t in temps.items()
+                       if isinstance(t, int | float) and not isinstance(t, bool)}})
 
 
 @api.get("/machines/{name}/maps/latest/grid", responses={**NOT_FOUND, **_STORED})

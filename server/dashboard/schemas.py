@@ -252,6 +252,15 @@ class MapGrid(BaseModel):
         description="The other grid axes at their node nearest mid-travel, mm or degrees."
     )
     outputs: list[MapSlice]
+    thermal_records: int = Field(
+        default=0, description="Thermal records the map carries: the machine adds them at "
+        "its live temperatures; the values shown leave them out (the thermal terms at "
+        "their reference temperatures).")
+    built_at_C: dict[str, float] = Field(
+        default_factory=dict, description="The temperatures the map was built at (model "
+        "column to °C): the thermal terms a map without thermal records carries are "
+        "evaluated there.")
+    bytes: int | None = Field(default=None, description="The payload's length, bytes.")
 
 
 class DiagonalProfile(BaseModel):

@@ -42,13 +42,60 @@ const EDNC = (() => {
     return node;
   }
 
-  /** An estimate such as reversal_um = 9.8 as "reversal 9.80 µm" (unit from the key). */
-  function estimate(key, value) {
-    const units = [["_um_per_m_K", "µm/(m·K)"], ["_um_per_K", "µm/K"], ["_um", "µm"],
-      ["_mm", "mm"], ["_urad", "µrad"], ["_s", "s"], ["_C", "°C"]];
-    const found = units.find(([suffix]) => key.endsWith(suffix));
-    const name = (found ? key.slice(0, -found[0].length) : key).replace(/_/g, " ");
-    return found ? `${name} ${num(value, 2)} ${found[1]}` : `${name} ${num(value, 3)}`;
+  // What the keys of a diagnosis estimate (formats.md §3) mean, for a person: a label and
+  // the unit; a key "<k>_std" is the standard uncertainty of "<k>" and is shown beside it.
+  const ESTIMATE_LABELS = {
+    reversal_um: ["reversal", "µm"], um_per_K: ["sensitivity", "µm/K"],
+    um_per_m_K: ["expansion", "µm/(m·K)"], um_per_h: ["drift", "µm/h"],
+    radial_um: ["radial amplitude", "µm"], order: ["per revolution, order", ""],
+    period_mm: ["period", "mm"], phase_rad: ["phase", "rad"], tau_s: ["time constant", "s"],
+    amplitude_um: ["amplitude", "µm"], max_abs_um: ["largest residual", "µm"],
+    structure_um: ["structure", "µm"], steady_um_per_K: ["steady sensitivity", "µm/K"],
+    offset_um: ["offset", "µm"], rms_um: ["RMS", "µm"], rms_rigid_um: ["RMS (rigid model)", "µm"],
+    n_readings: ["readings", ""], rms_before_um: ["RMS before", "µm"],
+    rms_after_um: ["RMS after", "µm"], r2: ["R²", ""],
+  };
+  const SUFFIX_UNITS = [["_um_per_m_K", "µm/(m·K)"], ["_um_per_K", "µm/K"], ["_um_per_h", "µm/h"],
+    ["_um", "µm"], ["_mm", "mm"], ["_urad", "µrad"], ["_rad", "rad"], ["_s", "s"],
+    ["_C", "°C"], ["_K", "K"]];
+
+  /** One estimate entry as "reversal 9.80 ± 0.12 µm" (std from the "<key>_std" entry of
+   *  `all` when given); labels, not keys. */
+  function estimate(key, value, all = {}) {
+    let [label, unit] = ESTIMATE_LABELS[key] || [null, null];
+    if (label === null) {
+      const found = SUFFIX_UNITS.find(([suffix]) => key.endsWith(suffix));
+      unit = found ? found[1] : "";
+      label = (found ? key.slice(0, -found[0].length) : key).replace(/_/g, " ");
+    }
+    const digits = Number.isInteger(value) ? 0 : Math.abs(value) < 0.1 ? 3 : 2;
+    const std = all[`${key}_std`];
+    const spread = typeof std === "number" ? ` ± ${num(std, digits)}` : "";
+    return `${label} ${num(value, digits)}${spread}${unit ? " " + unit : ""}`;
+  }
+
+  /** Every entry of an estimate, its "_std" entries beside their values. */
+  function estimates(all) {
+    return Object.entries(all || {})
+      .filter(([k]) => !(k.endsWith("_std") && k.slice(0, -4) in all))
+      .map(([k, v]) => estimate(k, v, all)).join(", ");
+  }
+
+  /** What a diagnosis says, in words: effect "none" means the readings show no effect
+   *  beyond the model (a diagnosis was made), not that none was made. */
+  function effectText(d) {
+    if (d.effect === "none") return "no effect beyond the model found";
+    const words = { backlash: "backlash", thermal_drift: "thermal drift",
+      thermal_expansion: "thermal expansion", time_drift: "drift with time",
+      periodic: "periodic error", rotary_periodic: "rotary periodic error",
+      unexplained: "unexplained error" };
+    return [words[d.effect] || d.effect.replace(/_/g, " "), d.axis ? `on ${d.axis}` : null,
+      d.sensor ? `(sensor ${d.sensor})` : null].filter(Boolean).join(" ");
+  }
+
+  /** A model's info entry (fit statistics) as a label with its unit. */
+  function infoText(key, value) {
+    return typeof value === "number" ? estimate(key, value) : `${key.replace(/_/g, " ")}: ${value}`;
   }
 
   /** A number with fixed decimals, or an em dash when there is none. */
@@ -142,12 +189,119 @@ const EDNC = (() => {
     node.textContent = state === "live" ? "● live" : "● reconnecting…";
   }
 
-  const HEALTH_TEXT = { ok: "OK", warn: "ATTENTION", alarm: "ALARM", offline: "OFFLINE" };
+  const HEALTH_TEXT = { ok: "OK", unknown: "UNKNOWN", warn: "ATTENTION", offline: "OFFLINE",
+    alarm: "ALARM", out_of_tolerance: "OUT OF TOLERANCE" };
+  const SEVERITY = ["ok", "unknown", "warn", "offline", "alarm", "out_of_tolerance"];
 
   function healthPill(card) {
     return el("span", { class: `pill ${card.health}`, "data-field": "health",
       title: card.health_reason }, HEALTH_TEXT[card.health] || card.health);
   }
+
+  /** The reasons behind a machine's accuracy state, worst first, as a list. */
+  function reasonList(card) {
+    const reasons = card.accuracy ? card.accuracy.reasons
+      : [{ state: card.health, code: "", text: card.health_reason }];
+    return el("ul", { class: "reasons", "data-field": "reasons" }, reasons.map((r) =>
+      el("li", { class: `reason ${r.state}`, "data-code": r.code }, r.text)));
+  }
+
+  /** "3.3 kB" from bytes. */
+  function bytes(n) {
+    if (n === null || n === undefined) return "—";
+    return n < 1000 ? `${n} B` : n < 1e6 ? `${(n / 1000).toFixed(1)} kB`
+      : `${(n / 1e6).toFixed(2)} MB`;
+  }
+
+  const KIND_TEXT = { grid: "grid map", tables: "component tables",
+    factored: "factored map (one-axis tables the controller combines)" };
+
+  /** The temperatures a map was built at: "spindle 21.5 °C, column 20.1 °C". */
+  function builtAt(temps) {
+    return Object.entries(temps || {}).map(([k, v]) =>
+      `${k.replace(/^T_/, "").replace(/_C$/, "")} ${num(v, 1)} °C`).join(", ");
+  }
+
+  /** What the machine's newest map is: kind, size, age, error as sent (when checked). */
+  function mapFacts(m) {
+    if (m.latest === null || m.latest === undefined) return "no map built";
+    const parts = [`v${m.latest}`, KIND_TEXT[m.kind] || "map", bytes(m.bytes)];
+    if (m.age_s !== null && m.age_s !== undefined) parts.push(`applied ${age(m.age_s)}`);
+    if (m.error_um !== null && m.error_um !== undefined) {
+      parts.push(`error as sent ${num(m.error_um, 2)} µm` +
+        (m.tolerance_um ? ` (built for ${num(m.tolerance_um, 2)} µm)` : ""));
+    }
+    return parts.join(" · ");
+  }
+
+  // ---- trend charts (uPlot, served from /static/vendor/uplot) ------------------------
+  const COLORS = ["#7cc0ff", "#ef6f6c", "#52c77a", "#e8b13c", "#c792ea", "#5fd7d7", "#f78c6c"];
+  const WINDOWS = [["1 h", 3600], ["8 h", 8 * 3600], ["24 h", 86400], ["7 d", 7 * 86400],
+    ["30 d", 30 * 86400]];
+
+  /** The window chosen in the page's address (?window=<s>), default 24 h. */
+  function windowS() {
+    const w = Number(new URLSearchParams(location.search).get("window"));
+    return WINDOWS.some(([, s]) => s === w) ? w : 86400;
+  }
+
+  /** A select of the windows; choosing one keeps it in the address and calls onChange. */
+  function windowSelect(onChange) {
+    const s = el("select", { "aria-label": "history window", id: "window" },
+      WINDOWS.map(([label, secs]) => el("option", { value: secs, selected: secs === windowS() },
+        label)));
+    s.addEventListener("change", () => {
+      const params = new URLSearchParams(location.search);
+      params.set("window", s.value);
+      history.replaceState(null, "", `${location.pathname}?${params}`);
+      onChange(Number(s.value));
+    });
+    return s;
+  }
+
+  /**
+   * A time chart with axes (time, and the unit) of series [{name, t: [s], mean: []}]
+   * drawn by uPlot into a new <div class="trend-chart">; the series need not share times
+   * (a missing bucket is a gap). `data-points` says how many points were drawn.
+   */
+  function timeChart(series, { unit, title = "", width = 300, height = 130, points = false,
+    since = null, until = null } = {}) {
+    const box = el("div", { class: "trend-chart", "data-unit": unit });
+    const times = [...new Set(series.flatMap((s) => s.t))].sort((a, b) => a - b);
+    const index = new Map(times.map((t, i) => [t, i]));
+    const columns = series.map((s) => {
+      const col = new Array(times.length).fill(null);
+      s.t.forEach((t, i) => { col[index.get(t)] = s.mean[i]; });
+      return col;
+    });
+    box.setAttribute("data-points", String(series.reduce((n, s) => n + s.t.length, 0)));
+    box.setAttribute("data-series", series.map((s) => s.name).join(","));
+    if (!times.length) {
+      box.append(el("p", { class: "sub nodata" }, `${title ? title + ": " : ""}no data in ` +
+        "this window"));
+      return box;
+    }
+    const dim = "#93a1b0", line = "#2c3845";
+    const axis = { stroke: dim, grid: { stroke: line, width: 1 }, ticks: { stroke: line },
+      font: "11px DejaVu Sans, sans-serif" };
+    const opts = {
+      width, height, title,
+      scales: { x: { time: true, range: since !== null ? [since, until] : undefined } },
+      axes: [axis, { ...axis, label: unit, labelFont: "11px DejaVu Sans, sans-serif",
+        size: 50, labelSize: 14 }],
+      series: [{ label: "time" }, ...series.map((s, i) => ({
+        label: s.name, stroke: COLORS[i % COLORS.length], width: 1.5,
+        points: { show: points || s.t.length < 3 },
+        value: (u, v) => (v === null || v === undefined ? "—" : `${v.toFixed(2)} ${unit}`),
+      }))],
+      legend: { show: true, live: true },
+      cursor: { drag: { x: false, y: false } },
+    };
+    // eslint-disable-next-line no-undef
+    box.chart = new uPlot(opts, [times, ...columns], box);
+    return box;
+  }
+
 
   /** Diverging blue–white–red colour of t in [-1, 1]. */
   function diverging(t) {
@@ -218,6 +372,8 @@ const EDNC = (() => {
     return root;
   }
 
-  return { el, svg, fill, estimate, num, qty, signed, age, time, posUnit, compUnit, getJSON, follow,
-    showLinkState, healthPill, diverging, ticks, lineChart };
+  return { el, svg, fill, estimate, estimates, effectText, infoText, num, qty, signed, age,
+    time, posUnit, compUnit, getJSON, follow, showLinkState, healthPill, reasonList, bytes,
+    builtAt, mapFacts, KIND_TEXT, HEALTH_TEXT, SEVERITY, diverging, ticks, lineChart,
+    timeChart, windowS, windowSelect };
 })();

@@ -1,77 +1,87 @@
-// The machines dashboard: a fleet health strip, one row per registered machine with small
-// trends (temperature, applied compensation, map version), redrawn from every snapshot of
-// /api/live (about once a second), and the recent events below.
+// The machines dashboard. First screen: every machine's accuracy state, worst first, with
+// the reasons (is it within its tolerance, and if not, why). Below: one row per registered
+// machine with its live values, redrawn from every snapshot of /api/live (about once a
+// second), and trend charts of its temperatures and applied corrections drawn from the
+// server's history (/api/history: they survive a reload), refreshed every 30 s; the
+// recent events at the bottom.
 "use strict";
 
 (() => {
-  const { el, svg, num, qty, signed, age, time, posUnit, compUnit } = EDNC;
+  const { el, num, qty, signed, age, time, posUnit, compUnit } = EDNC;
 
-  // Trends are kept in the page from the snapshots it received (about one a second): the
-  // last TREND_POINTS of each machine's hottest sensor, largest applied compensation and
-  // applied map version.
-  const TREND_POINTS = 300;
-  const history = new Map();
+  const HISTORY_EVERY_MS = 30000;
+  const HISTORY_POINTS = 120;
+  // The trend cell of each machine is kept across snapshots (a chart is not redrawn every
+  // second), and replaced when the history is fetched again.
+  const trendNodes = new Map();
+  let lastHistory = null;
 
-  function remember(card) {
-    let h = history.get(card.name);
-    if (!h) {
-      h = { temp: [], comp: [], version: [] };
-      history.set(card.name, h);
+  function trendBox(name) {
+    let box = trendNodes.get(name);
+    if (!box) {
+      box = el("div", { class: "trend-box", "data-machine": name },
+        el("p", { class: "sub" }, "loading history…"));
+      trendNodes.set(name, box);
     }
-    const push = (list, v) => {
-      list.push(v);
-      if (list.length > TREND_POINTS) list.shift();
-    };
-    const temps = card.temperatures.filter((t) => t.celsius !== null).map((t) => t.celsius);
-    push(h.temp, temps.length ? Math.max(...temps) : null);
-    const comps = card.axes.filter((a) => !a.rotary && a.compensation !== null)
-      .map((a) => Math.abs(a.compensation));  // µm (rotary axes in µrad stay out)
-    push(h.comp, comps.length ? Math.max(...comps) : null);
-    push(h.version, card.maps.applied ?? null);
-    return h;
+    return box;
   }
 
-  /** A small line over the last values (nulls are gaps), labelled with the latest. */
-  function sparkline(values, field, unit, digits) {
-    const width = 120, height = 28;
-    const known = values.map((v, i) => [i, v]).filter(([, v]) => v !== null);
-    const root = svg("svg", { class: "spark", viewBox: `0 0 ${width} ${height}`,
-      "data-field": field, "data-points": String(known.length) });
-    if (known.length) {
-      const ys = known.map(([, v]) => v);
-      const lo = Math.min(...ys), hi = Math.max(...ys);
-      const span = hi - lo || 1;
-      const X = (i) => (i / Math.max(TREND_POINTS - 1, 1)) * width;
-      const Y = (v) => height - 3 - ((v - lo) / span) * (height - 6);
-      const d = known.map(([i, v], k) => `${k ? "L" : "M"}${X(i).toFixed(1)},${Y(v).toFixed(1)}`)
-        .join("");
-      root.append(svg("path", { d, class: "spark-line" }));
-      root.append(svg("title", {}, `${num(lo, digits)} … ${num(hi, digits)} ${unit} over ` +
-        `the last ${known.length} s`));
+  function drawTrends(h) {
+    lastHistory = h;
+    for (const m of h.machines) {
+      const opts = { width: 280, height: 110, since: Date.parse(h.since) / 1000,
+        until: Date.parse(h.until) / 1000 };
+      const linear = m.corrections.filter((s) => s.unit === "µm");
+      EDNC.fill(trendBox(m.machine),
+        m.temperatures.length ? EDNC.timeChart(m.temperatures, { ...opts, unit: "°C" })
+          : el("p", { class: "sub nodata", "data-unit": "°C" }, "no temperatures recorded"),
+        linear.length ? EDNC.timeChart(linear, { ...opts, unit: "µm" })
+          : el("p", { class: "sub nodata", "data-unit": "µm" }, "no corrections recorded"));
+      trendBox(m.machine).querySelectorAll(".trend-chart").forEach((c) => {
+        c.setAttribute("data-field", `trend-${c.getAttribute("data-unit") === "°C" ? "temp"
+          : "comp"}`);
+      });
     }
-    return root;
+    document.getElementById("history-note").textContent =
+      `(mean per ${age(h.bucket_s).replace(" ago", "")} bucket, until ${time(h.until)})`;
   }
 
-  function trendCell(card, h) {
-    const last = (list) => (list.length ? list[list.length - 1] : null);
-    const row = (label, values, field, unit, digits) => el("div", { class: "trend" },
-      el("span", { class: "sub" }, label), sparkline(values, field, unit, digits),
-      el("span", { class: "num" }, last(values) === null ? "—" : qty(last(values), unit, digits)));
-    const changes = h.version.filter((v, i) => i > 0 && v !== h.version[i - 1]).length;
-    return el("td", { class: "trends" },
-      row("temp", h.temp, "trend-temp", "°C", 1),
-      row("comp", h.comp, "trend-comp", "µm", 1),
-      el("div", { class: "sub", "data-field": "trend-version" },
-        card.maps.applied ? `map v${card.maps.applied}, ${changes} change(s) seen` : "no map"));
+  async function loadHistory() {
+    try {
+      drawTrends(await EDNC.getJSON(
+        `/api/history?window_s=${EDNC.windowS()}&points=${HISTORY_POINTS}`));
+    } catch (err) {
+      document.getElementById("history-note").textContent = `history unavailable: ${err.message}`;
+    }
   }
 
-  /** One segment per machine, coloured by health, in the header. */
+  /** One segment per machine, coloured by its accuracy state, in the header. */
   function healthStrip(machines) {
     const strip = document.getElementById("health-strip");
     strip.replaceChildren(...machines.map((c) => el("a", {
       class: `seg health-${c.health}`, href: `/machines/${encodeURIComponent(c.name)}`,
-      title: `${c.name}: ${c.health}${c.health_reason ? " — " + c.health_reason : ""}`,
+      title: `${c.name}: ${EDNC.HEALTH_TEXT[c.health] || c.health} — ${c.health_reason}`,
       "data-machine": c.name }, c.name)));
+  }
+
+  function residualText(card) {
+    const a = card.accuracy;
+    if (!a || a.residual_um === null) return el("span", { class: "sub" }, "never verified");
+    const over = a.residual_um > a.tolerance_um;
+    return el("span", { class: over ? "problem" : null },
+      `${qty(a.residual_um, "µm", 1)} / ${qty(a.tolerance_um, "µm", 0)}`,
+      a.residual_compensated ? "" : " (uncompensated run)",
+      el("div", { class: "sub" }, time(a.verified_at)));
+  }
+
+  function accuracyRow(card) {
+    return el("tr", { class: `health-${card.health}`, "data-machine": card.name },
+      el("td", {}, EDNC.healthPill(card)),
+      el("td", {}, el("a", { href: `/machines/${encodeURIComponent(card.name)}`, class: "name" },
+        card.name)),
+      el("td", {}, EDNC.reasonList(card)),
+      el("td", { "data-field": "residual" }, residualText(card)),
+      el("td", { class: "sub", "data-field": "map-facts" }, EDNC.mapFacts(card.maps)));
   }
 
   function machineCell(card) {
@@ -86,7 +96,7 @@
     return el("td", {},
       EDNC.healthPill(card),
       el("div", { class: "sub", "data-field": "health-reason" }, card.health_reason),
-      card.state ? el("div", { class: "sub" }, "state: ",
+      card.state ? el("div", { class: "sub" }, "machine state: ",
         el("b", { "data-field": "state" }, card.state)) : null);
   }
 
@@ -104,14 +114,22 @@
   function mapCell(card) {
     const m = card.maps;
     const v = (x) => (x === null || x === undefined ? "—" : `v${x}`);
+    const built = EDNC.builtAt(m.built_at_C);
     return el("td", { class: "map" },
       el("div", { class: "versions", "data-field": "maps" },
         `${v(m.latest)} / ${v(m.sent)} / ${v(m.applied)}`),
+      m.latest !== null ? el("div", { class: "sub", "data-field": "map-kind" },
+        `${EDNC.KIND_TEXT[m.kind] || "map"}, ${EDNC.bytes(m.bytes)}`) : null,
+      m.age_s !== null ? el("div", { class: "sub", "data-field": "map-age" },
+        `applied ${age(m.age_s)}`) : null,
+      m.error_um !== null ? el("div", { class: "sub" },
+        `error as sent ${qty(m.error_um, "µm", 2)}`) : null,
+      built ? el("div", { class: "sub" }, `built at ${built}`) : null,
       m.sent_state ? el("div", { class: `sub delivery ${m.sent_state}` },
         `v${m.sent} ${m.sent_state}${m.reject_reason ? ": " + m.reject_reason : ""}`) : null,
       m.reported !== null && m.reported !== undefined
-        ? el("div", { class: "sub" }, `machine reports ${m.reported ? "v" + m.reported : "none"}`)
-        : null);
+        ? el("div", { class: "sub" }, `machine reports ${m.reported ? "v" + m.reported
+          : "no map applied"}`) : null);
   }
 
   function axesCell(card, render) {
@@ -134,7 +152,7 @@
 
   function verificationCell(card) {
     const v = card.verification;
-    if (!v) return el("td", { class: "sub" }, "none");
+    if (!v) return el("td", { class: "sub" }, "never verified");
     const before = Math.max(...Object.values(v.ranges_before_um), 0);
     const after = v.ranges_after_um ? Math.max(...Object.values(v.ranges_after_um), 0) : null;
     const gain = v.improvement_pct ? v.improvement_pct.overall : null;
@@ -151,16 +169,16 @@
 
   function diagnosisCell(card) {
     const d = card.diagnosis;
-    if (!d) return el("td", { class: "sub" }, "none");
-    const what = [d.effect, d.axis ? `on ${d.axis}` : null, d.sensor ? `(${d.sensor})` : null]
-      .filter(Boolean).join(" ");
-    const estimate = Object.entries(d.estimate).map(([k, v]) => EDNC.estimate(k, v))
-      .join(", ");
+    if (!d) return el("td", { class: "sub" }, "no diagnosis yet");
+    const estimate = EDNC.estimates(d.estimate);
     return el("td", { "data-field": "diagnosis" },
-      el("div", {}, el("b", {}, what)),
+      el("div", { class: d.effect === "none" ? "sub" : null }, d.effect === "none"
+        ? EDNC.effectText(d) : el("b", {}, EDNC.effectText(d))),
       estimate ? el("div", { class: "sub" }, estimate) : null,
       d.rms_before_um !== null ? el("div", { class: "sub" },
-        `RMS ${qty(d.rms_before_um, "µm", 2)} → ${qty(d.rms_after_um, "µm", 2)}`) : null);
+        `held-out RMS ${qty(d.rms_before_um, "µm", 2)} → ${qty(d.rms_after_um, "µm", 2)}`)
+        : null,
+      el("div", { class: "sub" }, time(d.created_at)));
   }
 
   function row(card) {
@@ -170,8 +188,8 @@
         qty(a.position, posUnit(a), 3))),
       axesCell(card, (a) => el("td", { class: "num", "data-field": `comp-${a.name}` },
         signed(a.compensation, compUnit(a), 1))),
-      temperatureCell(card), trendCell(card, remember(card)), verificationCell(card),
-      diagnosisCell(card));
+      temperatureCell(card), el("td", { class: "trends" }, trendBox(card.name)),
+      verificationCell(card), diagnosisCell(card));
   }
 
   function eventRow(e) {
@@ -182,22 +200,37 @@
       el("td", {}, e.detail));
   }
 
+  let known = "";
+
   function render(snapshot) {
     const machines = snapshot.machines;
+    const worst = [...machines].sort((a, b) =>
+      EDNC.SEVERITY.indexOf(b.health) - EDNC.SEVERITY.indexOf(a.health) ||
+      a.name.localeCompare(b.name));
+    document.querySelector("#accuracy > tbody").replaceChildren(...worst.map(accuracyRow));
     document.querySelector("#machines > tbody").replaceChildren(...machines.map(row));
-    healthStrip(machines);
+    healthStrip(worst);
     document.getElementById("no-machines").hidden = machines.length > 0;
     document.querySelector("#events > tbody").replaceChildren(...snapshot.events.map(eventRow));
     const count = (h) => machines.filter((c) => c.health === h).length;
     document.getElementById("summary").textContent =
-      `${machines.length} machines · ${machines.filter((c) => c.connected).length} connected · ` +
-      `${count("alarm")} alarm · ${count("warn")} attention`;
+      `${machines.length} machines · ${count("out_of_tolerance")} out of tolerance · ` +
+      `${count("alarm")} alarm · ${count("warn")} attention · ${count("unknown")} unknown · ` +
+      `${machines.filter((c) => c.connected).length} connected`;
     document.getElementById("footer").textContent =
       `EDNC ${snapshot.version} · node ${snapshot.node_id} · snapshot ` +
       `${time(snapshot.generated_at)} · telemetry older than ${snapshot.stale_after_s} s ` +
       "is marked stale";
+    const names = machines.map((c) => c.name).join("\n");
+    if (names !== known) {  // a machine added: its history too
+      known = names;
+      loadHistory();
+    }
   }
 
+  document.getElementById("window-box").append(EDNC.windowSelect(() => loadHistory()));
+  setInterval(loadHistory, HISTORY_EVERY_MS);
   const indicator = document.getElementById("live");
   EDNC.follow(render, (state) => EDNC.showLinkState(indicator, state));
+  window.EDNC_HISTORY = () => lastHistory;  // for a look from the console
 })();

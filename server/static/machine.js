@@ -21,6 +21,26 @@
       el("tr", {}, el("th", {}, k), el("td", attrs || {}, v))));
   }
 
+  // ---- accuracy ------------------------------------------------------------------------
+  function renderAccuracy(card) {
+    const a = card.accuracy;
+    const m = card.maps;
+    EDNC.fill(document.getElementById("accuracy"),
+      el("p", {}, EDNC.healthPill(card)),
+      EDNC.reasonList(card),
+      a ? kv([
+        ["Tolerance", `${qty(a.tolerance_um, "µm", 1)} largest compensated diagonal range ` +
+          "(accuracy_tolerance_um in the description, 10 µm by default)"],
+        ["Last verification", a.residual_um === null ? "never verified"
+          : `${qty(a.residual_um, "µm", 2)} ${a.residual_compensated ? "with" : "without"} ` +
+            `compensation, ${time(a.verified_at)}`, { "data-field": "residual" }],
+        ["Model", a.model_version === null ? "none uploaded"
+          : `v${a.model_version}, ${age(a.model_age_s)}`],
+        ["Error map", EDNC.mapFacts(m), { "data-field": "map-facts" }],
+        EDNC.builtAt(m.built_at_C) ? ["Map built at", EDNC.builtAt(m.built_at_C)] : null,
+      ]) : null);
+  }
+
   // ---- live values -------------------------------------------------------------------
   function renderLive(card) {
     const status = document.getElementById("status");
@@ -52,7 +72,7 @@
         ["State", card.state || "—", { "data-field": "state" }],
         ["Error map", `latest ${v(m.latest)} · sent ${v(m.sent)}` +
           `${m.sent_state ? " (" + m.sent_state + ")" : ""} · applied ${v(m.applied)}` +
-          (m.reported !== null ? ` · machine reports ${m.reported ? "v" + m.reported : "none"}`
+          (m.reported !== null ? ` · machine reports ${m.reported ? "v" + m.reported : "no map applied"}`
             : "")],
         m.reject_reason ? ["Rejected because", m.reject_reason, { class: "problem" }] : null,
       ]),
@@ -193,17 +213,29 @@
       .map(([k, v]) => `${k} = ${num(v, 1)} ${grid.grid.find((g) => g.name === k).unit}`)
       .join(", ");
     const kind = grid.kind === "tables"
-      ? "component tables the machine evaluates (shown as it computes them)"
-      : `grid ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")}`;
-    const caption = `v${grid.version}, ${grid.encoding}` +
+      ? "component tables the machine evaluates, shown as it computes them on a " +
+        `${grid.grid[0].count}-point display grid`
+      : grid.kind === "factored"
+        ? "factored map: one-axis tables the controller combines (Fanuc-style pitch-error " +
+          `layout), shown as it computes them on a ${grid.grid[0].count}-point display grid`
+        : `grid of ${grid.grid.map((g) => `${g.name}×${g.count}`).join(" ")} nodes`;
+    const built = EDNC.builtAt(grid.built_at_C);
+    const thermal = grid.thermal_records
+      ? `Drawn without its ${grid.thermal_records} thermal record(s), i.e. at the thermal ` +
+        "terms' reference temperatures; the machine adds them at its live temperatures" +
+        (built ? ` (built when ${built})` : "") + "."
+      : built ? `Drawn as built at ${built}: the thermal terms are in the values.`
+        : "The model has no thermal terms: the map is the same at every temperature.";
+    const caption = `v${grid.version}, ${EDNC.bytes(grid.bytes)}, ${grid.encoding}` +
       (grid.encoding === "int32" ? ` (${num(grid.increment_mm * 1000, 1)} µm per count)` : "") +
-      `, ${kind}` + (fixed ? `; held at ${fixed}` : "");
+      `, ${kind}` + (fixed ? `; held at ${fixed}` : "") + `. ${thermal}`;
     EDNC.fill(box, ...grid.outputs.map((s) => el("figure", { "data-output": s.output },
       grid.v ? [heatmap(grid, s), legend(s)] : profile(grid, s),
       el("figcaption", {}, el("b", {}, `Correction of ${s.output}`),
         ` ${num(s.min, 1)} … ${num(s.max, 1)} ${s.unit}` +
         (s.reversal !== null ? `; reversal ${signed(s.reversal, s.unit, 1)}` : "")))),
-    el("p", { class: "sub", style: "flex-basis: 100%" }, caption));
+    el("p", { class: "sub", style: "flex-basis: 100%", "data-field": "map-caption" },
+      caption));
   }
 
   // ---- verification ----------------------------------------------------------------
@@ -247,6 +279,12 @@
       el("span", { class: "before" }, `before (${plots.before_set})`),
       plots.after_set ? [" and ", el("span", { class: "after" }, `after (${plots.after_set})`)]
         : ""),
+    el("p", { class: "sub", style: "flex-basis: 100%", "data-field": "diagonal-offsets" },
+      "ISO 230-6 judges each diagonal by its range, largest minus smallest deviation. A " +
+      "curve's level as a whole (its offset at the start, where the interferometer was " +
+      "set, plus any length error left) does not enter the range: a flat compensated " +
+      "curve away from zero is a compensated diagonal. The offset at the start is given " +
+      "under each plot."),
     ...plots.diagonals.map((d) => {
       const series = [{ name: "before", cls: "before", x: d.along_mm, y: d.before_um }];
       if (d.after_um) series.push({ name: "after", cls: "after", x: d.after_along_mm,
@@ -255,7 +293,9 @@
         EDNC.lineChart(series, { title: d.label, xLabel: "position along the diagonal (mm)",
           yLabel: "deviation (µm)" }),
         el("figcaption", {}, `range ${qty(d.range_before_um, "µm", 2)}` +
-          (d.range_after_um !== null ? ` → ${qty(d.range_after_um, "µm", 2)}` : "")));
+          (d.range_after_um !== null ? ` → ${qty(d.range_after_um, "µm", 2)}` : "") +
+          `; offset at the start ${signed(d.before_um[0], "µm", 1)}` +
+          (d.after_um ? ` → ${signed(d.after_um[0], "µm", 1)}` : "")));
     }));
   }
 
@@ -267,10 +307,8 @@
       return;
     }
     box.replaceChildren(kv([
-      ["Effect", [d.effect, d.axis ? ` on ${d.axis}` : "", d.sensor ? ` (sensor ${d.sensor})`
-        : ""].join(""), { "data-field": "effect" }],
-      ["Estimate", Object.entries(d.estimate).map(([k, v]) => EDNC.estimate(k, v))
-        .join(", ") || "—"],
+      ["Effect", EDNC.effectText(d), { "data-field": "effect" }],
+      ["Estimate", EDNC.estimates(d.estimate) || "—"],
       ["Held-out RMS", `${qty(d.rms_before_um, "µm", 2)} → ${qty(d.rms_after_um, "µm", 2)}`],
       ["When", time(d.created_at)],
     ]));
@@ -295,7 +333,7 @@
     const locs = model.components.filter((c) => c.location);
     const info = Object.entries(model.info)
       .filter(([, v]) => typeof v === "number" || typeof v === "string")
-      .map(([k, v]) => `${k} = ${typeof v === "number" ? num(v, 3) : v}`).join(" · ");
+      .map(([k, v]) => EDNC.infoText(k, v)).join(" · ");
     EDNC.fill(box,
       el("p", { class: "sub" }, `Version ${model.version} (${model.source}), ` +
         `${time(model.created_at)}${info ? " · " + info : ""}`),
@@ -317,12 +355,63 @@
       model.terms.length ? el("table", { class: "terms" }, model.terms.map((t) =>
         el("tr", {}, el("td", {}, el("b", {}, t.effect)), el("td", {}, t.axis || ""),
           el("td", {}, Object.entries(t).filter(([k]) => !["effect", "axis"].includes(k))
-            .map(([k, v]) => `${k} = ${typeof v === "number" ? num(v, 3) : v}`)
+            .map(([k, v]) => (typeof v === "number" ? EDNC.estimate(k, v, t)
+              : `${k.replace(/_/g, " ")}: ${typeof v === "object" ? JSON.stringify(v) : v}`))
             .join(", "))))) : null);
+  }
+
+  // ---- history (from the server: /api/machines/{name}/history) --------------------------
+  async function loadHistory() {
+    let h;
+    try {
+      h = await getJSON(`${API}/history?window_s=${EDNC.windowS()}&points=300`);
+    } catch (err) {
+      document.getElementById("history-note").textContent = `unavailable: ${err.message}`;
+      return;
+    }
+    const opts = { width: 520, height: 200, since: Date.parse(h.since) / 1000,
+      until: Date.parse(h.until) / 1000 };
+    const charts = [EDNC.timeChart(h.temperatures, { ...opts, unit: "°C",
+      title: "Temperatures" })];
+    for (const unit of ["µm", "µrad"]) {
+      const series = h.corrections.filter((s) => s.unit === unit);
+      if (series.length || unit === "µm") {
+        charts.push(EDNC.timeChart(series, { ...opts, unit,
+          title: `Compensation applied per axis (${unit})` }));
+      }
+    }
+    const verified = h.verifications.filter((v) => v.residual_um !== null);
+    charts.push(EDNC.timeChart([{ name: "largest diagonal range", t: verified.map((v) =>
+      Date.parse(v.at) / 1000), mean: verified.map((v) => v.residual_um) }],
+    { ...opts, unit: "µm", title: "Verifications", points: true }));
+    charts.forEach((c, i) => c.setAttribute("data-field",
+      ["history-temp", "history-comp", "history-comp-rot", "history-verif"][
+        i === charts.length - 1 ? 3 : i]));
+    EDNC.fill(document.getElementById("history-charts"), ...charts);
+    document.getElementById("history-note").textContent =
+      `(mean per ${age(h.bucket_s).replace(" ago", "")} bucket, until ${time(h.until)})`;
+    EDNC.fill(document.getElementById("deliveries"), h.maps.length ? el("table",
+      { class: "terms", id: "delivery-table" },
+      el("tr", {}, el("th", {}, "Sent"), el("th", {}, "Map"), el("th", {}, "Answer"),
+        el("th", {}, "Model"), el("th", {}, "Size"), el("th", {}, "Built at")),
+      h.maps.map((d) => el("tr", {}, el("td", {}, time(d.sent_at)), el("td", {}, `v${d.version}`),
+        el("td", { class: `delivery ${d.state}` },
+          d.state + (d.reject_reason ? `: ${d.reject_reason}` : "")),
+        el("td", {}, d.model_version === null ? "—" : `v${d.model_version}`),
+        el("td", { class: "num" }, EDNC.bytes(d.bytes)),
+        el("td", { class: "sub" }, EDNC.builtAt(d.built_at_C) || "—"))))
+      : el("p", { class: "sub" }, "No map sent in this window."));
+    EDNC.fill(document.getElementById("history-events"), h.events.length ? el("table",
+      { class: "events" }, [...h.events].reverse().map((e) => el("tr", { class: `event ${e.kind}` },
+        el("td", { class: "time" }, time(e.time)),
+        el("td", {}, el("span", { class: `kind ${e.kind}` }, e.kind)),
+        el("td", {}, e.detail))))
+      : el("p", { class: "sub" }, "No events in this window."));
   }
 
   // ---- wiring ---------------------------------------------------------------------------
   function onCard(card) {
+    renderAccuracy(card);
     renderLive(card);
     renderDiagnosis(card.diagnosis);
     const latestMap = card.maps.latest;
@@ -351,6 +440,9 @@
     renderModel(detail);
     onCard(detail.card);
     shown.mapLatest = detail.card.maps.latest;
+    document.getElementById("window-box").append(EDNC.windowSelect(() => loadHistory()));
+    loadHistory();
+    setInterval(loadHistory, 30000);
     await loadMap(shown.mapLatest);
     const indicator = document.getElementById("live");
     EDNC.follow((snapshot) => {
