@@ -9,6 +9,23 @@ from typing import Annotated, Any
 import typer
 
 
+def ports_line(settings: Any) -> str:
+    """Every address the center opens, in one line at start (uvicorn logs only its own):
+    HTTP (REST API and dashboard), the machines' TCP port, and MQTT (or that it is off)."""
+    from sqlalchemy.engine import make_url
+
+    def where(host: str, port: int) -> str:
+        return f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+
+    mqtt = (f"MQTT broker {where(settings.mqtt_host, settings.mqtt_port)} (topics "
+            f"{settings.mqtt_topic_prefix}/...)" if settings.mqtt_host is not None else
+            "MQTT off (set EDNC_MQTT_HOST)")
+    return (f"ednc serve: HTTP http://{where(settings.http_host, settings.http_port)} (REST "
+            f"API /api, dashboard /); machines TCP "
+            f"{where(settings.machine_host, settings.machine_port)}; {mqtt}; database "
+            f"{make_url(settings.database_url).render_as_string(hide_password=True)}")
+
+
 def register(app: typer.Typer) -> None:
     @app.command()
     def serve(
@@ -53,6 +70,7 @@ def register(app: typer.Typer) -> None:
         finally:
             db.engine.dispose()
         app = create_app(settings, services=[machine_services])
+        typer.echo(ports_line(settings), err=True)
         # a dashboard stream ends itself within 10 s; do not let it hold a shutdown longer
         from server.api.http import uvicorn_options  # header deadline (408), header size
 
