@@ -20,6 +20,8 @@ import numpy as np
 import pytest
 from asyncua import ua
 from asyncua.client.client import Client
+from asyncua.crypto.cert_gen import setup_self_signed_certificate
+from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from machine_sim.lookup import active_map
 from machine_sim.opcua_server import PLC_WRITER, READER, OpcuaUser, sinumerik_server
@@ -362,5 +364,43 @@ async def test_a_corrupted_buffer_is_refused_and_the_old_map_kept() -> None:
             assert after.ack_code == 4  # CHECKSUM_MISMATCH
             assert after.active == st.active and after.applied_version == 1
             assert cnc.runtime.controller.store.version == 1
+        finally:
+            await mem.close()
+
+
+async def certificate(tmp_path: Path, who: str, uri: str) -> tuple[Path, Path]:
+    key, cert = tmp_path / f"{who}-key.pem", tmp_path / f"{who}-cert.der"
+    use = [ExtendedKeyUsageOID.CLIENT_AUTH, ExtendedKeyUsageOID.SERVER_AUTH]
+    await setup_self_signed_certificate(key, cert, uri, "localhost", use, {"commonName": who})
+    return cert, key
+
+
+async def test_basic256sha256_sign_and_encrypt_carries_the_window(tmp_path: Path) -> None:
+    server_cert, server_key = await certificate(tmp_path, "server",
+                                                "urn:freeopcua:python:server")
+    client_cert, client_key = await certificate(tmp_path, "center",
+                                                "urn:example.org:FreeOpcUa:opcua-asyncio")
+    m = spec(VMC).machine
+    factory = sinumerik_server(USERS, certificate=server_cert, private_key=server_key)
+    async with WindowCNC(m, factory, runtime=MachineRuntime(m, seed=1), cycle_s=0.01) as cnc:
+        url = f"opc.tcp://127.0.0.1:{cnc.server.port}"
+        no_cert = OpcuaMemory(url, "ednc", "env:OPCUA_TEST_PW",
+                              security_policy="Basic256Sha256",
+                              security_mode="SignAndEncrypt")
+        with pytest.raises(LinkError, match="needs client_certificate and client_private_key"):
+            await no_cert.connect()
+        link = OpcuaLink(kind="opcua", endpoint=url, user="ednc",
+                         password_ref="env:OPCUA_TEST_PW", security_policy="Basic256Sha256",
+                         security_mode="SignAndEncrypt", client_certificate=str(client_cert),
+                         client_private_key=str(client_key))
+        mem = OpcuaMemory.from_link(link)
+        await mem.connect()
+        try:
+            client = mem._client
+            assert client is not None
+            assert client.security_policy.Mode == ua.MessageSecurityMode.SignAndEncrypt
+            assert await mem.read(0, 4) == b"EDCM"
+            await mem.write(256, b"\x11\x22\x33\x44")
+            assert bytes(cnc.window[256:260]) == b"\x11\x22\x33\x44"
         finally:
             await mem.close()
