@@ -18,7 +18,7 @@ from machine_sim.truth import random_geometry
 from tests.support import cec_eval
 from volumetric.compensate.cec import apply_tables, cec_export
 from volumetric.compensate.cec_check import tool_tip
-from volumetric.compensate.cec_text import CecFile, cec_text
+from volumetric.compensate.cec_text import CecFile, ascii_text, cec_text
 from volumetric.model.components import GeometricErrors, Polynomial, Sinusoid
 from volumetric.model.kinematics import tool_pose
 from volumetric.model.machine import Machine, parse_machine
@@ -96,7 +96,7 @@ def test_the_828d_gets_8_tables_and_the_file_names_what_it_dropped_and_its_cost(
     assert len(tables) == 8 and all(len(t.points) <= 200 for t in tables.values())
     dropped = [x for x in e.left_out if "over the 8 tables" in x.reason]  # type: ignore[attr-defined]
     assert dropped and all(x.effect_um > 0.0 for x in dropped)
-    assert all(f"{x.error}: {x.effect_um:.2f} um" in text for x in dropped)
+    assert all(ascii_text(f"{x.error}: {x.effect_um:.2f} um") in text for x in dropped)
     q = points(m, 2000, 9)
     dq = cec_eval.compensation(tables, {"X1": 0, "Y1": 1, "Z1": 2}, q)
     before, after = residual_um(m, geo, q, 0 * q), residual_um(m, geo, q, dq)
@@ -174,11 +174,18 @@ def test_ednc_export_cec_and_iso230_1(tmp_path: Path) -> None:
     assert [x["error"] for x in info["left_out"]] == ["thermal_expansion x (T_x_C)"]
     text = (tmp_path / "cec.mpf").read_text()
     assert text.startswith("%_N_CEC_MPF\n;$PATH=/_N_MPF_DIR\n") and text.endswith("M30\n")
+    assert text.isascii()  # an NC reads 7-bit part programs
+    assert not any("backlash" in x["error"] for x in info["left_out"])  # direction tables
     assert f"{tt['worst_after_um']:.2f}" in text
     r = run(*base, "--format", "iso230-1", "--out", str(tmp_path / "iso.csv"), "--json",
             "--step", "20")
     assert r.returncode == 0, r.stderr
     assert not (tmp_path / "iso.csv").is_dir()
+    assert json.loads(r.stdout)["tool_tip"]["rows_vs_model_worst_um"] < 0.05
+    r = run("tables", "import", "--machine", str(tmp_path / "m.json"),
+            str(tmp_path / "iso.csv"), "--out", str(tmp_path / "one.json"))
+    assert r.returncode == 0, r.stderr  # one file of blocks reads back too
+    assert "EAZ" not in json.loads((tmp_path / "one.json").read_text())["components"]
     text = (tmp_path / "iso.csv").read_text()
     meta = [ln for ln in text.splitlines() if ln.startswith("#")]
     for word in ("machine: vmc", "sign convention", "tool length: 100 mm",

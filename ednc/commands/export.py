@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import datetime
 import json
 from pathlib import Path
 from typing import Annotated
@@ -159,7 +160,7 @@ def register(app: typer.Typer) -> None:
                                        for n, w in thermal]
             e = dataclasses.replace(e, left_out=tuple(left))
             figures = tool_tip(machine, geo, e)
-            note = f"model {model_path.name}" + (
+            note = f"model {_source(model_path)}" + (
                 f" at {', '.join(f'{k}={v:g} C' for k, v in temps.items())}" if temps else "")
             if out.is_dir():  # a directory: the file goes in it, named as the control does
                 out = out / ("NC_CEC.INI" if program == "ini" else "EDNC_CEC.MPF")
@@ -174,7 +175,8 @@ def register(app: typer.Typer) -> None:
                       "left_out": [x.to_json() for x in e.left_out]}
         else:
             iso = iso230_1_export(machine, model, geo, step_mm=step, tool_mm=tool,
-                                  thermal=thermal, backlash_um=backlash)
+                                  thermal=thermal, backlash_um=backlash,
+                                  source=_source(model_path))
             if out.suffix.lower() == ".csv":
                 _write(out, iso.single())
                 written = [str(out)]
@@ -197,6 +199,8 @@ def register(app: typer.Typer) -> None:
                             "reason": "not identified: written as an empty column"}
                            for n in iso.unidentified])
             result = {"format": fmt, "files": written, "tables": len(iso.files),
+                      "tool_tip": {"rows_vs_model_worst_um": round(iso.tool_tip_um, 4),
+                                   "tool_mm": tool},
                       "interpolation_max": {k: round(v, 6) for k, v in iso.interp.items()},
                       "left_out": left_iso}
         if as_json:
@@ -205,6 +209,9 @@ def register(app: typer.Typer) -> None:
         files = result["files"]
         assert isinstance(files, list)
         typer.echo(f"{fmt}: {result['tables']} tables -> {', '.join(files)}")
+        if fmt != "cec":
+            typer.echo(f"  the rows reproduce the model within {iso.tool_tip_um:.3f} µm at "
+                       f"the tool tip ({tool:g} mm tool)")
         if fmt == "cec":
             f = figures
             typer.echo(f"  tool tip ({tool:g} mm tool), worst / RMS: model "
@@ -213,6 +220,12 @@ def register(app: typer.Typer) -> None:
         for x in result["left_out"]:  # type: ignore[attr-defined]
             eff = "" if x["effect_um"] is None else f", {x['effect_um']:.2f} µm at the tool tip"
             typer.echo(f"  not carried: {x['error']}{eff} ({x['reason']})")
+
+
+def _source(path: Path) -> str:
+    """``model.json of 2026-11-27 12:40 UTC``: the model file and when it was written."""
+    when = datetime.datetime.fromtimestamp(path.stat().st_mtime, datetime.UTC)
+    return f"{path.name} of {when:%Y-%m-%d %H:%M} UTC"
 
 
 def _write(path: Path, text: str) -> None:

@@ -264,6 +264,13 @@ def cec_export(machine: Machine, geometry: GeometricErrors, *, tool_mm: float,
     travel = {a.name: a.travel for a in machine.axes}
     half = {k: 0.5 * (travel[k][1] - travel[k][0]) for k in lin}
     left: list[LeftOut] = [LeftOut(n, e, r) for n, e, r in plan.left]
+    if plan.affine_um > tolerance_um:
+        turning = [a.name for a in machine.axes if a.kind == "rotary" and a.side == "tool"]
+        left.append(LeftOut(
+            "Abbe terms whose arm turns" + (f" with {', '.join(turning)}" if turning else ""),
+            plan.affine_um,
+            "a product holds an arm linear in one axis; the tables carry the best affine "
+            "part of these arms, this much is left (5-axis transformation data)"))
 
     dense = {a.name: np.linspace(a.travel[0], a.travel[1], 513) for a in machine.axes}
     groups: list[_Group] = []

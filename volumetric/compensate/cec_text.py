@@ -13,8 +13,9 @@ Layout (the K3 manual's example, section 4.4.4, with the header of an NC file)::
     $AN_CEC[t,0]=0.0012 ...
     M30                                 or  M17
 
-Numbers are written in plain decimals, 6 places at most (1 nm, 1e-6 degree), trailing
-zeros dropped and never ``-0``; ``STEP·(points - 1) = MAX - MIN`` holds exactly in the
+The file is plain ASCII. Numbers are written in plain decimals, 6 places at most (1 nm,
+1e-6 degree), trailing zeros dropped and never ``-0``; ``STEP·(points - 1) = MAX - MIN``
+holds exactly in the
 decimals written.
 """
 
@@ -158,7 +159,19 @@ def cec_text(e: CecExport, figures: ToolTip, *, machine_name: str, model_note: s
         ]
         lines += [f"$AN_CEC[{k},{n}]={number(v)}" for n, v in enumerate(t.values)]
     lines.append("M17" if f.layout == "ini" else "M30")
-    return "\n".join(lines) + "\n"
+    return ascii_text("\n".join(lines) + "\n")
 
 
-__all__ = ["CecFile", "cec_text", "number", "program_name"]
+_ASCII = {"×": "x", "µ": "u", "·": "*", "°": " deg", "±": "+-", "−": "-", "→": "->",
+          "²": "^2", "³": "^3", "≤": "<=", "≥": ">="}
+
+
+def ascii_text(text: str) -> str:
+    """The file in plain ASCII (an NC reads part programs as 7-bit text): the few signs
+    the comments use spelled out, anything else replaced by ``?``."""
+    for a, b in _ASCII.items():
+        text = text.replace(a, b)
+    return text.encode("ascii", "replace").decode("ascii")
+
+
+__all__ = ["CecFile", "ascii_text", "cec_text", "number", "program_name"]

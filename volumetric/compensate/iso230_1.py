@@ -34,12 +34,14 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.measure.tables import error_column, position_column, unit_of
+from volumetric.measure.tables import error_column, import_tables, position_column, unit_of
 from volumetric.model.components import GeometricErrors, component_names
+from volumetric.model.exact import volumetric_error
 from volumetric.model.machine import Axis, Machine
 from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
+POINTS = 4000
 FORMAT_LINE = "# format: ednc ISO 230-1 component errors, version 2"
 SIGN_CONVENTION = (
     "error = actual minus commanded tool position relative to the workpiece (ISO 230-1), "
@@ -64,6 +66,9 @@ class IsoExport:
     files: dict[str, str]
     interp: dict[str, float]
     unidentified: tuple[str, ...]
+    tool_tip_um: float = 0.0
+    """Largest tool-tip distance between the model and the tables as a reader
+    interpolates them, µm (random points over the travel, the export's tool length)."""
 
     def single(self) -> str:
         """All blocks in one text, separated by blank lines (metadata once)."""
@@ -112,7 +117,8 @@ def unidentified_of(model: MachineModel) -> dict[str, str]:
 def iso230_1_export(machine: Machine, model: MachineModel, geometry: GeometricErrors, *,
                     step_mm: float | None = None, tool_mm: float,
                     thermal: list[tuple[str, str]] | None = None,
-                    backlash_um: Mapping[str, float] | None = None) -> IsoExport:
+                    backlash_um: Mapping[str, float] | None = None,
+                    source: str = "") -> IsoExport:
     """The files of the module docstring.
 
     Parameters
@@ -129,12 +135,14 @@ def iso230_1_export(machine: Machine, model: MachineModel, geometry: GeometricEr
         Terms the tables do not hold (named in the metadata).
     backlash_um : mapping of axis to reversal, optional
         Named in the metadata (a direction-free table cannot hold it).
+    source : str
+        The model file and its date, for the metadata.
     """
     unknown = unidentified_of(model)
     info = model.info
     meta = [FORMAT_LINE,
             f"# machine: {machine.name}; chain: {machine.chain}",
-            f"# model: {info.get('format', 'ednc-model/1')}"
+            f"# model: {source + '; ' if source else ''}{info.get('format', 'ednc-model/1')}"
             + (f" of {info['date']}" if info.get("date") else "")
             + (f", fitted on {info['n_readings']} readings" if info.get("n_readings") else "")
             + (f", version {info['version']}" if info.get("version") else ""),
@@ -183,7 +191,23 @@ def iso230_1_export(machine: Machine, model: MachineModel, geometry: GeometricEr
         for name, value in sorted(geometry.locations.items()):
             w.writerow([name, f"{value:.9g}", unit_of(name)])
         files["locations"] = "\n".join(meta) + "\n" + buf.getvalue()
-    return IsoExport(files, interp, tuple(sorted(unknown)))
+    gap = rows_gap_um(machine, geometry, files, tool_mm)
+    line = (f"# the rows reproduce the model within {gap:.3f} um at the tool tip "
+            f"({POINTS} random points, {tool_mm:g} mm tool)")
+    files = {k: v.replace("\n# rows:", f"\n{line}\n# rows:", 1) for k, v in files.items()}
+    return IsoExport(files, interp, tuple(sorted(unknown)), gap)
+
+
+def rows_gap_um(machine: Machine, geometry: GeometricErrors, files: Mapping[str, str],
+                tool_mm: float) -> float:
+    """Largest tool-tip distance (µm) between ``geometry`` and the files read back by
+    :func:`volumetric.measure.tables.import_tables`, exact kinematics on both."""
+    back = import_tables(machine, [(f"{k}.csv", v) for k, v in files.items()])
+    rng = np.random.default_rng(230)
+    q = np.column_stack([rng.uniform(a.travel[0], a.travel[1], POINTS) for a in machine.axes])
+    a = volumetric_error(machine, geometry, q, tool_mm=tool_mm, orientation=False)
+    b = volumetric_error(machine, back, q, tool_mm=tool_mm, orientation=False)
+    return float(np.linalg.norm(a.position_um - b.position_um, axis=1).max())
 
 
 __all__ = ["FORMAT_LINE", "IsoExport", "default_step", "iso230_1_export", "unidentified_of"]
