@@ -197,7 +197,10 @@ def register(app: typer.Typer) -> None:
                            for n, w in thermal]
                         + [{"error": n, "effect_um": None,
                             "reason": "not identified: written as an empty column"}
-                           for n in iso.unidentified])
+                           for n in iso.unidentified]
+                        + ([{"error": "between the rows", "effect_um": round(iso.tool_tip_um, 4),
+                             "reason": "linear interpolation between the rows (a finer "
+                                       "--step lowers it)"}] if iso.tool_tip_um > 0.1 else []))
             result = {"format": fmt, "files": written, "tables": len(iso.files),
                       "tool_tip": {"rows_vs_model_worst_um": round(iso.tool_tip_um, 4),
                                    "tool_mm": tool},

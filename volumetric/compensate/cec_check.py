@@ -25,6 +25,7 @@ from volumetric.model.machine import Machine
 
 F64 = NDArray[np.float64]
 POINTS = 4000
+LONGER_MM = 100.0
 
 
 @dataclass(frozen=True)
@@ -54,6 +55,10 @@ class ToolTip:
     tool_mm: float
     max_total: Mapping[str, float]
     """Largest total correction per output axis over the points, mm or degrees."""
+    worst_after_longer_tool_um: float = 0.0
+    """With the same tables and a tool :data:`LONGER_MM` longer: the Abbe arms of the
+    tool-side angles grow, the tables do not follow."""
+    rms_after_longer_tool_um: float = 0.0
 
     def to_json(self) -> dict[str, object]:
         out: dict[str, object] = {k: (round(v, 4) if isinstance(v, float) else v)
@@ -110,7 +115,9 @@ def tool_tip(machine: Machine, geometry: GeometricErrors, export: CecExport, *,
                                        direction))
     totals = {a.name: float(np.abs(dq[:, i]).max()) for i, a in enumerate(machine.axes)
               if any(t.output == a.name for t in export.tables)}
-    return ToolTip(wb, rb, wa, ra, wl, rl, n, export.tool_mm, totals)
+    wt, rt = _norms(tool_tip_error(machine, geometry, q, dq, export.tool_mm + LONGER_MM, bl,
+                                   direction))
+    return ToolTip(wb, rb, wa, ra, wl, rl, n, export.tool_mm, totals, wt, rt)
 
 
-__all__ = ["POINTS", "ToolTip", "tool_tip", "tool_tip_error"]
+__all__ = ["LONGER_MM", "POINTS", "ToolTip", "tool_tip", "tool_tip_error"]

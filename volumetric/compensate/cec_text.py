@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 from volumetric.compensate.cec import CecExport, CecTable
-from volumetric.compensate.cec_check import ToolTip
+from volumetric.compensate.cec_check import LONGER_MM, ToolTip
 
 _NAME = re.compile(r"^[A-Z][A-Z0-9_]{0,23}$")
 
@@ -112,6 +112,9 @@ def cec_text(e: CecExport, figures: ToolTip, *, machine_name: str, model_note: s
         f";   with these tables          {figures.worst_after_um:.2f} / "
         f"{figures.rms_after_um:.2f} um",
     ]
+    lines.append(f";   with a tool {LONGER_MM:g} mm longer (same tables) "
+                 f"{figures.worst_after_longer_tool_um:.2f} / "
+                 f"{figures.rms_after_longer_tool_um:.2f} um")
     if figures.worst_after_lec_um is not None:
         lines.append(f";   with the positioning errors also in the LEC tables "
                      f"{figures.worst_after_lec_um:.2f} / {figures.rms_after_lec_um:.2f} um")

@@ -15,7 +15,8 @@ blocks separated by a blank line; each file starts with a metadata block of ``#`
     0,0,0,0,,0,0
     10,0.42,...
 
-Rows are at a regular step (``--step``, default a round number giving 20 to 50 rows),
+Rows are at a regular step (``--step``, default a round number giving 20 to 50 rows, or
+at most 1/20 of a ballscrew period the model holds),
 from a multiple of the step at or below the travel's start to one at or above its end.
 Every one of the axis's six component errors has its column, its unit in its header; a
 column the model did not identify is present with empty cells and named in the metadata,
@@ -35,7 +36,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.measure.tables import error_column, import_tables, position_column, unit_of
-from volumetric.model.components import GeometricErrors, component_names
+from volumetric.model.components import GeometricErrors, Sinusoid, Sum, component_names
 from volumetric.model.exact import volumetric_error
 from volumetric.model.machine import Axis, Machine
 from volumetric.model.model import MachineModel
@@ -100,6 +101,20 @@ def _rows(axis: Axis, step: float) -> F64:
     return out
 
 
+def _periodic_step(geometry: GeometricErrors, axis: Axis) -> float:
+    """A round step of at most 1/20 of the shortest period of a sinusoid in the axis's
+    components (a ballscrew's pitch error), so that the rows follow it; inf without one."""
+    periods = []
+    for n in component_names(axis):
+        f = geometry.components.get(n)
+        parts = f.terms if isinstance(f, Sum) else (f,)
+        periods += [p.period for p in parts if isinstance(p, Sinusoid)]
+    if not periods:
+        return math.inf
+    fine = [s for s in _SERIES if s <= min(periods) / 20]
+    return fine[-1] if fine else _SERIES[0]
+
+
 def _num(v: float) -> str:
     s = f"{v:.6f}".rstrip("0").rstrip(".")
     return "0" if s in ("-0", "", "-") else s
@@ -162,6 +177,8 @@ def iso230_1_export(machine: Machine, model: MachineModel, geometry: GeometricEr
     interp: dict[str, float] = {}
     for axis in machine.axes:
         step = default_step(axis) if (step_mm is None or axis.kind == "rotary") else step_mm
+        if step_mm is None:
+            step = min(step, _periodic_step(geometry, axis))
         q = _rows(axis, step)
         names = component_names(axis)
         if not any(n in geometry.components or n in unknown for n in names):
