@@ -6,7 +6,8 @@ tables onto one axis add and may cancel. Three choices are tried and the best ke
 by the worst plus the RMS tool-tip error the first-order correction leaves: greedy from
 nothing, adding the group that lowers that most per table it costs, or most outright,
 until the table count is reached or nothing lowers it; and the groups by the size of their
-own share, largest first, each with the tables it needs. The best of the three is then
+own share, largest first, each with the tables it needs; and every set of up to three
+products, the rest filled greedily. The best of these is then
 improved by exchanging one or two of its tables for others while that lowers the score. The
 judgement is on random points over the travel with random traversing directions; what is
 not chosen is named with its own tool-tip effect.
@@ -14,6 +15,8 @@ not chosen is named with its own tool-tip effect.
 
 from __future__ import annotations
 
+import itertools
+import math
 from collections.abc import Mapping, Sequence
 
 import numpy as np
@@ -124,7 +127,38 @@ def select_groups(needs: Mapping[str, Sequence[str]], shares: Mapping[str, F64],
                 chosen |= new
         return chosen
 
-    options = [greedy(True), greedy(False), by_size()]
+    def by_products() -> set[str]:
+        # every set of up to three products that fits, the rest filled greedily with the
+        # other groups: a product costs several tables at once, which a greedy start
+        # from nothing rarely pays for
+        prods = [g for g in needs if g.startswith("prod:")]
+        others = [g for g in needs if not g.startswith("prod:")]
+        best_keys: set[str] = set()
+        best = math.inf
+        for r in range(0, min(3, len(prods)) + 1):
+            for combo in itertools.combinations(prods, r):
+                chosen = set().union(*(set(needs[g]) for g in combo)) if combo else set()
+                if len(chosen) > max_tables:
+                    continue
+                current = _score(total - carried(chosen))
+                while True:
+                    pick: tuple[float, set[str]] | None = None
+                    for g in others:
+                        new = set(needs[g]) - chosen
+                        if not new or len(chosen) + len(new) > max_tables:
+                            continue
+                        sc = _score(total - carried(chosen | new))
+                        if sc < current and (pick is None or sc < pick[0]):
+                            pick = (sc, new)
+                    if pick is None:
+                        break
+                    current = pick[0]
+                    chosen |= pick[1]
+                if current < best:
+                    best, best_keys = current, chosen
+        return best_keys
+
+    options = [greedy(True), greedy(False), by_size(), by_products()]
     start = min(options, key=lambda keys: _score(total - carried(keys)))
     return _improve(start, needs, shares, total, max_tables)
 
