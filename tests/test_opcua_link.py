@@ -124,6 +124,12 @@ async def test_login_needs_a_known_user_and_password_and_anonymous_reads_nothing
                               f"file:{tmp_path}/none")
         with pytest.raises(LinkError, match=r"cannot read .*/none"):
             await missing.connect()
+        nobody_there = OpcuaMemory("opc.tcp://127.0.0.1:9", "ednc", "env:OPCUA_TEST_PW",
+                                   timeout_s=2.0)
+        with pytest.raises(LinkError, match="cannot connect"):
+            await nobody_there.connect()
+        with pytest.raises(LinkError, match="not connected"):
+            await nobody_there.read(0, 4)
         (tmp_path / "pw").write_text("plc-pw\n")
         from_file = OpcuaMemory(f"opc.tcp://127.0.0.1:{cnc.server.port}", "ednc",
                                 f"file:{tmp_path}/pw")
