@@ -37,6 +37,7 @@ from server.api.errors import NOT_FOUND, Problem, unprocessable
 from server.center import Center
 from server.dashboard.diagonals import diagonal_profiles
 from server.dashboard.live import LiveFeed, sse_stream
+from server.dashboard.mapcheck import checks_of
 from server.dashboard.mapgrid import MapSliceError, decode_stored, slice_map, slice_tables
 from server.dashboard.modelview import ModelViewError, model_view
 from server.dashboard.schemas import (
@@ -81,10 +82,15 @@ AxisQuery = Annotated[str | None, Query(pattern=r"^[A-Za-z][A-Za-z0-9]{0,3}$",
 
 
 async def snapshot_of(center: Center) -> DashboardSnapshot:
-    """The dashboard now."""
+    """The dashboard now (and the newest maps not checked yet go to the map checks)."""
     facts = await center.db.run(load_facts)
+    checks = checks_of(center)
+    known = None
+    if checks is not None:
+        checks.schedule(facts.machines)
+        known = checks.known(facts.machines)
     return build_snapshot(facts, await plant_view(center), node_id=center.settings.node_id,
-                          temperatures=center.temperatures)
+                          temperatures=center.temperatures, map_checks=known)
 
 
 async def refresh_machine_metrics(center: Center) -> None:
@@ -131,8 +137,11 @@ async def machine_detail(center: CenterDep, machine: MachineDep) -> MachineDetai
     facts = await center.db.run(machine_facts, machine)
     model = await center.db.run(model_repo.get_model, machine.id)
     links = await plant_view(center)
+    checks = checks_of(center)
     card = machine_card(facts, links.get(machine.name), now=dt.datetime.now(dt.UTC),
-                        board=center.temperatures)
+                        board=center.temperatures,
+                        map_check=None if checks is None else
+                        checks.known([facts]).get(machine.id))
     view, problem = None, None
     if model is not None:
         try:

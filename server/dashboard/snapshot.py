@@ -83,8 +83,9 @@ class Facts:
 
 REJECTS_WINDOW_S = 86400.0
 
-_KINDS: dict[int, str] = {}
-"""Map kind by map row id (a stored map never changes; decoding it once is enough)."""
+_KINDS: dict[tuple[int, str], str] = {}
+"""Map kind by map row id and SHA-256 (a stored map never changes; decoding it once is
+enough; the hash tells apart the rows of two databases a process may serve, as tests do)."""
 _KINDS_KEPT = 4096
 
 
@@ -97,22 +98,23 @@ def _newest(session: Session, row: Any, query: Any, machine_id: int | None) -> d
     return {r.machine_id: r for r in rows}
 
 
-def _map_kinds(session: Session, ids: list[int]) -> dict[int, str]:
-    """The kind of each stored map of ``ids`` (decoded once, then remembered)."""
-    missing = [i for i in ids if i not in _KINDS]
+def _map_kinds(session: Session, rows: list[MapVersionRow]) -> dict[int, str]:
+    """The kind of each stored map of ``rows`` by row id (decoded once, then remembered)."""
+    missing = [r.id for r in rows if (r.id, r.sha256) not in _KINDS]
     if missing:
         if len(_KINDS) > _KINDS_KEPT:
             _KINDS.clear()
-        for map_id, payload in session.execute(
-                select(MapVersionRow.id, MapVersionRow.payload)
+        for map_id, sha, payload in session.execute(
+                select(MapVersionRow.id, MapVersionRow.sha256, MapVersionRow.payload)
                 .where(MapVersionRow.id.in_(missing))):
             try:
                 decoded = decode_stored(payload)
             except MapSliceError:
                 continue
-            _KINDS[map_id] = ("tables" if isinstance(decoded, TablesPayload) else
-                              "factored" if isinstance(decoded, FactoredPayload) else "grid")
-    return {i: _KINDS[i] for i in ids if i in _KINDS}
+            _KINDS[(map_id, sha)] = (
+                "tables" if isinstance(decoded, TablesPayload) else
+                "factored" if isinstance(decoded, FactoredPayload) else "grid")
+    return {r.id: _KINDS[(r.id, r.sha256)] for r in rows if (r.id, r.sha256) in _KINDS}
 
 
 def load_machine_facts(session: Session, machines: list[MachineRow],
@@ -143,7 +145,7 @@ def load_machine_facts(session: Session, machines: list[MachineRow],
     map_rows = {r.machine_id: r for r in session.scalars(
         select(MapVersionRow).options(defer(MapVersionRow.payload, raiseload=True))
         .where(MapVersionRow.id.in_(newest_map)))}
-    kinds = _map_kinds(session, [r.id for r in map_rows.values()])
+    kinds = _map_kinds(session, list(map_rows.values()))
     since = now - dt.timedelta(seconds=REJECTS_WINDOW_S)
     rejects = dict(session.execute(only(
         select(AppliedRow.machine_id, func.count()).where(
