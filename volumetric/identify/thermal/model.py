@@ -83,6 +83,10 @@ class ThermalDriftModel:
         levels and lags when it joined).
     dense_taus_s : tuple of float
         Time constants (s) of the all-sensor part; empty when it did not join.
+    shrinkage : float
+        Ridge penalty λ (per training row, on standardised columns) the coefficients
+        were fitted with (:func:`~volumetric.identify.thermal.plain.fit_all_sensors`);
+        0 for ordinary least squares.
     """
 
     terms: tuple[ThermalTerm, ...]
@@ -99,6 +103,7 @@ class ThermalDriftModel:
     steps: tuple[SelectionStep, ...]
     selected: tuple[ThermalTerm, ...] = ()
     dense_taus_s: tuple[float, ...] = ()
+    shrinkage: float = 0.0
 
     @property
     def names(self) -> list[str]:
