@@ -10,7 +10,10 @@ which ``ednc serve`` uses): inside it run, started in this order and stopped in 
    the sessions closed) and the :class:`~server.plant.LinkPublisher` (this node's live
    links in the database for every node's dashboard; its last write comes after the
    sessions closed),
-3. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``,
+3. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``, then the
+   :class:`~server.controllers.service.ControllerLinks` (the center as client of the
+   machines registered with a ``modbus`` or ``opcua`` link; their sessions share the
+   machine server's session table),
 4. the :class:`~server.intake.TemperatureIntake` (checks, stores and forwards every
    temperature; handed to the Center for the REST API),
 5. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
@@ -27,6 +30,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from server.center import Center
+from server.controllers.service import ControllerLinks
 from server.feed import Feed
 from server.heap import HeapKeeper
 from server.intake import TemperatureIntake
@@ -54,6 +58,7 @@ class MachineServices:
     links: LinkPublisher | None = None
     intake: TemperatureIntake | None = None
     heap: HeapKeeper | None = None
+    controllers: ControllerLinks | None = None
 
 
 @asynccontextmanager
@@ -96,6 +101,9 @@ async def machine_services(
             center, feed, temperatures, worker=push.serve, host=settings.machine_host,
             port=settings.machine_port, timing=timing, leases=leases,
             max_handshakes=max_handshakes))
+        controllers = await stack.enter_async_context(ControllerLinks(
+            center, feed, server.sessions, push.serve, leases=leases,
+            reconcile_s=settings.controller_reconcile_s))
         intake = await stack.enter_async_context(
             TemperatureIntake(center, temperatures, feed, sessions=server.sessions))
         center.intake = intake
@@ -110,4 +118,4 @@ async def machine_services(
         else:
             log.info("EDNC_MQTT_HOST is not set: MQTT is off")
         yield MachineServices(feed, temperatures, push, server, mqtt, leases, links, intake,
-                              heap)
+                              heap, controllers)

@@ -32,6 +32,7 @@ from server.controllers.modbus import ModbusMemory
 from server.controllers.session import ControllerSession
 from server.mapcodec import encode, with_version
 from server.push.adapter import build_for
+from server.temperatures import column_of
 from tests.support.integration import campaign, spec
 from volumetric.identify.fit import fit
 
@@ -287,7 +288,7 @@ async def test_temperatures_reach_the_map_thermal_records() -> None:
             assert (await s.push_map(1, payload, 20.0)).applied
             s.send(Temperatures(0, tuple(TemperatureReading(n, 30.0) for n in sensors)))
             store = cnc.runtime.controller.temperatures
-            await until(lambda: all(abs(store.values().get(n, 0) - 30.0) < 1e-9
+            await until(lambda: all(abs(store.values().get(column_of(n), 0) - 30.0) < 1e-9
                                     for n in sensors))
         finally:
             s.abort(None, "test over")

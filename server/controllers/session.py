@@ -51,6 +51,7 @@ from protocol.mapformat import MapFormatError
 from protocol.maptables import decode_payload
 from protocol.messages import Temperatures
 from server.link.session import LinkClosed, Verdict
+from server.temperatures import column_of
 
 from .memory import LinkError, MemoryClient
 
@@ -259,7 +260,9 @@ class ControllerSession:
         loop = asyncio.get_running_loop()
         future: asyncio.Future[Verdict] = loop.create_future()
         try:
-            slots = sensor_slots([r.sensor for r in decode_payload(payload).thermal])
+            # slots by model column: a record may name ``spindle`` or ``T_spindle_C``
+            slots = {column_of(s): i for s, i in sensor_slots(
+                [r.sensor for r in decode_payload(payload).thermal]).items()}
         except (MapFormatError, ControllerMemoryError) as exc:
             raise LinkClosed(f"map version {version} cannot be written: {exc}") from None
         try:
@@ -294,7 +297,7 @@ class ControllerSession:
             raise LinkClosed(self.closed_because)
         if isinstance(msg, Temperatures):
             for r in msg.readings:
-                self._temps[r.name] = r.celsius
+                self._temps[column_of(r.name)] = r.celsius
             self._temp_dirty.set()
 
     async def _temperature_writer(self) -> None:

@@ -417,6 +417,13 @@ class MachineServer:
                           f"Hello says controller {Controller(hello.controller).label}, "
                           f"{hello.name!r} is registered as {row.controller}",
                           "unsupported", row.name)
+        link = row.description.get("link")
+        kind = link.get("kind", "ednc") if isinstance(link, dict) else "ednc"
+        if kind != "ednc":  # the center is the client of this machine's controller
+            raise Refused(ErrorCode.UNSUPPORTED,
+                          f"{hello.name!r} is registered with a {kind} link: the center "
+                          "connects to its controller, it does not log in", "unsupported",
+                          row.name)
         encoding = ENCODING_OF.get(row.controller)
         if encoding is None or not hello.map_formats & encoding:
             raise Refused(ErrorCode.UNSUPPORTED,

@@ -33,7 +33,7 @@ class EdncLink(BaseModel):
 class ModbusLink(BaseModel):
     """A Fanuc PMC reached through the Modbus/TCP Server function (option R968).
 
-    The window (protocol/README.md §13) starts at holding register ``register``; the
+    The window (protocol/README.md §13) starts at holding register ``start_register``; the
     controller's Modbus area setting maps it onto PMC memory from ``pmc`` (for the
     operator's reference: the ladder reads the same bytes there).
     """
@@ -43,7 +43,7 @@ class ModbusLink(BaseModel):
     host: Host | None = Field(default=None, description="default: the machine's ip")
     port: int = Field(default=502, ge=1, le=65535)
     unit_id: int = Field(default=1, ge=0, le=255)
-    register: int = Field(default=0, ge=0, le=65535,
+    start_register: int = Field(default=0, ge=0, le=65535,
                           description="first holding register of the window")
     pmc: str = Field(default="D0000", pattern=r"^[RDE][0-9]{4,5}$",
                      description="PMC address the window's first register is mapped onto")

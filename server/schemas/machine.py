@@ -28,6 +28,7 @@ from protocol.auth import MIN_SECRET_BYTES
 from protocol.limits import MAX_NAME_BYTES
 from server.numeric import check_machine_description
 from server.schemas.common import check_json_object
+from server.schemas.link import LinkSpec
 
 MAX_LENGTH_MM: Final = 100_000.0
 """Largest travel end or tool length, mm (degrees for rotary travels): 100 m is beyond any
@@ -102,6 +103,10 @@ class _DescriptionFields(BaseModel):
     )
     tool_length_mm: ToolLength = 0.0
     spindles: Annotated[list[SpindleSpec], Field(max_length=16)] | None = None
+    link: LinkSpec | None = Field(
+        default=None, description="how the center reaches the machine: ednc (the machine "
+        "connects, the default), modbus (a Fanuc PMC's Modbus/TCP server) or opcua (a "
+        "SINUMERIK's OPC UA server); server/schemas/link.py")
 
     @model_validator(mode="after")
     def _extras_are_json(self) -> _DescriptionFields:

@@ -1,0 +1,274 @@
+"""The center as client of the machines whose controllers it reaches through their own
+servers (registrations with a ``modbus`` or ``opcua`` link, :mod:`server.schemas.link`).
+
+:class:`ControllerLinks` is an async context manager started with the machine services.
+It looks at the registered machines every ``reconcile_s`` and keeps one task per machine
+with a controller link: connect (with jittered, capped exponential backoff after a
+failure), check the PLC program's identity, then serve the session exactly as an EDNC
+session is served: it sits in the machine server's session table (so the temperature
+forwarder reaches it and an EDNC login for that machine is refused as a duplicate), the
+registry shows it connected with its telemetry, and the push scheduler's worker keeps its
+map current. With leases (several center processes on one PostgreSQL) a node serves only
+the machines whose lease it holds.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import logging
+import os
+import random
+from collections.abc import Callable, Coroutine, MutableMapping
+from pathlib import Path
+from types import TracebackType
+from typing import Any
+
+from pydantic import TypeAdapter, ValidationError
+from sqlalchemy.exc import SQLAlchemyError
+from sqlalchemy.orm import Session
+
+from protocol import Controller
+from protocol.backoff import Backoff
+from server.background import Background
+from server.db import machines as machine_repo
+from server.db.tables import MachineRow
+from server.events import EventKind
+from server.feed import Feed
+from server.leasing import LeaseKeeper
+from server.schemas.link import LinkSpec, ModbusLink, OpcuaLink
+from volumetric.model.machine import parse_machine
+
+from .memory import LinkError, MemoryClient
+from .modbus import ModbusMemory
+from .session import ControllerSession
+
+__all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret"]
+
+log = logging.getLogger(__name__)
+
+_SPEC: TypeAdapter[LinkSpec] = TypeAdapter(LinkSpec)
+
+Worker = Callable[[Any, MachineRow], Coroutine[Any, Any, None]]
+
+
+def link_of(description: dict[str, Any]) -> LinkSpec | None:
+    """The link of a stored description (None: none given, or not readable)."""
+    raw = description.get("link")
+    if raw is None:
+        return None
+    try:
+        return _SPEC.validate_python(raw)
+    except ValidationError:
+        return None
+
+
+def read_secret(ref: str) -> str:
+    """The text a secret reference points at: ``env:NAME`` or ``file:/path``.
+
+    Raises
+    ------
+    LinkError
+        The variable is unset or the file cannot be read (the text says which).
+    """
+    kind, _, where = ref.partition(":")
+    if kind == "env":
+        value = os.environ.get(where)
+        if value is None:
+            raise LinkError(f"the password reference {ref!r}: variable {where} is not set")
+        return value
+    if kind == "file":
+        try:
+            return Path(where).read_text(encoding="utf-8").strip()
+        except OSError as exc:
+            raise LinkError(f"the password reference {ref!r}: {exc.strerror}") from None
+    raise LinkError(f"the password reference {ref!r}: env:NAME or file:/path")
+
+
+def memory_for(spec: ModbusLink | OpcuaLink, ip: str) -> MemoryClient:
+    """The memory client of a link (the machine's ip where the link names no host)."""
+    if isinstance(spec, ModbusLink):
+        return ModbusMemory(spec.host or ip, spec.port, unit_id=spec.unit_id,
+                            register=spec.start_register, byte_order=spec.byte_order)
+    from .opcua import OpcuaMemory  # asyncua is imported only where OPC UA is used
+
+    memory: MemoryClient = OpcuaMemory.from_spec(spec, password=read_secret(spec.password_ref))
+    return memory
+
+
+class ControllerLinks:
+    """Sessions with the machines registered with a controller link (module docstring).
+
+    Parameters
+    ----------
+    center
+        The service's center (database, registry, metrics).
+    feed : Feed
+    sessions : mutable mapping of name to session
+        The machine server's session table, shared.
+    worker : callable
+        ``PushScheduler.serve``: keeps one session's map current until cancelled.
+    leases : LeaseKeeper, optional
+    reconcile_s : float
+        How often the registrations are read again, s.
+    backoff : Backoff
+    """
+
+    def __init__(self, center: Any, feed: Feed, sessions: MutableMapping[str, Any],
+                 worker: Worker | None, *, leases: LeaseKeeper | None = None,
+                 reconcile_s: float = 2.0, backoff: Backoff | None = None) -> None:
+        self.center = center
+        self.feed = feed
+        self.sessions = sessions
+        self.worker = worker
+        self.leases = leases
+        self.reconcile_s = reconcile_s
+        self.backoff = backoff or Backoff(initial_s=0.5, cap_s=30.0)
+        self._bg = Background(grace_s=5.0)
+        self._tasks: dict[str, tuple[Any, asyncio.Task[None]]] = {}
+        self._rng = random.Random()
+        self.connects = 0
+        self.failures = 0
+
+    async def __aenter__(self) -> ControllerLinks:
+        self._bg.start(self._reconcile_loop(), "controller-links")
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        tasks = [t for _, t in self._tasks.values()]
+        self._tasks.clear()
+        for t in tasks:
+            t.cancel()
+        await asyncio.gather(*tasks, return_exceptions=True)
+        await self._bg.stop()
+
+    def linked(self) -> list[str]:
+        """Names of the machines served through a controller link now (connected or
+        trying)."""
+        return sorted(self._tasks)
+
+    async def _reconcile_loop(self) -> None:
+        while True:
+            try:
+                await self.reconcile()
+            except SQLAlchemyError as exc:
+                log.warning("controller links: registrations not read: %s",
+                            str(exc).splitlines()[0])
+            await asyncio.sleep(self.reconcile_s)
+
+    async def reconcile(self) -> None:
+        """Start a task for each machine with a controller link, stop those whose link
+        went away or changed."""
+        rows: list[MachineRow] = await self.center.db.run(_machines)
+        want: dict[str, tuple[Any, MachineRow]] = {}
+        for row in rows:
+            spec = link_of(row.description)
+            if isinstance(spec, ModbusLink | OpcuaLink):
+                key = (spec.model_dump_json(), row.ip, row.updated_at)
+                want[row.name] = (key, row)
+        for name in list(self._tasks):
+            key, task = self._tasks[name]
+            if name not in want or want[name][0] != key or task.done():
+                del self._tasks[name]
+                task.cancel()
+                with contextlib.suppress(asyncio.CancelledError, Exception):
+                    await task
+        for name, (key, row) in want.items():
+            if name not in self._tasks:
+                task = asyncio.create_task(self._serve(row), name=f"{name}:controller-link")
+                self._tasks[name] = (key, task)
+
+    async def _serve(self, row: MachineRow) -> None:
+        spec = link_of(row.description)
+        assert isinstance(spec, ModbusLink | OpcuaLink)
+        machine = parse_machine(row.description)
+        controller = Controller.FANUC if row.controller == "fanuc" else Controller.SIEMENS
+        attempt = 0
+        last_error = ""
+        while True:
+            try:
+                memory = memory_for(spec, row.ip)
+            except LinkError as exc:  # e.g. a password reference not set: say it once
+                if str(exc) != last_error:
+                    last_error = str(exc)
+                    await self.feed.record(EventKind.ERROR, row.name, str(exc))
+                await asyncio.sleep(self.backoff.delay(attempt, self._rng))
+                attempt = min(attempt + 1, 16)
+                continue
+            session = ControllerSession(
+                row.name, row.ip, controller, machine.axis_names, memory,
+                link=spec.kind, chain=machine.chain, poll_s=spec.poll_ms / 1000.0,
+                on_telemetry=self._telemetry_of(row.name))
+            why = await self._session(row, session)
+            if session.hello is not None:  # it had opened: a fresh start of the backoff
+                attempt = 0
+                last_error = ""
+            elif why != last_error:
+                last_error = why
+                self.failures += 1
+                log.info("%s: %s link: %s", row.name, spec.kind, why)
+            await asyncio.sleep(self.backoff.delay(attempt, self._rng))
+            attempt = min(attempt + 1, 16)
+
+    def _telemetry_of(self, name: str) -> Callable[[dict[str, Any]], None]:
+        def seen(telemetry: dict[str, Any]) -> None:
+            self.center.registry.seen(name, telemetry)
+        return seen
+
+    async def _session(self, row: MachineRow, session: ControllerSession) -> str:
+        """Open and serve one session; returns why it ended."""
+        name = row.name
+        try:
+            await session.open()
+        except LinkError as exc:
+            await session.memory.close()
+            return str(exc)
+        except asyncio.CancelledError:
+            await session.memory.close()
+            raise
+        if self.leases is not None:
+            refusal = await self.leases.claim(row.id, name, session,
+                                              lambda why: session.abort(None, why))
+            if refusal is not None:
+                await session.memory.close()
+                return refusal
+        old = self.sessions.get(name)
+        if old is not None:
+            old.abort(None, f"replaced by the {session.link} link to {session.address}")
+        self.sessions[name] = session
+        self.connects += 1
+        self.center.registry.connected(name, session.address)
+        await self.feed.record(EventKind.CONNECTED, name,
+                               f"{session.link} link to {session.address}")
+        why = "session ended"
+        try:
+            async with asyncio.TaskGroup() as tg:
+                work: asyncio.Task[None] | None = None
+                if self.worker is not None:
+                    work = tg.create_task(self.worker(session, row), name=f"{name}:push")
+                try:
+                    why = await session.run()
+                finally:
+                    if work is not None:
+                        work.cancel()
+        except* Exception as group:  # a worker's bug ends this session only
+            for failure in group.exceptions:
+                log.error("%s: controller link task failed", name, exc_info=failure)
+            why = f"internal error: {group.exceptions[0]!r}"
+            session.abort(None, why)
+        finally:
+            if self.sessions.get(name) is session:
+                del self.sessions[name]
+                self.center.registry.disconnected(name)
+            if self.leases is not None:
+                self.leases.release(row.id, session)
+        await self.feed.record(EventKind.DISCONNECTED, name, why)
+        return why
+
+
+def _machines(session: Session) -> list[MachineRow]:
+    rows = machine_repo.list_machines(session)
+    for row in rows:  # loaded now: the rows leave their session
+        _ = (row.description, row.updated_at)
+    return rows
