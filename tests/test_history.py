@@ -91,11 +91,17 @@ async def test_windows_and_points_out_of_range_are_refused(
         api: tuple[FastAPI, httpx.AsyncClient]) -> None:
     _, client = api
     for params in ({"window_s": 10}, {"points": 5}, {"points": 100000},
-                   {"window_s": "nan"}, {"until": "yesterday"}):
+                   {"window_s": "nan"}, {"until": "yesterday"},
+                   {"until": "0001-01-01T00:00:00"}, {"until": "9999-12-31T23:59:59Z"}):
         r = await client.get("/api/machines/vmc-01/history", params=params)
         assert r.status_code == 422, (params, r.text)
     r = await client.get("/api/machines/nope/history")
     assert r.status_code == 404
+    r = await client.get("/api/history", params={"until": "1970-01-01T00:00:00"})
+    assert r.status_code == 422 and "until must lie between" in r.text
+    r = await client.get("/api/machines/vmc-01/history", params={
+        "until": "2026-11-27T12:00:00", "window_s": 3600})  # no offset: UTC
+    assert r.status_code == 200 and r.json()["until"] == "2026-11-27T12:00:00Z"
 
 
 async def test_corrections_maps_verifications_and_events_are_in_the_history(

@@ -15,7 +15,7 @@ from fastapi import APIRouter, Query
 from sqlalchemy.orm import Session
 
 from server.api.deps import DatabaseDep, MachineDep
-from server.api.errors import NOT_FOUND
+from server.api.errors import NOT_FOUND, unprocessable
 from server.dashboard.history import (
     MAX_POINTS,
     MAX_WINDOW_S,
@@ -29,6 +29,9 @@ from server.db import machines as machine_repo
 
 router = APIRouter(tags=["history"])
 
+EARLIEST = dt.datetime(1970, 1, 2, tzinfo=dt.UTC)
+LATEST = dt.datetime(9000, 1, 1, tzinfo=dt.UTC)
+
 WindowQuery = Annotated[float, Query(
     ge=MIN_WINDOW_S, le=MAX_WINDOW_S,
     description="Length of the window, s, ending at `until` (60 s to 366 days).")]
@@ -36,7 +39,21 @@ PointsQuery = Annotated[int, Query(
     ge=10, le=MAX_POINTS, description="Buckets the window is cut into: at most this many "
                                       "points per series.")]
 UntilQuery = Annotated[dt.datetime | None, Query(
-    description="End of the window (ISO 8601; UTC when no offset is given); default now.")]
+    description="End of the window (ISO 8601; UTC when no offset is given), 1970-01-02 "
+                "to 9000-01-01; default now.")]
+
+
+def _until(until: dt.datetime | None, window_s: float) -> dt.datetime | None:
+    """``until`` as UTC, refused (422) outside the range a window can end in."""
+    if until is None:
+        return None
+    until = until if until.tzinfo is not None else until.replace(tzinfo=dt.UTC)
+    if not EARLIEST + dt.timedelta(seconds=window_s) <= until <= LATEST:
+        raise unprocessable(["query", "until"], f"until must lie between "
+                            f"{(EARLIEST + dt.timedelta(seconds=window_s)).isoformat()} and "
+                            f"{LATEST.isoformat()} for a window of {window_s:g} s",
+                            "until_range")
+    return until
 
 
 @router.get("/machines/{name}/history", responses=NOT_FOUND)
@@ -45,7 +62,7 @@ async def history(db: DatabaseDep, machine: MachineDep, window_s: WindowQuery = 
     """The machine's temperatures (°C) and applied corrections per axis (µm, µrad for a
     rotary axis) downsampled to at most `points` buckets (mean, min, max each), its map
     deliveries, verifications and events in the window."""
-    return await db.run(machine_history, machine, until, window_s, points)
+    return await db.run(machine_history, machine, _until(until, window_s), window_s, points)
 
 
 @router.get("/history")
@@ -53,8 +70,10 @@ async def fleet(db: DatabaseDep, window_s: WindowQuery = 86400.0, points: Points
                 until: UntilQuery = None) -> FleetHistory:
     """Every machine's temperature and correction trends over the window (as above)."""
 
+    end = _until(until, window_s)
+
     def job(session: Session) -> FleetHistory:
-        return fleet_history(session, machine_repo.list_machines(session), until, window_s,
+        return fleet_history(session, machine_repo.list_machines(session), end, window_s,
                              points)
 
     return await db.run(job)
