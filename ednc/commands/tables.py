@@ -35,10 +35,12 @@ def register(app: typer.Typer) -> None:
         out: Annotated[Path, typer.Option("--out", help="Directory for the files.")],
         points: Annotated[int, typer.Option(help="Positions per axis.")] = 21,
     ) -> None:
-        """Write one CSV per axis, locations.csv and terms.json (the extension terms).
+        """Write one CSV per axis, locations.csv and terms.json (the rest of the model).
 
         Axis files: x_mm, EXX_um, ..., EAX_urad, ...; terms.json: backlash, periodic and
-        thermal terms, each with a one-line description and its units.
+        thermal terms, each with a one-line description and its units, the model's info
+        (the fit's tool-tip offsets, which predict adds) and the exact component functions,
+        so that 'ednc tables import' gives the model back whole.
         A term the files cannot carry exactly is refused by name and nothing is written.
         """
         m = read_machine(machine)
@@ -64,7 +66,11 @@ def register(app: typer.Typer) -> None:
     ) -> None:
         """Build a model from component-error tables and terms.json (rigid without it).
 
-        Tables are interpolated linearly between rows; terms come back exactly."""
+        Reads the files of 'ednc tables export' and 'ednc export --format iso230-1' (a
+        directory, or one file of blocks; metadata lines start with #; an empty column is
+        unknown) and those of earlier versions (bare ISO names, no metadata). Tables are
+        interpolated linearly between rows; with a terms.json of this version whose exact
+        functions the tables still match, the model comes back exactly (offsets too)."""
         m = read_machine(machine)
         try:
             model = import_model(m, read_table_files(files))
