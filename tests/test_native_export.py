@@ -210,7 +210,9 @@ def test_ednc_export_cec_and_iso230_1(tmp_path: Path) -> None:
     back = json.loads((tmp_path / "back.json").read_text())
     assert "EAZ" not in back["components"] and "EBZ" in back["components"]
     for bad, msg in ((["--control", "810d"], "expected 828d or 840d"),
-                     (["--first-table", "5", "--control", "828d"], "--first-table 5"),
+                     (["--first-table", "8", "--control", "828d"], "--first-table 8"),
+                     (["--first-table", "5", "--control", "828d", "--max-tables", "4"],
+                      "has 3 tables left"),
                      (["--axis-names", "Q=X1"], "AXIS=NAME")):
         r = run(*base, "--format", "cec", "--out", str(tmp_path / "x.mpf"), *bad)
         assert r.returncode == 2 and msg in r.stderr and "Traceback" not in r.stderr, r.stderr

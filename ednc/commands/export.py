@@ -73,8 +73,10 @@ def register(app: typer.Typer) -> None:
             "--tolerance-um", help="cec: interpolation budget at the tool tip per output "
                                    "axis, µm (sets the points per table).")] = 0.5,
         control: Annotated[str, typer.Option(
-            "--control", help="cec: 828d (8 tables of 200 points) or 840d (62 tables of "
-                              "up to 2000 points, MD18342).")] = "840d",
+            "--control", help="cec: 828d (8 tables of 200 points, fixed) or 840d (as many "
+                              "as MD18342 reserves; assumed here up to 62 tables of 2000 "
+                              "points: give the machine's with --max-tables, "
+                              "--max-points).")] = "840d",
         max_tables: Annotated[int | None, typer.Option(
             "--max-tables", help="cec: tables available (default: the control's).")] = None,
         max_points: Annotated[int | None, typer.Option(
@@ -122,9 +124,14 @@ def register(app: typer.Typer) -> None:
         if max_tables is not None and not 1 <= max_tables <= tables_cap:
             raise UserError(f"--max-tables must be 1..{tables_cap} on the {control}, "
                             f"got {max_tables}")
-        if first_table < 0 or first_table + (max_tables or tables_cap) > tables_cap:
+        if not 0 <= first_table < tables_cap:
             raise UserError(f"--first-table {first_table}: the {control} numbers its "
-                            f"tables 0..{tables_cap - 1}; use --max-tables to leave room")
+                            f"tables 0..{tables_cap - 1}")
+        room = tables_cap - first_table  # the tables below the first stay the OEM's
+        if max_tables is not None and max_tables > room:
+            raise UserError(f"--max-tables {max_tables} from table {first_table}: the "
+                            f"{control} has {room} tables left (0..{tables_cap - 1})")
+        max_tables = room if max_tables is None else max_tables
         if not (tolerance_um > 0 and tolerance_um < 1e3):
             raise UserError(f"--tolerance-um must be > 0 and < 1000, got {tolerance_um}")
         if step is not None and not 0 < step <= 1e4:
