@@ -264,7 +264,7 @@ const EDNC = (() => {
    * drawn by uPlot into a new <div class="trend-chart">; the series need not share times
    * (a missing bucket is a gap). `data-points` says how many points were drawn.
    */
-  function timeChart(series, { unit, title = "", width = 300, height = 130, points = false,
+  function timeChart(series, { unit, title = "", width = 300, height = 140, points = false,
     since = null, until = null } = {}) {
     const box = el("div", { class: "trend-chart", "data-unit": unit });
     const times = [...new Set(series.flatMap((s) => s.t))].sort((a, b) => a - b);
@@ -286,7 +286,13 @@ const EDNC = (() => {
       font: "11px DejaVu Sans, sans-serif" };
     const opts = {
       width, height, title,
-      scales: { x: { time: true, range: since !== null ? [since, until] : undefined } },
+      scales: { x: { time: true, range: since !== null ? [since, until] : undefined },
+        // a little room around the data: a flat series is a line in the middle, not at 0
+        y: { range: (u, lo, hi) => {
+          if (lo === null || hi === null) return [0, 1];
+          const pad = hi > lo ? (hi - lo) * 0.1 : Math.max(Math.abs(hi) * 0.02, 0.5);
+          return [lo - pad, hi + pad];
+        } } },
       axes: [axis, { ...axis, label: unit, labelFont: "11px DejaVu Sans, sans-serif",
         size: 50, labelSize: 14 }],
       series: [{ label: "time" }, ...series.map((s, i) => ({

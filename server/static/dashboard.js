@@ -29,7 +29,7 @@
   function drawTrends(h) {
     lastHistory = h;
     for (const m of h.machines) {
-      const opts = { width: 280, height: 110, since: Date.parse(h.since) / 1000,
+      const opts = { width: 280, height: 130, since: Date.parse(h.since) / 1000,
         until: Date.parse(h.until) / 1000 };
       const linear = m.corrections.filter((s) => s.unit === "µm");
       EDNC.fill(trendBox(m.machine),
