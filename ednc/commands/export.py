@@ -153,7 +153,7 @@ def register(app: typer.Typer) -> None:
         temps = parse_temperatures(temperature or [])
         tool = machine.branches[0].tool_length_mm if tool_length is None else tool_length
         try:
-            geo, backlash, thermal = model_geometry(model, temps or None)
+            geo, backlash, thermal = model_geometry(model, temps or None, machine)
         except (ValueError, ComponentErrorSpecError) as exc:
             raise UserError(str(exc)) from None
         if fmt == "cec":
