@@ -15,7 +15,12 @@ Fleet file (JSON, or YAML when the name ends in ``.yaml``/``.yml``)::
 ``center`` may name several centers of one plant, as ``"HOST:PORT,HOST:PORT"`` or a list
 of ``"HOST:PORT"``: each machine tries them in turn (the next after a refusal or a failed
 connection, see :class:`~machine_sim.link.SimulatedCNC`).
-``machine`` is a path (relative to the fleet file) or an inline description; ``ip``
+``machine`` is a path (relative to the fleet file) or an inline description; a
+description's ``link`` (``server/schemas/link.py``) says how the center reaches the
+machine: without one, or ``{"kind": "ednc"}``, the machine runs the EDNC client and
+connects to the center; with ``{"kind": "modbus", "port": 502, ...}`` it serves its PMC
+window through a Modbus/TCP server at its own address (the center connects to it), with
+``{"kind": "opcua", ...}`` through an OPC UA server. ``ip``
 overrides the address announced in Hello; ``seed`` (default: the position in the list)
 seeds motion and temperatures. A machine whose address is a loopback one (127.x.y.z)
 connects from that address, so that several simulated machines on one host are told
@@ -41,6 +46,7 @@ from volumetric.errors import MachineSpecError
 from volumetric.model.machine import Machine, load_machine, parse_machine
 
 from .link import Backoff, MqttTarget, SimulatedCNC
+from .windowcnc import ControllerServer, WindowCNC
 
 __all__ = ["Fleet", "FleetEntry", "FleetSpecError", "generated_fleet", "load_fleet",
            "parse_center", "parse_centers"]
@@ -58,6 +64,12 @@ class FleetEntry:
     secret: bytes
     seed: int = 0
     ip: str | None = None
+    link: Mapping[str, Any] | None = None
+    """The description's ``link`` (None: the EDNC protocol)."""
+
+    @property
+    def link_kind(self) -> str:
+        return str((self.link or {}).get("kind", "ednc"))
 
 
 def parse_center(text: str) -> tuple[str, int]:
@@ -135,7 +147,12 @@ def load_fleet(path: str | Path) -> tuple[list[FleetEntry], dict[str, Any]]:
         ip = raw.get("ip")
         if ip is not None and not isinstance(ip, str):
             raise FleetSpecError(f"{where}.ip: expected a string")
-        entries.append(FleetEntry(m, _secret(raw.get("secret"), where), seed, ip))
+        link = spec.get("link") if isinstance(spec, Mapping) else None
+        if link is not None and (not isinstance(link, Mapping) or link.get("kind") not in
+                                 ("ednc", "modbus", "opcua")):
+            raise FleetSpecError(f"{where}.machine.link: expected an object with kind "
+                                 "ednc, modbus or opcua")
+        entries.append(FleetEntry(m, _secret(raw.get("secret"), where), seed, ip, link))
     if not entries:
         raise FleetSpecError(f"{p}: the fleet has no machines")
     settings = {k: v for k, v in data.items() if k != "machines"}
@@ -150,9 +167,20 @@ def loopback_address(i: int) -> str:
     return f"127.0.{1 + i // 250}.{1 + i % 250}"
 
 
-def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0
-                    ) -> list[FleetEntry]:
-    """``n`` vertical machining centres (module docstring)."""
+def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0,
+                    link: str = "ednc", port: int | None = None) -> list[FleetEntry]:
+    """``n`` vertical machining centres (module docstring); ``link`` modbus or opcua:
+    each serves its controller's window at its own address and ``port`` (502 Modbus,
+    4840 OPC UA by default), and the controller follows the link (Fanuc-style over Modbus,
+    Siemens-style over OPC UA)."""
+    if link not in ("ednc", "modbus", "opcua"):
+        raise FleetSpecError(f"link must be ednc, modbus or opcua, got {link!r}")
+    if link != "ednc":
+        want = "fanuc" if link == "modbus" else "siemens"
+        if controller not in ("mixed", want):
+            raise FleetSpecError(f"a {link} link serves {want}-style machines, not "
+                                 f"{controller}")
+        controller = want
     if n < 1:
         raise FleetSpecError(f"--machines must be at least 1, got {n}")
     if controller not in ("mixed", "fanuc", "siemens"):
@@ -166,7 +194,13 @@ def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int
                            "chain": "w X Y b Z t",
                            "travel_mm": {"x": [0, 600], "y": [0, 400], "z": [-400, 0]},
                            "tool_length_mm": 100.0})
-        out.append(FleetEntry(m, key, seed + i))
+        spec: dict[str, Any] | None = None
+        if link == "modbus":
+            spec = {"kind": "modbus", "host": m.ip, "port": port or 502}
+        elif link == "opcua":
+            spec = {"kind": "opcua", "endpoint": f"opc.tcp://{m.ip}:{port or 4840}",
+                    "user": "ednc", "password_ref": "env:EDNC_OPCUA_PASSWORD"}
+        out.append(FleetEntry(m, key, seed + i, link=spec))
     return out
 
 
@@ -186,18 +220,29 @@ class Fleet:
     """
 
     def __init__(self, entries: Sequence[FleetEntry],
-                 center: tuple[str, int] | Sequence[tuple[str, int]], *,
+                 center: tuple[str, int] | Sequence[tuple[str, int]] | None, *,
                  mqtt: MqttTarget | None = None, cycle_s: float | None = None,
                  backoff: Backoff | None = None) -> None:
-        self.machines = [SimulatedCNC(e.machine, center, e.secret, ip=e.ip, seed=e.seed,
-                                      mqtt=mqtt, cycle_s=cycle_s, backoff=backoff)
-                         for e in entries]
+        self.machines: list[SimulatedCNC] = []
+        self.served: list[WindowCNC] = []
+        for e in entries:
+            if e.link_kind == "ednc":
+                if center is None:
+                    raise FleetSpecError(f"{e.machine.name} connects to a center: give "
+                                         "--center HOST:PORT")
+                self.machines.append(SimulatedCNC(e.machine, center, e.secret, ip=e.ip,
+                                                  seed=e.seed, mqtt=mqtt, cycle_s=cycle_s,
+                                                  backoff=backoff))
+            else:
+                self.served.append(served_machine(e, cycle_s))
         self._stack = contextlib.AsyncExitStack()
 
     async def __aenter__(self) -> Fleet:
         async with contextlib.AsyncExitStack() as stack:
             for cnc in self.machines:
                 await stack.enter_async_context(cnc)
+            for served in self.served:
+                await stack.enter_async_context(served)
             self._stack = stack.pop_all()
         return self
 
@@ -208,8 +253,12 @@ class Fleet:
     def summary(self) -> dict[str, int]:
         """Totals over the fleet: connected now, connects, maps acked and rejected, ..."""
         s = [c.stats for c in self.machines]
+        w = [c.program for c in self.served]
         return {
-            "machines": len(self.machines),
+            "machines": len(self.machines) + len(self.served),
+            "served": len(self.served),
+            "maps_applied_from_memory": sum(p.applied_switches for p in w),
+            "maps_refused_from_memory": sum(p.rejected_switches for p in w),
             "ready": sum(c.ready.is_set() for c in self.machines),
             "connects": sum(x.connects for x in s),
             "welcomes": sum(x.welcomes for x in s),
@@ -220,3 +269,27 @@ class Fleet:
             "mqtt_published": sum(x.mqtt_published for x in s),
             "refused": sum(len(x.rejects) for x in s),
         }
+
+
+def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
+    """The simulated machine of an entry whose controller serves its window (a modbus or
+    opcua link): it listens at its own address (the entry's ``ip`` or the machine's)."""
+    link = dict(e.link or {})
+    host = e.ip or e.machine.ip
+    if e.link_kind == "modbus":
+        from .modbus_server import PmcModbusServer
+
+        port = int(link.get("port", 502))
+        register = int(link.get("start_register", 0))
+        order = str(link.get("byte_order", "little"))
+        if order not in ("little", "big"):
+            raise FleetSpecError(f"{e.machine.name}: byte_order little or big, got {order!r}")
+
+        def modbus(cnc: WindowCNC) -> ControllerServer:
+            return PmcModbusServer(cnc, host=host, port=port, register=register,
+                                   byte_order=order)  # type: ignore[arg-type]
+
+        return WindowCNC(e.machine, modbus, seed=e.seed, cycle_s=cycle_s)
+    from .opcua_server import opcua_factory
+
+    return WindowCNC(e.machine, opcua_factory(host, link), seed=e.seed, cycle_s=cycle_s)

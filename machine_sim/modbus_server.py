@@ -172,6 +172,10 @@ class PmcModbusServer:
         self.area = _PmcArea(cnc.window, register, byte_order, unit_id, delay_s)
         self._server: ModbusTcpServer | None = None
 
+    @property
+    def address(self) -> str:
+        return f"modbus://{self.host}:{self.port}"
+
     async def start(self) -> None:
         server = ModbusTcpServer(self.area, address=(self.host, self.port))
         server.decoder = _pmc_decoder()

@@ -91,6 +91,17 @@ def register(app: typer.Typer) -> None:
         only: Annotated[list[str] | None, typer.Option(
             "--only", help="With --fleet, run only these machines (repeatable): one "
                            "container per machine, each with its own address.")] = None,
+        link: Annotated[str, typer.Option(
+            "--link", help="Generated machines: ednc (they connect to the center with the "
+                           "EDNC protocol), modbus (Fanuc-style PMCs serving their window "
+                           "through Modbus/TCP at their own address; the center connects "
+                           "to them) or opcua (Siemens-style NCs behind an OPC UA server). "
+                           "A fleet file says it per machine (its description's link).")
+        ] = "ednc",
+        port: Annotated[int | None, typer.Option(
+            "--port", help="With --link modbus|opcua: the port each machine's server "
+                           "listens on at its address (default 502 Modbus, 4840 OPC UA).")
+        ] = None,
     ) -> None:
         """Run simulated machines against a center, or write a simulated campaign."""
         from ednc.inputs import check_output, float_option, int_option
@@ -103,6 +114,10 @@ def register(app: typer.Typer) -> None:
             float_option(duration, "--duration", 0.0, 1e9, lo_open=True, unit=" s")
         if controller not in ("mixed", "fanuc", "siemens"):
             raise UserError(f"--controller {controller!r}: expected mixed, fanuc or siemens")
+        if link not in ("ednc", "modbus", "opcua"):
+            raise UserError(f"--link {link!r}: expected ednc, modbus or opcua")
+        if port is not None:
+            int_option(port, "--port", 1, 65535)
         check_output(campaign, "--campaign")
         check_output(truth, "--truth")
         if campaign is not None:
@@ -122,13 +137,14 @@ def register(app: typer.Typer) -> None:
                                 "center's API key, which writes need")
             registration = (api, api_key)
         run_fleet(center, machines, fleet, secret, controller, mqtt, cycle_ms, duration, seed,
-                  only or [], registration)
+                  only or [], registration, link=link, port=port)
 
 
 def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret: str | None,
               controller: str, mqtt: str | None, cycle_ms: float | None,
               duration: float | None, seed: int, only: list[str],
-              registration: tuple[str | None, str] | None = None) -> None:
+              registration: tuple[str | None, str] | None = None, *, link: str = "ednc",
+              port: int | None = None) -> None:
     """The network mode (module docstring); ``registration`` is (API URL or None, key)."""
     from machine_sim.fleet import (
         Fleet,
@@ -156,14 +172,17 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
             if secret is None:
                 raise UserError("--machines needs --secret (or EDNC_SIM_SECRET): the secret "
                                 "the center has for the generated machines")
-            entries = generated_fleet(machines, secret, controller=controller, seed=seed)
+            entries = generated_fleet(machines, secret, controller=controller, seed=seed,
+                                      link=link, port=port)
         else:
             raise UserError("give --machines N (with --secret) or --fleet FILE, "
                             "or --campaign OUT.csv")
         where = center or settings.get("center")
-        if where is None:
+        connecting = any(e.link_kind == "ednc" for e in entries)
+        if where is None and (connecting or (registration is not None and
+                              registration[0] is None)):
             raise UserError("give --center HOST:PORT (or 'center' in the fleet file)")
-        addresses = parse_centers(where)
+        addresses = parse_centers(where) if where is not None else []
         target = None
         mq = settings.get("mqtt")
         if mqtt is not None:
@@ -185,21 +204,26 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
                    + (f"; {len(known)} were already registered" if known else ""))
 
     async def main() -> dict[str, int]:
-        async with Fleet(entries, addresses, mqtt=target, cycle_s=cycle_s) as f:
-            typer.echo(f"{len(entries)} simulated machines connecting to "
-                       + ", ".join(f"{host}:{port}" for host, port in addresses))
+        async with Fleet(entries, addresses or None, mqtt=target, cycle_s=cycle_s) as f:
+            if f.machines:
+                typer.echo(f"{len(f.machines)} simulated machines connecting to "
+                           + ", ".join(f"{host}:{port}" for host, port in addresses))
+            for served in f.served:
+                typer.echo(f"{served.machine.name}: {served.machine.controller}-style "
+                           f"controller serving its window on {served.server.address}")
             with contextlib.suppress(TimeoutError):
                 async with asyncio.timeout(duration):
                     async with asyncio.TaskGroup() as tg:
-                        tg.create_task(_hint_if_unwelcomed(f.summary, machines > 0),
-                                       name="sim-unwelcomed-hint")
+                        if f.machines:
+                            tg.create_task(_hint_if_unwelcomed(f.summary, machines > 0),
+                                           name="sim-unwelcomed-hint")
                         await asyncio.Event().wait()
             return f.summary()
 
     with contextlib.suppress(KeyboardInterrupt):
         summary = asyncio.run(main())
         typer.echo(json.dumps(summary))
-        if summary["welcomes"] == 0:
+        if summary["welcomes"] == 0 and summary["served"] < summary["machines"]:
             typer.echo(unwelcomed_hint(machines > 0), err=True)
 
 
@@ -247,6 +271,8 @@ async def register_fleet(client: httpx.AsyncClient, entries: list[FleetEntry], s
     known: list[str] = []
     for e in entries:
         body = {**machine_description(e.machine), "secret": secret}
+        if e.link is not None:
+            body["link"] = dict(e.link)
         try:
             r = await client.post("/api/machines", json=body)
         except httpx.HTTPError as exc:
