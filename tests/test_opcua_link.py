@@ -314,6 +314,8 @@ async def test_the_controller_session_pushes_over_opcua_built_from_the_link() ->
 
 
 async def test_a_connection_dropped_after_any_write_leaves_the_last_good_map() -> None:
+    """Writes 0..k-1 of a push delivered (and again in reverse), then the connection cut
+    without CloseSession, for every k: the PLC keeps map 1 and acknowledges nothing."""
     p1, p2 = payloads()
     async with machine() as cnc:
         mem = memory(cnc)
@@ -329,6 +331,8 @@ async def test_a_connection_dropped_after_any_write_leaves_the_last_good_map() -
         for k in range(len(writes)):  # the connection lost after write k-1, every k
             await mem.connect()
             for w in writes[:k]:
+                await mem.write(w.offset, w.data)
+            for w in reversed(writes[:k]):  # repeated, out of order: still no switch
                 await mem.write(w.offset, w.data)
             client = mem._client
             assert client is not None
