@@ -35,14 +35,16 @@ from numpy.typing import NDArray
 
 from volumetric.model.components import (
     Component,
+    Fourier,
     GeometricErrors,
     Polynomial,
     Table,
+    add_components,
     location_names,
 )
 from volumetric.model.machine import Axis, Machine
 
-__all__ = ["random_geometry", "rotary_error_motions"]
+__all__ = ["cyclic_error", "random_geometry", "rotary_error_motions"]
 
 F64 = NDArray[np.float64]
 
@@ -244,3 +246,55 @@ def rotary_error_motions(
                 v += amp * (np.sin(k * theta + ph) - np.sin(ph))
             out[f"E{c}{axis.name}"] = Table(tuple(q.tolist()), tuple((v * scale).tolist()))
     return out
+
+
+def cyclic_error(
+    machine: Machine, geometry: GeometricErrors, axis: str, order: int, radial_um: float,
+    angular_urad: float, rng: np.random.Generator,
+) -> GeometricErrors:
+    """``geometry`` with a cyclic error of ``order`` per turn added to a rotary axis's
+    components (a gear, a worm or a bearing of that many teeth or balls), exactly (a
+    :class:`~volumetric.model.components.Fourier` term, not a table).
+
+    The indexing component (the rotation about the axis itself, ``ECC`` for C) gets
+    ``angular_urad``; each radial component (perpendicular to the axis) ``radial_um``
+    times a random factor in [0.5, 1]; the axial one and the two tilts a random fraction
+    (0.1 to 0.4) of the radial size (µm) and of ``angular_urad`` (µrad). Phases are
+    random.
+
+    Parameters
+    ----------
+    machine : Machine
+    geometry : GeometricErrors
+    axis : str
+        A rotary axis (name or key).
+    order : int
+        Cycles per turn (>= 1).
+    radial_um, angular_urad : float
+        Amplitudes (>= 0).
+    rng : numpy.random.Generator
+    """
+    ax = machine.axis(axis)
+    if ax.kind != "rotary":
+        raise ValueError(f"axis {ax.name} is linear; a cyclic error per turn needs a rotary axis")
+    if order < 1 or radial_um < 0 or angular_urad < 0:
+        raise ValueError(f"order must be >= 1 and amplitudes >= 0, got {order}, {radial_um}, "
+                         f"{angular_urad}")
+    own = ax.name
+    own_linear = {"A": "X", "B": "Y", "C": "Z"}[own]
+    comps = dict(geometry.components)
+    zeros = (0.0,) * (order - 1)
+    for c in "XYZABC":
+        if c == own:
+            amp = angular_urad
+        elif c == own_linear:
+            amp = radial_um * float(rng.uniform(0.1, 0.4))
+        elif c in "XYZ":
+            amp = radial_um * float(rng.uniform(0.5, 1.0))
+        else:
+            amp = angular_urad * float(rng.uniform(0.1, 0.4))
+        ph = float(rng.uniform(0.0, 2 * np.pi))
+        term = Fourier(0.0, (*zeros, amp * float(np.sin(ph))), (*zeros, amp * float(np.cos(ph))))
+        name = f"E{c}{own}"
+        comps[name] = add_components(comps.get(name), term)
+    return GeometricErrors(comps, geometry.locations)

@@ -1,12 +1,14 @@
-"""Rotary axes as they are: periodic error motions are identified, compensated and named.
+"""Rotary axes as they are: periodic error motions are identified and compensated.
 
 A five-axis machine of the demo's chain and pivots (C a full turn, A ±110°) gets a random
 rigid geometry with smooth (polynomial) rotary components, then a hidden periodic error
 motion on C: a random order per turn (1 to 3), random amplitudes and phases on every
-component of C. The diagnosis must name ``rotary_periodic`` on ``c`` with that order and
-the indexing amplitude within 30 %; a smooth machine must not be called periodic; and the
-model ``ednc fit`` identifies must make the worst tool-tip error 97 % smaller when its
-corrections are applied to the true machine.
+component of C. The diagnosis's base is the model ``ednc fit`` gives (harmonics up to 4
+per turn on both rotary axes), so such a motion is the base's, not an effect: the
+diagnosis names nothing and the base leaves only the noise (a cyclic error beyond the
+base's harmonics is ``tests/test_diagnose_five_axis.py``'s); a smooth machine is not
+called periodic; and the model ``ednc fit`` identifies must make the worst tool-tip error
+97 % smaller when its corrections are applied to the true machine.
 """
 
 from __future__ import annotations
@@ -21,7 +23,6 @@ from machine_sim.program import Dwell
 from machine_sim.testprograms import rtest
 from machine_sim.truth import random_geometry, rotary_error_motions
 from volumetric.compensate.solver import compensate
-from volumetric.diagnose.candidates import RotaryFits, candidates
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.identify.fit import fit
 from volumetric.model.components import Component, GeometricErrors, Polynomial, Table
@@ -71,19 +72,17 @@ def hidden_harmonic(machine: Machine, geometry: GeometricErrors, rng: np.random.
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])
-def test_a_hidden_periodic_rotary_error_motion_is_named_with_its_order(seed: int) -> None:
+def test_a_low_order_rotary_error_motion_is_the_bases_not_an_effect(seed: int) -> None:
     machine = parse_machine(FIVE_AXIS)
     rng = np.random.default_rng(4200 + seed)
     order = int(rng.integers(1, 4))
     smooth = smooth_rotary(machine, random_geometry(machine, rng), rng)
-    truth, index_amp = hidden_harmonic(machine, smooth, rng, order)
+    truth, _ = hidden_harmonic(machine, smooth, rng, order)
     sim = SimulatedMachine(machine, truth, Effects(noise=NOISE), seed=seed)
     d = diagnose(machine, standard_campaign(sim, rng))
-    assert (d.effect, d.axis) == ("rotary_periodic", "c"), d.candidates[:3]
-    assert d.estimate["order"] == order
-    got = d.estimate["components"]["ECC"][str(order)]
-    assert abs(got - index_amp) <= 0.3 * index_amp, (got, index_amp)
-    assert d.rms_after_um < 1.2 * NOISE.displacement_um  # what is left is the noise
+    assert d.effect == "none", (d.effect, d.axis, d.candidates[:3])
+    assert not any(e["effect"] == "rotary_periodic" for e in d.details["effects"])
+    assert d.rms_before_um < 1.2 * NOISE.displacement_um  # the base carries the motion
 
 
 def test_smooth_rotary_axes_are_not_called_periodic() -> None:
@@ -93,36 +92,6 @@ def test_smooth_rotary_axes_are_not_called_periodic() -> None:
     sim = SimulatedMachine(machine, truth, Effects(noise=NOISE), seed=5)
     d = diagnose(machine, standard_campaign(sim, rng))
     assert d.effect == "none", d.candidates[:3]
-
-
-def test_the_rotary_fits_serve_another_base_on_the_same_readings() -> None:
-    # the diagnosis refits its base (other degrees) on the same readings and keeps the
-    # rotary candidates' rigid fits: with them kept, a candidate must be what a fresh
-    # library gives for the new base, replacing all of the new base's columns
-    machine = parse_machine(FIVE_AXIS)
-    rng = np.random.default_rng(4200)
-    truth, _ = hidden_harmonic(machine, smooth_rotary(machine, random_geometry(machine, rng),
-                                                      rng), rng, 2)
-    m = standard_campaign(SimulatedMachine(machine, truth, Effects(noise=NOISE), seed=0), rng)
-    train = np.ones(len(m), dtype=bool)
-    resid = np.zeros(len(m))
-    params = fit(machine, m, fourier=False).params
-    kept: RotaryFits = {}
-    first = [c for c in candidates(machine, m, resid, train, params, kept)[0]
-             if c.effect == "rotary_periodic"]
-    # both axes travel far enough for harmonics (C a full turn, A 220°)
-    assert [c.axis for c in first] == ["c", "a"] and set(kept) == {"C", "A"}
-    fitted = dict(kept)
-    fewer = params[:-4]
-    again = [c for c in candidates(machine, m, resid, train, fewer, kept)[0]
-             if c.effect == "rotary_periodic"]
-    fresh = [c for c in candidates(machine, m, resid, train, fewer)[0]
-             if c.effect == "rotary_periodic"]
-    assert all(kept[k] is fitted[k] for k in fitted)  # not fitted again
-    assert [c.axis for c in again] == [c.axis for c in fresh] == ["c", "a"]
-    for a, f in zip(again, fresh, strict=True):
-        assert a.drop == f.drop == tuple(range(len(fewer)))
-        np.testing.assert_array_equal(a.columns, f.columns)
 
 
 # R-test balls reachable over each rotary axis's sweep, spread along and around the axis

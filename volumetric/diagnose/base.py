@@ -53,8 +53,7 @@ def base_without(
     w : ndarray, shape (N,)
         Weights of the readings.
     chosen : list of Candidate
-        The effects named; a replacing candidate (a rotary axis's harmonics) is fitted
-        but not taken out (the base it replaces is what is chosen again).
+        The effects named.
     base_fit : FitResult
         The current base.
 
@@ -76,13 +75,13 @@ def base_without(
     trained = m.select(train)
     cleaned = replace(trained, value=trained.value - effect[train])
     try:
-        again = fit(machine, cleaned, fourier=False)
+        again = fit(machine, cleaned)
     except FitError:
         return None
     if [p.name for p in again.params] == [p.name for p in base_fit.params]:
         return None
     # the values on the readings as they are, with the weights found without the effects
-    design = build_design(machine, trained, fourier=False)
+    design = build_design(machine, trained)
     at = design.matrix[:, design.columns([p.name for p in again.params])]
     wt = again.weights
     values = solve_normal(at.T @ (at * wt[:, None]), (at * wt[:, None]).T @ trained.value)
@@ -118,10 +117,10 @@ def base_design(machine: Machine, m: Measurements, train: NDArray[np.bool_],
     FitError
         The rigid model cannot be identified.
     """
-    # the smooth model (polynomials on every axis): a periodic rotary error motion is
-    # one of the candidates, named when its harmonics make the held-out gain
-    base_fit = base if base is not None else fit(machine, m.select(train), fourier=False)
-    design = build_design(machine, m, fourier=False)
+    # the model `ednc fit` gives by default (harmonics on every rotary axis of at least
+    # half a turn, orders by BIC): an effect is what goes beyond it
+    base_fit = base if base is not None else fit(machine, m.select(train))
+    design = build_design(machine, m)
     a0 = design.matrix[:, design.columns([p.name for p in base_fit.params])]
     trained = m.select(train)
     wd = base_fit.weights[~trained.is_angle]

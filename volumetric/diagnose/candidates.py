@@ -17,15 +17,8 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from volumetric.identify.design import (
-    Design,
-    Param,
-    axis_positions,
-    branch_rows,
-    build_design,
-    fourier_axis,
-)
-from volumetric.identify.fit import FitError, FitResult, fit
+from volumetric.diagnose.rotary import rotary_candidates
+from volumetric.identify.design import Param, axis_positions, branch_rows
 from volumetric.measure.measurement import Measurements
 from volumetric.model.linear import sensitivities
 from volumetric.model.machine import Machine
@@ -131,16 +124,15 @@ def along_axes(machine: Machine, m: Measurements) -> F64:
 
 def candidates(
     machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_],
-    base_params: list[Param] | None = None, rotary_fits: RotaryFits | None = None,
+    a0: F64 | None = None,
 ) -> tuple[list[Candidate], dict[str, str]]:
     """The library of extensions for these readings, and what cannot be assessed.
 
-    ``base_params`` (the base model's parameters, in its design's column order) adds a
-    ``rotary_periodic`` candidate per rotary axis of long travel: its components'
-    polynomial columns replaced by harmonics of the angle. ``rotary_fits`` keeps the
-    rigid fits those take, by axis name, for another call on the same readings and
-    training rows (the diagnosis's refits of its base: on a five-axis campaign, two
-    fits of a second or so each time).
+    Every rotary axis adds its candidates of :mod:`volumetric.diagnose.rotary`: a cyclic
+    error beyond the base's harmonics (``rotary_periodic``, on an axis of at least half a
+    turn read at angles fine enough) and a reversal error (``rotary_backlash``, when the
+    readings say the axis's approach direction); ``a0``, the base design (N, P), is
+    what a cyclic error's order is judged beside.
     """
     q = axis_positions(machine, m)
     temps = temperature_columns(m)
@@ -190,69 +182,10 @@ def candidates(
         if np.ptp(m.time_s) > 0:
             out.append(Candidate("time_drift", key, None,
                                  (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
-    if base_params is not None:
-        out += _rotary_candidates(machine, m, base_params, missing, train,
-                                  {} if rotary_fits is None else rotary_fits)
+    for effect, key, cols, extra in rotary_candidates(machine, m, base_residual, train,
+                                                      missing, a0):
+        out.append(Candidate(effect, key, None, cols, extra))
     return out, missing
-
-
-RotaryFits = dict[str, tuple[Design, FitResult] | str]
-"""Per rotary axis name, the design and rigid fit with that axis's harmonics, or why
-there is none."""
-
-
-def _rotary_candidates(
-    machine: Machine, m: Measurements, base_params: list[Param],
-    missing: dict[str, str], train: NDArray[np.bool_], fits: RotaryFits,
-) -> list[Candidate]:
-    """``rotary_periodic`` per rotary axis of long travel (see :func:`candidates`).
-
-    The candidate is the rigid model as ``ednc fit`` identifies it on the training
-    readings with this axis's components in harmonics of the angle (orders 1 ..
-    :func:`volumetric.identify.design.fourier_order` by BIC; harmonics the readings
-    cannot tell from the rest of the model, such as the part of a once-per-turn radial
-    or tilt motion that is the axis's location error, removed). Adding every harmonic
-    to the base would leave ill-determined directions that inflate the held-out errors.
-    """
-    out: list[Candidate] = []
-    for axis in machine.axes:
-        if axis.kind != "rotary":
-            continue
-        key = f"rotary_periodic {axis.key}"
-        if not fourier_axis(axis):
-            missing[key] = (
-                f"axis {axis.name} travels {axis.travel[1] - axis.travel[0]:g}°: too little "
-                "of a turn to tell harmonics from its smooth component errors")
-            continue
-        angles = np.unique(np.round(axis_positions(machine, m)[
-            train, machine.axis_names.index(axis.name)], 3))
-        if angles.size < 5:
-            missing[key] = f"axis {axis.name} is read at {angles.size} angles: too few"
-            continue
-        if axis.name not in fits:
-            try:
-                fits[axis.name] = (
-                    build_design(machine, m, fourier=frozenset({axis.name})),
-                    fit(machine, m.select(train), fourier=frozenset({axis.name})))
-            except FitError:
-                fits[axis.name] = (f"the model with harmonics of {axis.name} cannot be "
-                                   "identified")
-        known = fits[axis.name]
-        if isinstance(known, str):
-            missing[key] = known
-            continue
-        design, periodic = known
-        # the harmonics as `ednc fit` selects them (orders by BIC, confounded ones out)
-        chosen = [p for p in periodic.params if p.basis == "fourier"]
-        if not chosen:
-            missing[key] = f"no harmonic of {axis.name} is identifiable from the readings"
-            continue
-        # the whole refitted model replaces the base: the base's degrees were chosen with
-        # the periodic error distorting them, and keeping them overfits
-        cols = design.columns([p.name for p in periodic.params])
-        out.append(Candidate("rotary_periodic", axis.key, None, design.matrix[:, cols],
-                             {"params": periodic.params}, tuple(range(len(base_params)))))
-    return out
 
 
 def _of_axis(p: Param, axis: str) -> bool:

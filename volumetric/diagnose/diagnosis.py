@@ -10,7 +10,7 @@ from __future__ import annotations
 from typing import Any
 
 from volumetric.diagnose.base import REFITS, base_design, base_without
-from volumetric.diagnose.candidates import RotaryFits, candidates
+from volumetric.diagnose.candidates import candidates
 from volumetric.diagnose.estimate import estimate_effect, offsets_of
 from volumetric.diagnose.further import Named, add_further, list_alternatives
 from volumetric.diagnose.gates import (
@@ -31,6 +31,7 @@ from volumetric.diagnose.lagged import (
     lagged_scored,
 )
 from volumetric.diagnose.result import Diagnosis, DiagnosisError
+from volumetric.diagnose.rotary import with_harmonics
 from volumetric.diagnose.splits import (
     FIRST_JUDGED,
     FORWARD_BLOCKS,
@@ -53,7 +54,7 @@ from volumetric.diagnose.unexplained import (
     unexplained_entry,
     with_unexplained,
 )
-from volumetric.identify.fit import FitError, FitResult, fit, model_from_parameters
+from volumetric.identify.fit import FitError, FitResult, model_from_parameters
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel, Term
@@ -99,13 +100,12 @@ def diagnose(
     DiagnosisError
         Too few readings, or no displacement readings.
     """
-    return _diagnose(machine, m, holdout_after, base, refits, {})
+    return _diagnose(machine, m, holdout_after, base, refits)
 
 
 def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
-              base: FitResult | None, refits: int, rotary_fits: RotaryFits) -> Diagnosis:
-    """:func:`diagnose`, with the rotary candidates' rigid fits kept for its refits (same
-    readings, same training rows: only the base differs)."""
+              base: FitResult | None, refits: int) -> Diagnosis:
+    """:func:`diagnose` on the base ``base`` (identified here when None)."""
     if len(m) < MIN_READINGS:
         raise DiagnosisError(f"too few readings for a diagnosis: {len(m)} (need at least "
                              f"{MIN_READINGS})")
@@ -129,8 +129,7 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
     full_base_resid = y - a0 @ solve_normal(a0[train].T @ (a0[train] * w[train, None]),
                                             (a0[train] * w[train, None]).T @ y[train])
     # step 3: the candidates, each scored on the split
-    cands, missing = candidates(machine, m, full_base_resid, train, base_fit.params,
-                                rotary_fits)
+    cands, missing = candidates(machine, m, full_base_resid, train, a0)
     scored = [score(c, judge.of([c]), base_heldout, rms_before, judged, sp.order_judge)
               for c in cands]
     # a dynamic (lagged) refinement of the best thermal drift
@@ -181,15 +180,7 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         # the static family names the effect; the dynamic model is its refinement
         estimate["dynamic"] = c.extra.get("description", {})
     effect, axis, sensor = static.effect, static.axis, static.sensor
-    if effect == "rotary_periodic":
-        # the extension is the rigid model itself in the Fourier basis: what `ednc fit` gives
-        # every rotary axis whose harmonics make a significant gain on their own
-        axes = frozenset(machine.axis(s.candidate.axis).name for s in scored
-                         if s.candidate.effect == "rotary_periodic" and passes(s))
-        periodic_fit = fit(machine, m.select(train), fourier=axes | {machine.axis(axis).name})
-        model = MachineModel(machine.name, periodic_fit.model.geometry, (),
-                             {**periodic_fit.model.info, "extended_with": effect})
-    elif "lagged" in c.extra:
+    if "lagged" in c.extra:
         # the dynamic model behind the figure is what is saved: its lags with their time
         # constants and end states, and the offsets of the same joint fit
         model = lagged_model(machine, m, judge, c, base_fit, estimate)
@@ -197,6 +188,10 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         # the rigid part refitted together with the effect, so it no longer carries a
         # share of it (a drift seen as straightness, a backlash as positioning error)
         geometry = model_from_parameters(machine, base_fit.params, joint).geometry
+        harmonics = estimate.pop("_harmonics", None)
+        if harmonics is not None:
+            # a cyclic error of a rotary axis: its harmonic joins the axis's components
+            geometry = with_harmonics(geometry, estimate["order"], harmonics)
         model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
                              {**base_fit.model.info, "extended_with": effect,
                               "offsets_um": offsets_of(base_fit.params, joint)})
@@ -231,7 +226,7 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         # everything judged again on that base when it differs
         again = base_without(machine, m, train, a0, w, chosen, base_fit)
         if again is not None:
-            return _diagnose(machine, m, holdout_after, again, refits - 1, rotary_fits)
+            return _diagnose(machine, m, holdout_after, again, refits - 1)
     list_alternatives(chosen, effects, details, scored, judged, judge.of)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, named.model, details, base_heldout, current.heldout, judged)

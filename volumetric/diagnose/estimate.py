@@ -12,6 +12,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.diagnose.candidates import Candidate, temperature_columns
+from volumetric.diagnose.rotary import harmonic_estimate
 from volumetric.diagnose.splits import solve_normal
 from volumetric.identify.design import Param
 from volumetric.measure.measurement import Measurements
@@ -49,7 +50,15 @@ def estimate_effect(
     axis = machine.axis(c.axis)
     temps = temperature_columns(m)
     est, term = physical(c, coef, std, axis.travel[0], temps, train)
-    est["_t"] = float(np.linalg.norm(coef) / max(float(np.linalg.norm(std)), 1e-300))
+    if c.effect == "rotary_periodic":
+        # a dozen columns, some nearly collinear on a given set of balls: their joint
+        # significance (Wald, per column), where the norm ratio would let the worst
+        # determined column drown the others
+        ck = cov[-kx:, -kx:]
+        wald = float(coef @ np.linalg.pinv(ck) @ coef)
+        est["_t"] = math.sqrt(max(wald, 0.0) / kx)
+    else:
+        est["_t"] = float(np.linalg.norm(coef) / max(float(np.linalg.norm(std)), 1e-300))
     return est, term, x[:-kx]
 
 
@@ -84,7 +93,14 @@ def physical(
     if c.effect == "time_drift":
         return ({"um_per_h": float(coef[0]), "um_per_h_std": float(std[0])}, None)
     if c.effect == "rotary_periodic":
-        return rotary_estimate(c.extra["params"], coef, std), None
+        est = rotary_estimate(c.extra["params"], coef, std)
+        est["order_limit"] = c.extra["order_limit"]
+        est["_harmonics"] = harmonic_estimate(c.extra["params"], coef)
+        return est, None
+    if c.effect == "rotary_backlash":
+        return ({"reversal_urad": abs(float(coef[0])), "reversal_urad_std": float(std[0]),
+                 "sign": "lags behind the motion" if coef[0] >= 0 else "leads the motion"},
+                None)
     raise ValueError(f"unknown effect {c.effect}")
 
 

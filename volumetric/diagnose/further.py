@@ -26,8 +26,8 @@ from volumetric.diagnose.gates import (
     prefer_physical,
     significance,
 )
+from volumetric.diagnose.rotary import with_harmonics
 from volumetric.diagnose.splits import Judge, combined, known_sum, rms_of, solve_normal
-from volumetric.identify.fit import fit
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel, Term
@@ -216,12 +216,12 @@ def add_further(machine: Machine, m: Measurements, judge: Judge, scored: list[Sc
         effect_terms.append(term2)
         if term2 is not None:
             model = model.with_terms(term2)
-        if found.candidate.effect == "rotary_periodic":
-            # the rigid part in the Fourier basis of that axis, as for a first effect
-            rotary_axis = machine.axis(found.candidate.axis).name
-            periodic = fit(machine, m.select(train), fourier=frozenset({rotary_axis}))
-            model = MachineModel(machine.name, periodic.model.geometry, model.terms,
-                                 {**model.info, "fourier_axes": [rotary_axis]})
+        harmonics = est2.pop("_harmonics", None)
+        if harmonics is not None:
+            # a rotary axis's cyclic error: its harmonic joins the axis's components
+            model = MachineModel(model.machine,
+                                 with_harmonics(model.geometry, est2["order"], harmonics),
+                                 model.terms, model.info)
     if len(chosen) > 1:
         swapped = refine(machine, m, chosen, scored, a0, y, w, train, jm, judge.of)
         if any(a is not b for a, b in zip(swapped, chosen, strict=True)):
@@ -244,6 +244,7 @@ def add_further(machine: Machine, m: Measurements, judge: Judge, scored: list[Sc
             est_i, term_i, _ = estimate_effect(machine, m, combined(a0, rest), w,
                                                y - known_sum(len(y), rest), train, c_i)
             est_i.pop("_t")
+            est_i.pop("_harmonics", None)  # the model keeps the harmonic first fitted
             effects[i]["estimate"] = est_i
             effect_terms[i] = term_i
         model = MachineModel(model.machine, model.geometry,

@@ -6,6 +6,7 @@ split, and the ``thermal_dynamic`` model term it saves (steps 2, 3 and 5 of
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
@@ -19,6 +20,8 @@ from volumetric.diagnose.splits import BaseGrams, Judge, combined, rms_of, solve
 from volumetric.identify.fit import FitResult, model_from_parameters
 from volumetric.identify.thermal import DENSE_TAUS_S, fit_thermal_drift
 from volumetric.identify.thermal import ThermalTerm as ThermalColumn
+from volumetric.identify.thermal.model import ThermalDriftModel
+from volumetric.identify.thermal.plain import fit_all_sensors
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
 from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel
@@ -32,23 +35,36 @@ applied live as one record per sensor level and per time constant of its lags
 (:mod:`volumetric.model.live`), beside one for each other thermal effect named."""
 SELECTED_TERMS = 3
 """Most terms the lagged model's selection takes (``fit_thermal_drift``'s ``max_terms``)."""
+ALL_SENSOR_RATE_TAUS_S = (900.0, 3600.0)
+"""Time constants (s) of the smoothed rates the all-sensor models offer beside the levels
+alone (:func:`all_sensor_drift`): 15 min and 1 h, the sensors' own response and the
+heat cycle's, from the grid of :data:`volumetric.identify.thermal.DEFAULT_TAUS_S`."""
+
+Rebuild = Callable[[F64, NDArray[np.bool_]], Candidate | None]
+"""A thermal model built again from a base residual (N,) and a fold's training readings."""
+
 
 def per_fold_dynamic(m: Measurements, static: Candidate, full: Candidate, grams: BaseGrams,
-                      train: NDArray[np.bool_], order: NDArray[np.intp]) -> Candidate:
+                     train: NDArray[np.bool_], order: NDArray[np.intp],
+                     rebuild: Rebuild | None = None) -> Candidate:
     """``full``, the lagged drift selected on all training readings, with its terms selected
     again in every fold from that fold's training readings alone, on the residual of the
     base fitted there (lags over the whole series use only the inputs; a fold that selects
     nothing gets no columns). Which sensors and time constants is part of what a fold
     judges: selected on every reading, they would carry the held-out readings' shape into
     the fold, which only refits their coefficients. The base's fit in each fold comes from
-    ``grams``, the normal equations the fold's judging uses."""
+    ``grams``, the normal equations the fold's judging uses. ``rebuild`` builds the model
+    of a fold (default: :func:`dynamic_drift` along ``static``)."""
+    if rebuild is None:
+        def rebuild(resid: F64, tr: NDArray[np.bool_]) -> Candidate | None:
+            return dynamic_drift(m, static, resid, tr, order)
     per = []
     for f, (tr, _) in enumerate(grams.fits):
         if np.array_equal(tr, train):
             per.append(full.columns)  # the chronological split: the fold is the whole fit
             continue
         x0 = solve_normal(grams.g[f], grams.b[f])
-        dyn = dynamic_drift(m, static, grams.y - grams.a0 @ x0, tr, order)
+        dyn = rebuild(grams.y - grams.a0 @ x0, tr)
         per.append(np.zeros((len(m), 0)) if dyn is None else dyn.columns)
     return replace(full, per_fold=tuple(per))
 
@@ -168,11 +184,95 @@ def dynamic_drift(
                       "t0_s": float(model.t0_s)}, fixed=averaged)
 
 
+def all_sensor_drift(
+    m: Measurements, static: Candidate, resid: F64, train: NDArray[np.bool_],
+    order: NDArray[np.intp], rate_tau_s: float | None, shrink: bool,
+) -> Candidate | None:
+    """The plain least squares on every sensor along the static candidate's axis, sensed as
+    it senses it: every temperature's level, with ``rate_tau_s`` also its lag (which with
+    the level spans its rate), by ordinary least squares or, with ``shrink``, by ridge
+    (:func:`volumetric.identify.thermal.plain.fit_all_sensors`). Fitted by least squares
+    its columns are fitted again beside the base in every fold, like a static drift's;
+    shrunk, its prediction enters fixed (a free coefficient per column would undo the
+    shrinkage), fitted again in every fold by :func:`per_fold_dynamic`. None when too
+    few readings sense the axis, or when its records (one per sensor level, one for the
+    lags of one time constant) with the other effects' would not fit in a map."""
+    k = "xyz".index(static.axis)
+    along = static.extra.get("along")
+    uk = np.where(m.is_angle, 0.0, m.u[:, k] if along is None else along)
+    rows = order[np.abs(uk[order]) > 0.5]
+    temps = temperature_columns(m)
+    records = len(temps) + (rate_tau_s is not None) + MAX_EFFECTS - 1
+    if rows.size < 50 or not temps or records > MAP_THERMAL_RECORDS:
+        return None
+    try:
+        model = fit_all_sensors(m.time_s[rows], {c: v[rows] for c, v in temps.items()},
+                                resid[rows] / uk[rows], train[rows], rate_tau_s=rate_tau_s,
+                                shrink=shrink)
+    except ValueError:
+        return None
+    cols = _columns(m, temps, order, model)
+    desc: dict[str, Any] = {
+        "terms": [{"name": term.name, "kind": term.kind, "sensor": term.source or None,
+                   "tau_s": float(term.tau_s), "um_per_K": float(cf), "um_per_K_std": float(cu)}
+                  for term, cf, cu in zip(model.terms, model.coef, model.coef_u, strict=True)],
+        "selected": [], "all_sensors": {"rate_tau_s": rate_tau_s,
+                                        "shrinkage": float(model.shrinkage)}}
+    if shrink:
+        cols = cols @ model.coef[:, None]
+    return Candidate("thermal_drift", static.axis, static.sensor, uk[:, None] * cols,
+                     {"lagged": True, "description": desc, "terms": list(model.terms),
+                      "t0_s": float(model.t0_s)}, fixed=shrink)
+
+
+def _columns(m: Measurements, temps: dict[str, F64], order: NDArray[np.intp],
+             model: ThermalDriftModel) -> F64:
+    """The model's columns over every reading, shape (N, p), its lags run over the
+    time-ordered series of all readings."""
+    t_all = m.time_s[order]
+    sig = {c: v[order] for c, v in temps.items()}
+    cols_sorted = np.column_stack([term.column(t_all, sig, model.t0_s) for term in model.terms])
+    cols = np.empty_like(cols_sorted)
+    cols[order] = cols_sorted
+    return cols
+
+
+def all_sensor_scored(m: Measurements, static: Candidate, judge: Judge, resid: F64,
+                      base: F64, rms_before: float) -> list[Scored]:
+    """The all-sensor models along ``static``'s axis (levels alone and with the rates of
+    :data:`ALL_SENSOR_RATE_TAUS_S`; least squares and shrunk), each scored on the split,
+    on a split that judges readings later than those it fits on (forward or
+    chronological): these models extrapolate what many collinear sensors did, which
+    folds of interleaved runs cannot show."""
+    sp = judge.split
+    if sp.name not in ("forward", "chronological"):
+        return []
+    out = []
+    for tau in (None, *ALL_SENSOR_RATE_TAUS_S):
+        for shrink in (False, True):
+            c = all_sensor_drift(m, static, resid, sp.train, sp.order, tau, shrink)
+            if c is None:
+                continue
+            if shrink:
+                def rebuild(r: F64, tr: NDArray[np.bool_], tau: float | None = tau
+                            ) -> Candidate | None:
+                    return all_sensor_drift(m, static, r, tr, sp.order, tau, True)
+                c = per_fold_dynamic(m, static, c, judge.grams, sp.train, sp.order, rebuild)
+            out.append(score(c, judge.of([c]), base, rms_before, sp.judge, sp.order_judge))
+    return out
+
+
 def lagged_scored(m: Measurements, scored: list[Scored], judge: Judge, resid: F64,
                   base: F64, rms_before: float) -> Scored | None:
-    """The dynamic (lagged) refinement of the best static thermal drift of ``scored``,
-    scored on the split with its terms selected again in every fold, or None when there
-    is none or it does not pass the screening.
+    """The thermal model with many columns that the split prefers along the best static
+    thermal drift's axis, or None when there is none.
+
+    Its candidates: the dynamic (lagged) refinement of the best static thermal drift of
+    ``scored``, its terms selected again in every fold (unless it fails the screening),
+    and the all-sensor models (:func:`all_sensor_scored`), among them the plain least
+    squares on every sensor, so that the model saved never loses on the split to that
+    plain one. The one with the lowest held-out RMS is returned: the saved model is the
+    one the split prefers.
 
     ``resid`` is the base's residual fitted on every training reading, ``base`` its
     held-out residuals, shape (N,) each.
@@ -182,19 +282,20 @@ def lagged_scored(m: Measurements, scored: list[Scored], judge: Judge, resid: F6
     if not drift:
         return None
     best_drift = min(drift, key=lambda s: s.rms_after_um)
+    out = all_sensor_scored(m, best_drift.candidate, judge, resid, base, rms_before)
     dyn = dynamic_drift(m, best_drift.candidate, resid, sp.train, sp.order)
     if (dyn is not None and sp.name != "chronological"
             and rms_of(judge.heldout(combined(a0, [dyn]), y - dyn.known())[sp.judge])
-            >= min(s.rms_after_um for s in scored)):
+            >= min(s.rms_after_um for s in scored + out)):
         # screening: judged with its lags and sensors chosen on every reading, which
         # favours it, it does not beat the best candidate; chosen again per fold (the
         # costly honest figure, five or three more selections) it would not either
         dyn = None
-    if dyn is None:
-        return None
-    # the lags and sensors are chosen again in every fold from its training readings
-    dyn = per_fold_dynamic(m, best_drift.candidate, dyn, judge.grams, sp.train, sp.order)
-    return score(dyn, judge.of([dyn]), base, rms_before, sp.judge, sp.order_judge)
+    if dyn is not None:
+        # the lags and sensors are chosen again in every fold from its training readings
+        dyn = per_fold_dynamic(m, best_drift.candidate, dyn, judge.grams, sp.train, sp.order)
+        out.append(score(dyn, judge.of([dyn]), base, rms_before, sp.judge, sp.order_judge))
+    return min(out, key=lambda s: s.rms_after_um) if out else None
 
 
 def lagged_model(machine: Machine, m: Measurements, judge: Judge, c: Candidate,

@@ -14,8 +14,8 @@ basis functions times coefficients. The parameters are
   found by the fit's null-space analysis, not assumed;
 * for a rotary axis whose travel spans at least half a turn, its component errors in a
   Fourier basis of the angle instead (``cos kθ``, ``sin kθ``, k = 1 .. K, no constant:
-  that is the location error; K = ``MAX_ORDER_FOURIER`` over a full turn, fewer over
-  less, :func:`fourier_order`): the error motions of a rotary table (eccentricity,
+  that is the location error; K = ``MAX_ORDER_FOURIER`` over any such travel,
+  :func:`fourier_order`): the error motions of a rotary table (eccentricity,
   wobble, a cyclic indexing error) repeat every turn, which a low-degree polynomial over
   ±180° cannot follow. Orders are chosen like degrees (a parameter's ``degree`` counts
   the basis functions: ``2k - 1`` for ``cos kθ``, ``2k`` for ``sin kθ``); axes of short
@@ -99,10 +99,16 @@ def uses_fourier(axis: Axis, fourier: FourierChoice) -> bool:
 
 def fourier_order(axis: Axis) -> int:
     """Highest harmonic per turn the axis's components carry: ``MAX_ORDER_FOURIER`` over
-    a full turn, one per quarter turn of travel below (2 over ±110°), since a harmonic of
-    which the travel sees less than about one period is not told from the lower ones."""
+    any travel of at least ``PERIODIC_SPAN_DEG`` (the axes that take the Fourier basis).
+
+    Over half a turn the travel sees two periods of the fourth harmonic, and BIC with the
+    fit's null-space analysis keeps only the orders the readings determine. Fewer (one per
+    quarter turn, 2 over ±110°, as before) left a tilting axis's third and fourth
+    harmonics, which a trunnion's bearings do have, to the residual, where they leaked
+    into every higher harmonic the diagnosis looks at (``ednc diagnose``'s base is this
+    model)."""
     span = axis.travel[1] - axis.travel[0]
-    return max(1, min(MAX_ORDER_FOURIER, int(span // 90.0)))
+    return MAX_ORDER_FOURIER if span >= PERIODIC_SPAN_DEG else max(1, int(span // 90.0))
 
 
 def min_degree(machine: Machine, axis: Axis, direction: str) -> int:
