@@ -57,7 +57,8 @@ NC data, per machine axis ``k`` (1-based, the machine's axis order):
   (``BadNotWritable``).
 
 These are nodes of the address space (browsable under ``Sinumerik``), their values read
-from the machine when asked.
+from the machine when asked and, for subscriptions, sampled every 100 ms. The window's
+paths are not sampled: the center polls the status with reads.
 
 The server runs in the machine's event loop (:class:`SinumerikOpcuaServer` is a
 ``ControllerServer``: ``port``, ``start()``, ``stop()``; port 0 binds a free port, read
@@ -68,6 +69,8 @@ back after start). Build it with :func:`sinumerik_server`::
 
 from __future__ import annotations
 
+import asyncio
+import contextlib
 import re
 import struct
 from collections.abc import Callable, Mapping
@@ -450,6 +453,8 @@ class SinumerikOpcuaServer:
         self.sinumerik = _Sinumerik(cnc, users, db)
         self._internal = _Internal(_Users(users), self.sinumerik, max_sessions)
         self.server: Server | None = None
+        self._sampled: list[tuple[ua.NodeId, str]] = []
+        self._sampler: asyncio.Task[None] | None = None
 
     @property
     def endpoint(self) -> str:
@@ -481,6 +486,28 @@ class SinumerikOpcuaServer:
         assert srv.bserver is not None
         self.port = srv.bserver.port  # the bound one when asked for 0
         self.server = srv
+        self._sampler = asyncio.create_task(self._sample(srv),
+                                            name=f"{self.cnc.machine.name}:opcua-sampling")
+
+    async def _sample(self, srv: Server) -> None:
+        """The SINUMERIK's sampling for monitored items: every 100 ms, while any
+        subscription exists, the NC values of the address space's nodes are read from the
+        machine into the nodes (asyncua reports data changes on writes, it samples
+        nothing itself). Reads by clients are answered from the machine anyway."""
+        last: dict[str, object] = {}
+        admin = User(role=UserRole.Admin)
+        while True:
+            await asyncio.sleep(MIN_INTERVAL_MS / 1000)
+            if not srv.iserver.subscription_service.subscriptions:
+                last.clear()
+                continue
+            for node, path in self._sampled:
+                dv = self.sinumerik.read(path, admin, None)
+                value = dv.Value.Value if dv.Value is not None else None
+                if value is None or last.get(path) == value:
+                    continue
+                last[path] = value
+                await srv.write_attribute_value(node, dv)
 
     async def _nodes(self, srv: Server, ns: int) -> None:
         """Browsable nodes: the window's data block and, per axis, position, name and the
@@ -495,6 +522,7 @@ class SinumerikOpcuaServer:
         for k, name in enumerate(self.cnc.machine.axis_names, start=1):
             await axes.add_variable(_nid(position_path(k), ns), f"actToolBasePos{k}",
                                     ua.Variant(0.0, ua.VariantType.Double))
+            self._sampled.append((_nid(position_path(k), ns), position_path(k)))
             await axes.add_variable(_nid(f"/Channel/MachineAxis/name[u1,{k}]", ns),
                                     f"name{k}", ua.Variant(name, ua.VariantType.String))
             for number in SD_NAMES:
@@ -502,9 +530,15 @@ class SinumerikOpcuaServer:
                                               f"SD{number}[{name}]",
                                               ua.Variant(0.0, ua.VariantType.Double))
                 await node.set_writable()
+                self._sampled.append((_nid(sd_path(number, k), ns), sd_path(number, k)))
 
     async def stop(self) -> None:
         """Close every session and stop listening."""
+        if self._sampler is not None:
+            self._sampler.cancel()
+            with contextlib.suppress(asyncio.CancelledError):
+                await self._sampler
+            self._sampler = None
         if self.server is not None:
             await self.server.stop()
             self.server = None

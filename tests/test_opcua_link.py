@@ -258,6 +258,20 @@ async def test_an_eleventh_session_is_refused_and_subscriptions_sample_no_faster
                     TimestampsToReturn=ua.TimestampsToReturn.Both))
             assert result.StatusCode.is_good(), result
             assert result.RevisedSamplingInterval >= 100.0
+            # the moving axis is sampled: new positions arrive (asyncua's own subscription
+            # object, which dispatches them, is not used above; a second one is)
+            seen: list[float] = []
+
+            class Handler:
+                def datachange_notification(self, node: object, val: float,
+                                            data: object) -> None:
+                    seen.append(val)
+
+            sub2 = await c.create_subscription(10, Handler())
+            await sub2.subscribe_data_change(c.get_node(
+                "ns=2;s=/Channel/MachineAxis/actToolBasePos[u1,1]"))
+            await until(lambda: len(set(seen)) >= 3, 10.0)
+            assert len(set(seen)) >= 3
         finally:
             await c.disconnect()
 
