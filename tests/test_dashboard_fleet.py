@@ -221,6 +221,14 @@ def test_real_machines_on_the_dashboard(center_with_fleet: Live, tmp_path: Path)
             expect(refusal).to_contain_text("vmc-03", timeout=15_000)
             page.screenshot(path=str(tmp_path / "fleet.png"), full_page=True)
 
+            # every machine has its own series in /metrics, in the state the page shows
+            metrics = httpx.get(f"{live.url}/metrics").text
+            for name, state in (("vmc-01", "unknown"), ("dmu-02", "unknown"),
+                                ("vmc-03", "offline")):
+                assert (f'ednc_machine_accuracy_state{{machine="{name}",state="{state}"}} 1.0'
+                        in metrics), name
+            assert 'ednc_machine_map_version_applied{machine="vmc-01"} 1.0' in metrics
+
             grid = httpx.get(f"{live.url}/api/machines/dmu-02/maps/latest/grid").json()
             page.goto(live.url + "/machines/dmu-02")
             for out in grid["outputs"]:
