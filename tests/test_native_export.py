@@ -249,3 +249,15 @@ def test_work_z_folds_an_abbe_term_that_does_not_fit_exactly_at_that_height() ->
         dq = cec_eval.compensation(cec_eval.parse(text), cols, q)
         left[fold is None] = residual_um(m, geo, q, dq).max()
     assert left[True] > 3.0 and left[False] < 0.1  # µm: exact at the height asked for
+
+
+def test_an_error_no_axis_can_correct_is_named() -> None:
+    """A 2-axis machine cannot move the tool along z: an EZX is named, not dropped."""
+    m = parse_machine({"name": "xy", "chain": "w X b Y t", "tool_length_mm": 50.0,
+                       "travel_mm": {"x": [0, 400], "y": [0, 300]}})
+    geo = GeometricErrors({"EZX": Polynomial((0.0, 4.0), 0.0, 400.0),
+                           "EYX": Polynomial((0.0, 3.0), 0.0, 400.0)})
+    _, e = write(m, geo)
+    named = {x.error: x for x in e.left_out}  # type: ignore[attr-defined]
+    assert set(named) == {"EZX"} and "no linear axis" in named["EZX"].reason
+    assert abs(named["EZX"].effect_um - 4.0) < 0.05

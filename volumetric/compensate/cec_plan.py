@@ -236,6 +236,7 @@ def plan_cec(machine: Machine, geometry: GeometricErrors, tool_mm: float, *,
                 if abs(sm) * _reach(machine.axis(m).travel) * 1e3 > _NEGLIGIBLE_UM:
                     add((m, d), Piece(name, _linear(sm)))
     plan.affine_um = _check(plan, coefs, seed + 1)
+    _out_of_reach(plan, q, sens, coefs)
     return plan
 
 
@@ -243,6 +244,27 @@ def _fit(design: F64, target: F64) -> F64:
     """Least-squares coefficients (1 + n_linear, n_linear) of the affine shape."""
     coef, *_ = np.linalg.lstsq(design, target, rcond=None)
     return np.asarray(coef, dtype=np.float64)
+
+
+def _out_of_reach(plan: CecPlan, q: F64, sens: dict[str, tuple[F64, F64]],
+                  coefs: dict[str, F64]) -> None:
+    """Name the part of each carried error that moves the tool where no linear axis of
+    the machine moves it (a machine without a Z axis cannot correct an error along z)."""
+    m = plan.machine
+    cols = [i for i, a in enumerate(m.axes) if a.kind == "linear"]
+    jac = jacobian(m, q, tool_mm=plan.tool_mm)[:, :3, :][:, :, cols]  # µm per mm
+    col = {a.name: i for i, a in enumerate(m.axes)}
+    for name in coefs:
+        s_corr, p = sens[name]
+        rest = p + np.einsum("nij,nj->ni", jac, s_corr)  # (I - J J⁺) P, µm per unit
+        if name in plan.geometry.components:
+            e = np.asarray(plan.geometry.components[name](q[:, col[name[2:]]]), dtype=float)
+        else:
+            e = np.full(q.shape[0], plan.geometry.locations[name])
+        size = float(np.linalg.norm(rest * e[:, None], axis=1).max())
+        if size > 10 * _NEGLIGIBLE_UM:
+            plan.left.append((name, size, "moves the tool where no linear axis of this "
+                                          "machine moves it: no table can correct that part"))
 
 
 def _reach(travel: tuple[float, float]) -> float:
