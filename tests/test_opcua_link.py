@@ -311,11 +311,12 @@ async def test_the_controller_session_pushes_over_opcua_built_from_the_link() ->
     p1, p2 = payloads()
     async with machine() as cnc:
         link = OpcuaLink(kind="opcua", endpoint=f"opc.tcp://127.0.0.1:{cnc.server.port}",
-                         user="ednc", password_ref="env:OPCUA_TEST_PW")
+                         user="ednc", password_ref="env:OPCUA_UNSET_PW")
         m = cnc.machine
-        s = ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names,
-                              OpcuaMemory.from_link(link), link="opcua", chain=m.chain,
-                              poll_s=0.1)
+        # the center resolved the reference itself (server/controllers/service.py)
+        mem = OpcuaMemory.from_spec(link, password="plc-pw")
+        s = ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names, mem,
+                              link="opcua", chain=m.chain, poll_s=0.1)
         await s.open()
         runner = asyncio.create_task(s.run())
         try:

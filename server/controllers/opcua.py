@@ -121,7 +121,10 @@ class OpcuaMemory:
         ``opc.tcp://host:port``.
     user : str
     password_ref : str
-        ``env:NAME`` or ``file:/path``; read at each :meth:`connect`.
+        ``env:NAME`` or ``file:/path``; read at each :meth:`connect` unless ``password``
+        is given.
+    password : str, optional
+        The password itself, when the caller resolved the reference already.
     window_node : str
         The data block holding the window, ``ns=<i>;s=/Plc/DB<n>``.
     security_policy, security_mode : str
@@ -143,7 +146,7 @@ class OpcuaMemory:
                  security_mode: str = "None", client_certificate: str | None = None,
                  client_private_key: str | None = None,
                  sd_nodes: Mapping[str, str] | None = None, timeout_s: float = 5.0,
-                 block: int = 960) -> None:
+                 block: int = 960, password: str | None = None) -> None:
         m = _DB_NODE.match(window_node)
         if m is None:
             raise LinkError(f"window_node {window_node!r}: expected ns=<i>;s=/Plc/DB<n>, "
@@ -156,6 +159,7 @@ class OpcuaMemory:
         self.endpoint = endpoint
         self.user = user
         self.password_ref = password_ref
+        self._password = password
         self.window_node = window_node
         self._ns = int(m.group(1))
         self._db = m.group(2)
@@ -169,13 +173,17 @@ class OpcuaMemory:
         self._client: Client | None = None
 
     @classmethod
-    def from_link(cls, link: OpcuaLink, *, timeout_s: float = 5.0) -> OpcuaMemory:
-        """The memory of a machine registered with ``link``."""
+    def from_link(cls, link: OpcuaLink, *, password: str | None = None,
+                  timeout_s: float = 5.0) -> OpcuaMemory:
+        """The memory of a machine registered with ``link`` (``password``: the resolved
+        ``password_ref``, else it is read at each connect)."""
         return cls(link.endpoint, link.user, link.password_ref, window_node=link.window_node,
                    security_policy=link.security_policy, security_mode=link.security_mode,
                    client_certificate=link.client_certificate,
                    client_private_key=link.client_private_key, sd_nodes=link.sd_nodes,
-                   timeout_s=timeout_s, block=link.block_bytes)
+                   timeout_s=timeout_s, block=link.block_bytes, password=password)
+
+    from_spec = from_link
 
     @property
     def address(self) -> str:
@@ -186,7 +194,8 @@ class OpcuaMemory:
     async def connect(self) -> None:
         """Open a session as :attr:`user`; raises :class:`LinkError`."""
         await self.close()
-        password = read_password(self.password_ref, self.user)
+        password = (self._password if self._password is not None
+                    else read_password(self.password_ref, self.user))
         client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=5.0)
         client.session_timeout = 60_000  # the SINUMERIK's; it revises longer ones to this
         client.set_user(self.user)
