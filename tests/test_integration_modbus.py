@@ -9,6 +9,7 @@ records follow temperatures posted to the center under one map version."""
 from __future__ import annotations
 
 import asyncio
+import datetime as dt
 from collections.abc import AsyncIterator
 from contextlib import AsyncExitStack, asynccontextmanager
 from pathlib import Path
@@ -134,3 +135,43 @@ async def test_thermal_records_follow_temperatures_over_modbus(tmp_path: Path) -
         # the spindle grows by -term's coefficient per K along z: the correction moves
         # by the opposite, 5 K a step
         np.testing.assert_allclose(np.diff(seen), -term.coefficient * 5.0, atol=1.5)
+
+
+async def test_no_acknowledgement_is_lost_when_the_center_restarts(tmp_path: Path) -> None:
+    """The center stops after switching the PLC to a new map but before the PLC answered
+    (its PLC program paused); the PLC then applies it; a new center process on the same
+    database reads the verdict from the controller's status and stores it on that
+    delivery."""
+    from tests.support.integration import spec
+
+    base = spec("gantry-02")
+    db = f"sqlite:///{tmp_path / 'c.db'}"
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as outer:
+        cnc = await outer.enter_async_context(pmc(base))
+        s = linked(base, cnc.server.port)
+        async with center(db) as plant:
+            await plant.register(s)
+            await until(lambda: plant.status(s.name))
+            cnc.stop_plc()  # the switch will wait for the PLC
+            await plant.fit_from_campaign(s.name)
+
+            async def sent() -> bool:
+                return bool(await plant.deliveries(s.name))
+
+            await until(sent)
+            word = cnc.window[192:194]
+            await until(lambda: cnc.window[192:194] != word)  # the switch is written
+        cnc.running = True  # the PLC program runs on and applies the map
+        await until(lambda: cnc.runtime.controller.store.version == 1)
+        restart = dt.datetime.now(dt.UTC).isoformat().replace("+00:00", "Z")
+        async with center(db) as plant:
+            controllers = plant.services.controllers
+            assert controllers is not None
+            await until(lambda: controllers.missed_settled == 1)
+            # the delivery the PLC answered was sent by the first center
+            rows = await plant.deliveries(s.name)
+            assert any(r["map_version"] == 1 and r["state"] == "applied" and
+                       r["applied_at"] < restart for r in rows), rows
+            events = await plant.events(machine=s.name)
+            assert any("read from the controller's status" in (e.get("detail") or "")
+                       for e in events), events

@@ -25,14 +25,17 @@ from types import TracebackType
 from typing import Any
 
 from pydantic import TypeAdapter, ValidationError
+from sqlalchemy import select
 from sqlalchemy.exc import SQLAlchemyError
 from sqlalchemy.orm import Session
 
 from protocol import Controller
 from protocol.backoff import Backoff
 from server.background import Background
+from server.db import events as event_repo
 from server.db import machines as machine_repo
-from server.db.tables import MachineRow
+from server.db import maps as map_repo
+from server.db.tables import AppliedRow, MachineRow
 from server.events import EventKind
 from server.feed import Feed
 from server.leasing import LeaseKeeper
@@ -41,7 +44,7 @@ from volumetric.model.machine import parse_machine
 
 from .memory import LinkError, MemoryClient
 from .modbus import ModbusMemory
-from .session import ControllerSession
+from .session import ControllerSession, LinkAck, reason_of
 
 __all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret"]
 
@@ -129,6 +132,8 @@ class ControllerLinks:
         self._rng = random.Random()
         self.connects = 0
         self.failures = 0
+        self.missed_settled = 0
+        """Deliveries answered from a controller's status after a center restart."""
 
     async def __aenter__(self) -> ControllerLinks:
         self._bg.start(self._reconcile_loop(), "controller-links")
@@ -241,6 +246,16 @@ class ControllerLinks:
         self.center.registry.connected(name, session.address)
         await self.feed.record(EventKind.CONNECTED, name,
                                f"{session.link} link to {session.address}")
+        missed = session.missed
+        if missed is not None:  # a verdict written while no center read it: not lost
+            try:
+                settled = await self.center.db.run(settle_missed, row.id, name, missed)
+            except SQLAlchemyError as exc:
+                log.warning("%s: the controller's last verdict not stored: %s", name,
+                            str(exc).splitlines()[0])
+            else:
+                if settled:
+                    self.missed_settled += 1
         why = "session ended"
         try:
             async with asyncio.TaskGroup() as tg:
@@ -265,6 +280,34 @@ class ControllerLinks:
                 self.leases.release(row.id, session)
         await self.feed.record(EventKind.DISCONNECTED, name, why)
         return why
+
+
+UNANSWERED = ("session ended before the answer", "no answer to map version")
+"""How the push scheduler marks a delivery whose answer never came (server/push)."""
+
+
+def settle_missed(session: Session, machine_id: int, name: str, ack: LinkAck) -> bool:
+    """Store the verdict a controller wrote while no center read it (the center died
+    between the switch and the ack) on the newest unanswered delivery of that version."""
+    row = session.scalars(
+        select(AppliedRow).where(AppliedRow.machine_id == machine_id,
+                                 AppliedRow.map_version == ack.version)
+        .order_by(AppliedRow.id.desc()).limit(1)).first()
+    # unanswered (the center was killed), or marked failed because the center stopped
+    # before the answer came: the controller's status has the answer
+    if row is None or row.acked or not (row.reject_reason is None or row.reject_reason
+                                        .startswith(UNANSWERED)):
+        return False
+    if ack.applied:
+        kind, reason = EventKind.APPLIED, None
+        text = f"map version {ack.version} applied (read from the controller's status)"
+    else:
+        label, why = reason_of(ack.code)
+        kind, reason = EventKind.REJECTED, f"{label.name}: {why}"
+        text = f"map version {ack.version} rejected: {reason} (read from the controller)"
+    map_repo.record_answer(session, row.id, acked=ack.applied, reject_reason=reason)
+    event_repo.add_event(session, kind=kind.value, machine=name, detail=text)
+    return True
 
 
 def _machines(session: Session) -> list[MachineRow]:

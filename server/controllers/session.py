@@ -39,6 +39,7 @@ from protocol.ctrlmem import (
     Identity,
     Layout,
     Status,
+    decode_buffer_header,
     decode_identity,
     decode_status,
     next_sequence,
@@ -78,7 +79,7 @@ class LinkAck:
         self.applied = code == AckCode.APPLIED
 
 
-def _reason(code: int) -> tuple[MapRejectReason, str]:
+def reason_of(code: int) -> tuple[MapRejectReason, str]:
     """A MapReject reason and text for an ack code (memory codes map to the nearest)."""
     if code == AckCode.BAD_HEADER:
         return MapRejectReason.CHECKSUM_MISMATCH, "buffer header magic or CRC wrong"
@@ -169,10 +170,15 @@ class ControllerSession:
                            chain=self.chain)
         st = await self._read_status()
         (word,) = struct.unpack("<H", await self.memory.read(SWITCH_AT, 2))
-        written, _buffer = unpack_switch(word)
+        written, buffer = unpack_switch(word)
         self._seq = max(written, st.ack_seq)
-        if written and st.ack_seq == written:
-            self.missed = LinkAck(written, st.ack_code, st.applied_version)
+        if written and st.ack_seq == written and buffer in (1, 2):
+            # the verdict on the last switch, whoever wrote it: the buffer's header says
+            # which map version it was about (the status has only the applied one)
+            at = self.layout.buffer_at(buffer)
+            header = decode_buffer_header(await self.memory.read(at, 32))
+            version = header.map_version if header is not None else st.applied_version
+            self.missed = LinkAck(written, st.ack_code, version)
         self._report(st)
 
     async def _read_status(self) -> Status:
@@ -226,7 +232,7 @@ class ControllerSession:
         if st.ack_code == AckCode.APPLIED:
             future.set_result(Verdict(version, True, None, "", latency))
         else:
-            reason, text = _reason(st.ack_code)
+            reason, text = reason_of(st.ack_code)
             future.set_result(Verdict(version, False, reason, text, latency))
 
     def _report(self, st: Status) -> None:
