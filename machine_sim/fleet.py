@@ -33,6 +33,7 @@ from __future__ import annotations
 
 import contextlib
 import json
+import os
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -290,6 +291,19 @@ def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
                                    byte_order=order)  # type: ignore[arg-type]
 
         return WindowCNC(e.machine, modbus, seed=e.seed, cycle_s=cycle_s)
-    from .opcua_server import opcua_factory
+    from .opcua_server import PLC_WRITER, OpcuaUser, sinumerik_server
 
-    return WindowCNC(e.machine, opcua_factory(host, link), seed=e.seed, cycle_s=cycle_s)
+    user = str(link.get("user", "ednc"))
+    ref = str(link.get("password_ref", ""))
+    kind, _, where = ref.partition(":")
+    password = (os.environ.get(where) if kind == "env" else
+                Path(where).read_text().strip() if kind == "file" and Path(where).exists()
+                else None)
+    if not password:
+        raise FleetSpecError(f"{e.machine.name}: the simulated NC's user {user!r} needs the "
+                             f"password its link names ({ref or 'password_ref'}): set it")
+    endpoint = str(link.get("endpoint", f"opc.tcp://{host}:4840"))
+    port = int(endpoint.rsplit(":", 1)[-1].split("/", 1)[0])
+    return WindowCNC(e.machine, sinumerik_server({user: OpcuaUser(password, PLC_WRITER)},
+                                                 host=host, port=port),
+                     seed=e.seed, cycle_s=cycle_s)

@@ -37,11 +37,6 @@ class ControllerServer(Protocol):
 
     port: int
 
-    @property
-    def address(self) -> str:
-        """Where the server listens, for people: ``modbus://HOST:PORT``, an OPC UA URL."""
-        ...
-
     async def start(self) -> None: ...
 
     async def stop(self) -> None: ...

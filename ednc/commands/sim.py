@@ -209,8 +209,10 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
                 typer.echo(f"{len(f.machines)} simulated machines connecting to "
                            + ", ".join(f"{host}:{port}" for host, port in addresses))
             for served in f.served:
+                where = getattr(served.server, "address", None) or getattr(
+                    served.server, "endpoint", "?")
                 typer.echo(f"{served.machine.name}: {served.machine.controller}-style "
-                           f"controller serving its window on {served.server.address}")
+                           f"controller serving its window on {where}")
             with contextlib.suppress(TimeoutError):
                 async with asyncio.timeout(duration):
                     async with asyncio.TaskGroup() as tg:
