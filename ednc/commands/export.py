@@ -172,13 +172,17 @@ def register(app: typer.Typer) -> None:
             if out.is_dir():  # a directory: the file goes in it, named as the control does
                 out = out / ("NC_CEC.INI" if program == "ini" else "EDNC_CEC.MPF")
             spec = CecFile(program, program_name(out.stem), names, first_table)
-            text = cec_text(e, figures, machine_name=machine.name, model_note=note, f=spec)
+            offsets = {str(k): float(v) for k, v in
+                       dict(model.info.get("offsets_um", {}) or {}).items()}
+            text = cec_text(e, figures, machine_name=machine.name, model_note=note, f=spec,
+                            offsets_um=offsets)
             _write(out, text)
             result = {"format": fmt, "files": [str(out)], "tables": len(e.tables),
                       "control": control, "first_table": first_table,
                       "tool_tip": figures.to_json(),
                       "decomposition_um": round(e.affine_um, 6),
                       "products": sum(1 for t in e.tables if t.role == "factor"),
+                      "offsets_um_not_in_tables": offsets,
                       "left_out": [x.to_json() for x in e.left_out]}
         else:
             iso = iso230_1_export(machine, model, geo, step_mm=step, tool_mm=tool,

@@ -86,8 +86,9 @@ def _describe(t: CecTable, i: int, f: CecFile) -> str:
 
 
 def cec_text(e: CecExport, figures: ToolTip, *, machine_name: str, model_note: str,
-             f: CecFile) -> str:
-    """The whole file (module docstring)."""
+             f: CecFile, offsets_um: Mapping[str, float] | None = None) -> str:
+    """The whole file (module docstring); ``offsets_um`` are the fit's constant tool-tip
+    offsets (the readings' zero), named in the header as not in the tables."""
     n_used = len(e.tables)
     last = f.first_table + n_used - 1
     lines: list[str] = []
@@ -115,6 +116,11 @@ def cec_text(e: CecExport, figures: ToolTip, *, machine_name: str, model_note: s
     lines.append(f";   with a tool {LONGER_MM:g} mm longer (same tables) "
                  f"{figures.worst_after_longer_tool_um:.2f} / "
                  f"{figures.rms_after_longer_tool_um:.2f} um")
+    if offsets_um:
+        lines.append("; the fit's constant tool-tip offsets (the readings' zero: "
+                     + ", ".join(f"{k} {v:.2f}" for k, v in sorted(offsets_um.items()))
+                     + " um) are not in the tables, as in the center's maps: the workpiece "
+                     "zero absorbs them")
     if figures.worst_after_lec_um is not None:
         lines.append(f";   with the positioning errors also in the LEC tables "
                      f"{figures.worst_after_lec_um:.2f} / {figures.rms_after_lec_um:.2f} um")
