@@ -429,3 +429,33 @@ async def test_basic256sha256_sign_and_encrypt_carries_the_window(tmp_path: Path
             assert bytes(cnc.window[256:260]) == b"\x11\x22\x33\x44"
         finally:
             await mem.close()
+
+
+async def test_servers_in_one_process_share_no_node() -> None:
+    """The standard address space is built once per process and copied per server on
+    first touch: each server sees its own Sinumerik folder once, and nothing of another's."""
+    m = spec(VMC).machine
+    other = spec("5ax-04").machine  # five axes beside vmc-06's three
+    async with (WindowCNC(m, sinumerik_server(USERS), cycle_s=0.01) as a,
+                WindowCNC(other, sinumerik_server(USERS), cycle_s=0.01) as b):
+        # a standard node changed in one server stays as it was in the other
+        level = ua.NodeId(ua.ObjectIds.Server_ServiceLevel)
+        sa, sb = a.server.server, b.server.server  # type: ignore[attr-defined]
+        await sa.write_attribute_value(level, ua.DataValue(ua.Variant(7, ua.VariantType.Byte)))
+        assert sb.read_attribute_value(level).Value.Value == 255
+        assert sa.read_attribute_value(level).Value.Value == 7
+        for cnc in (a, b):
+            c = raw_client(cnc, "viewer", "view-pw")
+            await c.connect()
+            try:
+                names = [n.Name for n in [await x.read_browse_name()
+                                          for x in await c.nodes.objects.get_children()]]
+                assert names.count("Sinumerik") == 1, names
+                ns = await c.get_namespace_array()
+                assert ns.index("urn:ednc:sim:sinumerik") == 2
+                axes = await c.get_node("ns=2;s=/Sinumerik/Channel/MachineAxis").get_children()
+                got = sorted([await x.read_value() for x in axes
+                              if (await x.read_browse_name()).Name.startswith("name")])
+                assert got == sorted(cnc.machine.axis_names), got
+            finally:
+                await c.disconnect()
