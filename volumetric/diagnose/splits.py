@@ -22,6 +22,11 @@ F64 = NDArray[np.float64]
 
 
 K_FOLDS = 5
+SCHUR_CUT = 1e-8
+"""Smallest scaled eigenvalue, relative to the largest, of a fold's base normal matrix and
+of a candidate's Schur complement for :class:`BaseGrams` to solve by the complement; a
+hundred times the minimum-norm solve's cut (:func:`solve_normal`), so that where it is
+used the two agree to rounding."""
 
 def fold_labels(m: Measurements, k: int = K_FOLDS) -> NDArray[np.intp]:
     """Fold of each reading (see module docstring, step 2)."""
@@ -178,6 +183,23 @@ class BaseGrams:
                 raise ValueError("the fitted readings of a fold are not a union of cells")
             self.g.append(sum((g_cell[c] for c in inside), np.zeros((p, p))))
             self.b.append(sum((b_cell[c] for c in inside), np.zeros(p)))
+        self._inv: list[F64 | None] = [None] * len(fits)
+
+    def _base_inverse(self, f: int) -> F64 | None:
+        """The inverse of fold ``f``'s base normal matrix when it is well conditioned
+        (scaled, smallest eigenvalue above ``SCHUR_CUT`` of the largest), else None;
+        computed once."""
+        if self._inv[f] is None:
+            g = self.g[f]
+            d = np.sqrt(np.clip(np.diag(g), 0, None))
+            if np.all(d > 0):
+                lam, vec = np.linalg.eigh(g / np.outer(d, d))
+                if lam.size and lam.min() > SCHUR_CUT * max(float(lam.max()), 1e-300):
+                    self._inv[f] = ((vec / lam) @ vec.T) / np.outer(d, d)
+            if self._inv[f] is None:
+                self._inv[f] = np.zeros((0, 0))
+        inv = self._inv[f]
+        return None if inv is None or inv.size == 0 else inv
 
     def heldout(self, cands: list[Candidate]) -> F64:
         """Held-out residuals of the base extended by ``cands`` (none replacing base
@@ -195,11 +217,40 @@ class BaseGrams:
             # the fold's fitted rows only, weighted; no copy of the (N, P) base
             ew = e * (w * tr)[:, None]
             g_be = self.a0.T @ ew
-            g = np.block([[self.g[f], g_be], [g_be.T, ew.T @ e]])
+            g_ee = ew.T @ e
             b = self.b[f] - self.a0.T @ (w * tr * known) if known.any() else self.b[f]
-            x = solve_normal(g, np.concatenate((b, ew.T @ y)))
+            b_e = ew.T @ y
+            x = self._schur(f, g_be, g_ee, b, b_e)
+            if x is None:
+                g = np.block([[self.g[f], g_be], [g_be.T, g_ee]])
+                x = solve_normal(g, np.concatenate((b, b_e)))
             r[te] = (y - self.a0 @ x[:p] - e @ x[p:])[te]
         return r
+
+    def _schur(self, f: int, g_be: F64, g_ee: F64, b: F64, b_e: F64) -> F64 | None:
+        """The joint solution of the base and k extra columns of fold ``f`` by their
+        Schur complement (a k x k solve beside the base's inverse, computed once per
+        fold, instead of a (P + k) square one per candidate), or None when the base or
+        the complement is not well conditioned (``SCHUR_CUT``): then the general
+        minimum-norm solve decides, as it always did."""
+        inv = self._base_inverse(f)
+        if inv is None:
+            return None
+        if g_ee.shape[0] == 0:
+            out: F64 = inv @ b
+            return out
+        ib = inv @ g_be  # (P, k)
+        s = g_ee - g_be.T @ ib
+        d = np.sqrt(np.clip(np.diag(s), 0, None))
+        d0 = np.sqrt(np.clip(np.diag(g_ee), 0, None))
+        if not np.all(d > SCHUR_CUT ** 0.5 * np.maximum(d0, 1e-300)):
+            return None  # a column (nearly) inside the base's span
+        lam, vec = np.linalg.eigh(s / np.outer(d, d))
+        if lam.min() <= SCHUR_CUT * max(float(lam.max()), 1e-300):
+            return None
+        x_e = ((vec / lam) @ vec.T) @ ((b_e - ib.T @ b) / d) / d
+        x_b = inv @ b - ib @ x_e
+        return np.concatenate((x_b, x_e))
 
 
 def block_table(blocks: NDArray[np.intp], judge: NDArray[np.bool_], before: F64,
