@@ -61,5 +61,11 @@ def main() -> None:
     try:
         app()
     except UserError as exc:
-        print(f"ednc: error: {exc}", file=sys.stderr)
+        print(f"ednc: error: {error_line(exc)}", file=sys.stderr)
         sys.exit(2)
+
+
+def error_line(exc: UserError) -> str:
+    """The error as one line: a line break inside it (a file name that holds one) is
+    written as ``\\n``, so that the message stays the one line scripts read."""
+    return str(exc).strip().replace("\r", "\\r").replace("\n", "\\n")

@@ -205,3 +205,17 @@ def test_the_service_refuses_the_model_the_cli_refuses() -> None:
     empty = {"format": "ednc-model/1", "machine": "vmc", "components": {}, "locations": {}}
     with pytest.raises(ModelError, match="no error"):
         check_model(empty, VMC)
+
+
+def test_the_rest_commands_refuse_in_one_line(work: Path, tmp_path: Path) -> None:
+    """``ednc model upload`` checks the model offline first, then names an unreachable
+    center; ``ednc machine register`` checks the description first."""
+    line = one_line_error(ednc("model", "upload", "--machine", "vmc", "--model",
+                               f"{work}/empty-model.json", "--api", "http://127.0.0.1:9"))
+    assert "empty-model.json" in line and "format" in line
+    line = one_line_error(ednc("model", "upload", "--machine", "vmc", "--model",
+                               f"{work}/model.json", "--api", "http://127.0.0.1:9"))
+    assert "cannot reach the center at http://127.0.0.1:9" in line
+    line = one_line_error(ednc("machine", "register", "--machine", f"{work}/huge.json",
+                               "--secret", "0123456789abcdef", "--api", "http://127.0.0.1:9"))
+    assert "travel_mm.x" in line

@@ -15,6 +15,8 @@ from collections.abc import Mapping
 from dataclasses import fields
 from typing import Any
 
+import numpy as np
+
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.machine import Machine
 from volumetric.model.model import FORMAT, MachineModel
@@ -74,9 +76,36 @@ def check_model(data: Any, machine: Machine | None = None) -> MachineModel:
             assert machine is not None
             raise ModelContentError(f"terms[{i}] ({kind}): machine {machine.name!r} has no "
                                     f"axis {axis!r} (its axes are {' '.join(sorted(keys))})")
+    for name, value in model.geometry.locations.items():
+        if not (math.isfinite(value) and abs(value) <= MAX_ERROR):
+            raise ModelContentError(f"locations.{name} = {value:g}: a location error is "
+                                    f"within ±{MAX_ERROR:g} µm or µrad")
     if machine is not None:
         try:
             model.geometry.check(machine)
         except ComponentErrorSpecError as exc:
             raise ModelContentError(str(exc)) from None
+        _check_sizes(model, machine)
     return model
+
+
+MAX_ERROR = 100_000.0
+"""Largest |error| a model may give anywhere on its machine's travel, µm or µrad: 0.1 m or
+0.1 rad. Far beyond any machine tool, far below what turns the kinematics' sines and
+squares into NaN (a location of 1e300 µrad did)."""
+
+
+def _check_sizes(model: MachineModel, machine: Machine) -> None:
+    """Every component error finite and within :data:`MAX_ERROR` over its axis's travel
+    (sampled at 65 points, ends included)."""
+    travel = {a.name: a.travel for a in machine.axes}
+    with np.errstate(all="ignore"):
+        for name, component in model.geometry.components.items():
+            axis = name[2:] if len(name) > 2 else ""
+            lo, hi = travel.get(axis, (0.0, 1.0))
+            values = np.asarray(component(np.linspace(lo, hi, 65)), dtype=np.float64)
+            worst = float(np.max(np.abs(values))) if values.size else 0.0
+            if not (math.isfinite(worst) and worst <= MAX_ERROR):
+                raise ModelContentError(
+                    f"components.{name} reaches {worst:g} µm or µrad on the travel "
+                    f"[{lo:g}, {hi:g}]; a component error is within ±{MAX_ERROR:g}")

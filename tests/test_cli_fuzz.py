@@ -1,0 +1,265 @@
+"""Garbage in, one line out: hypothesis feeds random CSVs, JSON files, binary files and
+option values to every offline command, in-process through typer's CliRunner, and no
+input may end in a traceback (issue 25: ">= 10,000 cases, no traceback").
+
+A run is fine when it succeeds (exit 0), when typer refuses the options (a usage error,
+exit 2), or when the command raises the project's :class:`~ednc.cli.UserError` with one
+line (which ``ednc`` prints as ``ednc: error: ...``, exit 2). Anything else escaping is a
+traceback a user would see.
+
+Cases per run (derandomised, so CI sees the same ones): readings CSVs 2,000, JSON files
+(machine and model, mutated and random) 2,500, options 4,200, binary and text garbage
+as map, point, machine, model and data files 1,500: 10,200 in all (``CASES``); about 3 min
+on this project's shared two cores under a load of 16, marked slow.
+"""
+
+from __future__ import annotations
+
+import json
+import string
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import pytest
+import typer
+from click.testing import CliRunner
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from ednc.cli import UserError, _load_commands, app, error_line
+
+pytestmark = pytest.mark.slow
+
+VMC = {"name": "vmc", "controller": "siemens", "chain": "w X Y b Z t",
+       "tool_length_mm": 100.0,
+       "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}}
+HEADER = ["test", "run", "time_s", "x_mm", "y_mm", "z_mm", "dir_x", "dir_y", "dir_z",
+          "tool_mm", "quantity", "ux", "uy", "uz", "value"]
+GOOD_ROW = ["X-positioning", "1", "0", "100", "300", "-250", "1", "0", "0", "100",
+            "displacement", "1", "0", "0", "1.5"]
+CASES = {"csv": 2000, "json": 2500, "options": 4200, "files": 1500}
+assert sum(CASES.values()) >= 10_000
+
+_load_commands()
+RUNNER = CliRunner()
+COMMAND = typer.main.get_command(app)  # built once: typer rebuilds it on every invoke
+SETTINGS = dict(deadline=None, derandomize=True, database=None,
+                suppress_health_check=[HealthCheck.too_slow,
+                                       HealthCheck.function_scoped_fixture,
+                                       HealthCheck.data_too_large])
+
+
+def run(args: list[str]) -> None:
+    """Invoke ``ednc ARGS`` in-process; fail on anything but exit 0, a usage error or one
+    UserError line."""
+    r = RUNNER.invoke(COMMAND, args, catch_exceptions=True)
+    exc = r.exception
+    if exc is None or isinstance(exc, SystemExit):
+        assert r.exit_code in (0, 1, 2), (args, r.exit_code, r.output)
+        if r.exit_code == 1:  # typer's own aborts; anything else exiting 1 is a crash
+            raise AssertionError((args, r.output))
+        return
+    if isinstance(exc, UserError):
+        assert error_line(exc), args  # what ednc prints: one line, never empty
+        return
+    raise AssertionError(f"ednc {' '.join(args)!r} raised {type(exc).__name__}: {exc}"
+                         ) from exc
+
+
+@pytest.fixture(scope="module")
+def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
+    """A valid machine, model and map: the fixed parts the garbage is combined with."""
+    d = tmp_path_factory.mktemp("fuzz")
+    (d / "vmc.json").write_text(json.dumps(VMC))
+    run(["sim", "--campaign", str(d / "c.csv"), "--machine", str(d / "vmc.json"),
+         "--effect", "noise:0.3"])
+    run(["fit", "--machine", str(d / "vmc.json"), "--data", str(d / "c.csv"),
+         "--out", str(d / "model.json")])
+    run(["map", "--machine", str(d / "vmc.json"), "--model", str(d / "model.json"),
+         "--out", str(d / "map.bin"), "--tolerance-um", "5"])
+    for name in ("model.json", "map.bin"):
+        assert (d / name).exists(), name
+    (d / "points.csv").write_text("x,y,z\n400,300,-250\n")
+    return {"dir": d, "machine": d / "vmc.json", "model": d / "model.json",
+            "map": d / "map.bin", "points": d / "points.csv", "data": d / "c.csv"}
+
+
+# -- strategies
+
+NUMBERS = st.one_of(
+    st.integers(-10**6, 10**6).map(str),
+    st.floats(allow_nan=True, allow_infinity=True).map(repr),
+    st.sampled_from(["1e300", "-1e300", "1e9", "nan", "inf", "-inf", "0", "-0", "1e-320",
+                     "0x10", "1_000", " 3 ", "+1", ".", "-", "1e", "２"]),
+)
+TEXT = st.text(alphabet=string.printable + "µ°é\u200b\x00", max_size=12)
+CELL = st.one_of(NUMBERS, TEXT, st.sampled_from(["", '"', '""', "displacement", "angle",
+                                                 "X-positioning", "-1", "1"]))
+
+
+@st.composite
+def readings_csv(draw: st.DrawFn) -> str:
+    """A small CSV: the format's header (sometimes shuffled, cut or with extra columns)
+    and rows of good cells with some replaced by garbage."""
+    header = list(HEADER)
+    if draw(st.booleans()):
+        header = draw(st.permutations(header))
+    if draw(st.integers(0, 9)) == 0:
+        header = header[:draw(st.integers(0, len(header)))]
+    header += draw(st.lists(st.sampled_from(["a_deg", "c_deg", "T_s_C", "spindle", "x_mm",
+                                             "extra", ""]), max_size=2))
+    rows = []
+    for _ in range(draw(st.integers(0, 6))):
+        row = [dict(zip(HEADER, GOOD_ROW, strict=True)).get(h, "20") for h in header]
+        for _ in range(draw(st.integers(0, 3))):
+            if row:
+                row[draw(st.integers(0, len(row) - 1))] = draw(CELL)
+        if draw(st.integers(0, 9)) == 0:
+            row = row[:draw(st.integers(0, len(row)))]
+        rows.append(row)
+    sep = draw(st.sampled_from([",", ",", ",", ";", "\t"]))
+    lines = [sep.join(header)] + [sep.join(r) for r in rows]
+    end = draw(st.sampled_from(["\n", "\r\n", "\n\n", ""]))
+    return "\n".join(lines) + end
+
+
+JSON = st.recursive(
+    st.one_of(st.none(), st.booleans(), st.integers(-10**12, 10**12),
+              st.floats(allow_nan=False, allow_infinity=False), TEXT),
+    lambda inner: st.one_of(st.lists(inner, max_size=4),
+                            st.dictionaries(TEXT, inner, max_size=4)),
+    max_leaves=12)
+
+
+def mutate(base: Any, draw: st.DrawFn) -> Any:
+    """``base`` with one entry, somewhere in its tree, replaced, removed or added."""
+    if isinstance(base, dict) and base and draw(st.integers(0, 3)):
+        key = draw(st.sampled_from(sorted(base)))
+        out = dict(base)
+        action = draw(st.integers(0, 2))
+        if action == 0:
+            out.pop(key)
+        elif action == 1:
+            out[key] = mutate(base[key], draw)
+        else:
+            out[draw(TEXT)] = draw(JSON)
+        return out
+    if isinstance(base, list) and base and draw(st.booleans()):
+        i = draw(st.integers(0, len(base) - 1))
+        return [mutate(v, draw) if k == i else v for k, v in enumerate(base)]
+    return draw(st.one_of(JSON, st.sampled_from([1e300, -1e9, 0, -1, "", [], {}])))
+
+
+# -- the tests
+
+
+@settings(max_examples=CASES["csv"], **SETTINGS)  # type: ignore[arg-type]
+@given(data=st.data())
+def test_garbage_readings(files: dict[str, Path], data: st.DataObject) -> None:
+    text = data.draw(readings_csv())
+    path = files["dir"] / "garbage.csv"
+    path.write_text(text, encoding="utf-8", errors="surrogatepass")
+    command = data.draw(st.sampled_from(["fit", "diagnose", "predict", "iso230-2"]))
+    args = {"fit": ["fit", "--machine", str(files["machine"])],
+            "diagnose": ["diagnose", "--machine", str(files["machine"]), "--json"],
+            "predict": ["predict", "--machine", str(files["machine"]), "--model",
+                        str(files["model"])],
+            "iso230-2": ["iso230-2", "--json"]}[command]
+    run([*args, "--data", str(path)])
+
+
+@settings(max_examples=CASES["json"], **SETTINGS)  # type: ignore[arg-type]
+@given(data=st.data())
+def test_garbage_machine_and_model_files(files: dict[str, Path], data: st.DataObject) -> None:
+    model = json.loads(files["model"].read_text())
+    which = data.draw(st.sampled_from(["machine", "model"]))
+    base = VMC if which == "machine" else model
+    body = mutate(base, data.draw) if data.draw(st.integers(0, 3)) else data.draw(JSON)
+    path = files["dir"] / f"garbage-{which}.json"
+    path.write_text(json.dumps(body))
+    machine = str(path if which == "machine" else files["machine"])
+    model_path = str(path if which == "model" else files["model"])
+    command = data.draw(st.sampled_from(["compensate", "predict", "fit", "tables"]))
+    args = {
+        "compensate": ["compensate", "--machine", machine, "--model", model_path,
+                       "--point", "400,300,-250", "--json"],
+        "predict": ["predict", "--machine", machine, "--model", model_path, "--data",
+                    str(files["points"])],
+        "fit": ["fit", "--machine", machine, "--data", str(files["points"])],
+        "tables": ["tables", "export", "--machine", machine, "--model", model_path,
+                   "--out", str(files["dir"] / "tables-out")],
+    }[command]
+    run(args)
+
+
+OPTION = st.one_of(NUMBERS, TEXT, st.sampled_from(["x=1", "1,2", "T=1", "+", "-", "=",
+                                                   "fanuc", "grid", "auto"]))
+
+
+def options(files: dict[str, Path]) -> dict[str, Callable[[st.DrawFn], list[str]]]:
+    m, model, mp = str(files["machine"]), str(files["model"]), str(files["map"])
+    out = str(files["dir"] / "o")
+    return {
+        "map": lambda draw: ["map", "--machine", m, "--model", model, "--out", out + ".bin",
+                             draw(st.sampled_from(["--tolerance-um", "--increment",
+                                                   "--limit-mm", "--limit-deg", "--version",
+                                                   "--kind", "--controller",
+                                                   "--temperature", "--weights"])),
+                             draw(OPTION), "--tolerance-um", "50"],
+        "compensate": lambda draw: ["compensate", "--machine", m, "--model", model,
+                                    "--point", draw(OPTION),
+                                    draw(st.sampled_from(["--approach", "--weights",
+                                                          "--temperature", "--point"])),
+                                    draw(OPTION)],
+        "lookup": lambda draw: ["lookup", "--map", mp, "--points", str(files["points"]),
+                                "--temperature", draw(OPTION)],
+        "diagnose": lambda draw: ["diagnose", "--machine", m, "--data", str(files["points"]),
+                                  draw(st.sampled_from(["--max-readings",
+                                                        "--holdout-after"])),
+                                  draw(OPTION)],
+        "sim": lambda draw: ["sim", "--campaign", out + ".csv", "--machine",
+                             str(files["dir"] / "missing.json"),
+                             draw(st.sampled_from(["--seed", "--effect", "--cycle-ms",
+                                                   "--duration", "--controller"])),
+                             draw(OPTION)],
+        "fit": lambda draw: ["fit", "--machine", m, "--data", str(files["points"]), "--out",
+                             draw(st.sampled_from(["/missing/dir/x.json", "/", "",
+                                                   str(files["dir"])]))],
+        "predict": lambda draw: ["predict", "--machine", m, "--model", model, "--data",
+                                 draw(OPTION)],
+    }
+
+
+@settings(max_examples=CASES["options"], **SETTINGS)  # type: ignore[arg-type]
+@given(data=st.data())
+def test_garbage_options(files: dict[str, Path], data: st.DataObject) -> None:
+    table = options(files)
+    name = data.draw(st.sampled_from(sorted(table)))
+    run(table[name](data.draw))
+
+
+@settings(max_examples=CASES["files"], **SETTINGS)  # type: ignore[arg-type]
+@given(data=st.data())
+def test_garbage_files_where_maps_and_points_belong(files: dict[str, Path],
+                                                    data: st.DataObject) -> None:
+    good = files["map"].read_bytes()
+    blob = data.draw(st.one_of(
+        st.binary(max_size=200),
+        st.builds(lambda i, b: good[:i] + b + good[i + len(b):],
+                  st.integers(0, len(good)), st.binary(min_size=1, max_size=8)),
+        st.builds(lambda i: good[:i], st.integers(0, len(good))),
+        readings_csv().map(lambda t: t.encode("utf-8", "surrogatepass"))))
+    path = files["dir"] / "garbage.bin"
+    path.write_bytes(blob)
+    where = data.draw(st.sampled_from(["map", "points", "machine", "model", "data"]))
+    args = {
+        "map": ["lookup", "--map", str(path), "--points", str(files["points"])],
+        "points": ["lookup", "--map", str(files["map"]), "--points", str(path)],
+        "machine": ["compensate", "--machine", str(path), "--model", str(files["model"]),
+                    "--point", "1,2,3"],
+        "model": ["compensate", "--machine", str(files["machine"]), "--model", str(path),
+                  "--points", str(files["points"])],
+        "data": ["fit", "--machine", str(files["machine"]), "--data", str(path)],
+    }[where]
+    run(args)
