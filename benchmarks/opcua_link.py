@@ -1,11 +1,12 @@
 """100 SINUMERIK-style machines over OPC UA: connect all, push a map to each.
 
-    .venv/bin/python benchmarks/opcua_link.py [--machines 100] [--workers 4] [--cycle-ms 100]
+    .venv/bin/python benchmarks/opcua_link.py [--machines 100] [--workers 1] [--cycle-ms 100]
 
 The machines (WindowCNC over a SiemensNC, each with its own asyncua OPC UA server,
-machine_sim/opcua_server.py) run in ``--workers`` separate processes, so the center side
-is measured alone: this process holds one :class:`~server.controllers.opcua.OpcuaMemory`
-(asyncua client, user with PlcWrite) per machine, in one event loop. Measured:
+machine_sim/opcua_server.py) run in ``--workers`` separate processes (one holds all 100:
+the servers share the standard address space), so the center side is measured alone:
+this process holds one :class:`~server.controllers.opcua.OpcuaMemory` (asyncua client,
+user with PlcWrite) per machine, in one event loop. Measured:
 
 * connect: all sessions opened at once (login included), wall time and this process's CPU;
 * push: every machine gets its map at once (its name in the map; a Siemens-style tables
@@ -86,7 +87,9 @@ async def serve(first: int, count: int, cycle_s: float) -> None:
             for i in range(first, first + count)]
     for c in cncs:
         await c.__aenter__()
-    print(json.dumps({"ports": [c.server.port for c in cncs]}), flush=True)
+    rss_mb = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps({"ports": [c.server.port for c in cncs], "rss_mb": rss_mb}),
+          flush=True)
     loop = asyncio.get_running_loop()
     await loop.run_in_executor(None, sys.stdin.read)
     for c in cncs:
@@ -158,12 +161,14 @@ async def center(n: int, workers: int, cycle_ms: float) -> None:
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
             env=env, text=True))
     ports: list[int] = []
+    rss: list[float] = []
     for p in procs:
         assert p.stdout is not None
-        line = await asyncio.to_thread(p.stdout.readline)
-        ports += json.loads(line)["ports"]
+        got = json.loads(await asyncio.to_thread(p.stdout.readline))
+        ports += got["ports"]
+        rss.append(got["rss_mb"])
     print(f"{len(ports)} machines serving in {len(procs)} processes after "
-          f"{time.perf_counter() - t0:.1f} s")
+          f"{time.perf_counter() - t0:.1f} s, peak RSS {max(rss):.0f} MB per process")
     os.environ[PASSWORD_ENV] = PASSWORD
     mems = [OpcuaMemory(f"opc.tcp://127.0.0.1:{port}", "ednc", f"env:{PASSWORD_ENV}",
                         timeout_s=30.0) for port in ports]
@@ -196,7 +201,7 @@ async def center(n: int, workers: int, cycle_ms: float) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--machines", type=int, default=100)
-    ap.add_argument("--workers", type=int, default=4)
+    ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--cycle-ms", type=float, default=100.0)
     ap.add_argument("--serve", type=int, nargs=2, metavar=("FIRST", "COUNT"),
                     help=argparse.SUPPRESS)
