@@ -18,13 +18,12 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from fractions import Fraction
 
 import numpy as np
 from numpy.typing import NDArray
 
-from protocol.mapfactored import FactoredPayload, FactoredThermal, thermal_fixed
-from protocol.mapformat import THERMAL_DRIFT, ErrorMapPayload, ThermalRecord
+from protocol.mapfactored import FactoredPayload, FactoredThermal
+from protocol.mapformat import THERMAL_DRIFT
 
 I64 = NDArray[np.int64]
 __all__ = ["FactoredProgram", "GridProgram", "factored_counts", "factored_program",
@@ -187,45 +186,25 @@ class GridProgram:
     """(K,) the column of the positions holding each output's own position, -1 if none."""
 
 
-def _whole_counts(x: float, per_unit: int, what: str) -> int:
-    """An f64 field holding a whole number of counts (§6.1's conversion rule)."""
-    v = Fraction(x) * per_unit
-    n = (v + Fraction(1, 2)).__floor__()
-    if abs(v - n) > Fraction(1, 1_000_000):
-        raise ValueError(f"{what} is not a whole number of counts")
-    return n
-
-
-def grid_program(p: ErrorMapPayload, per_unit: int, inputs: Sequence[str]) -> GridProgram:
-    """The integer form of an int32 grid map for an endpoint of ``per_unit`` counts per
-    mm (§6.1's conversion: start and step whole counts; thermal records as §6.5's fixed
-    point); ``inputs`` the axes whose positions a lookup takes (grid axes first).
-
-    Raises
-    ------
-    ValueError
-        A start or step that is not whole counts.
-    """
-    raw = np.frombuffer(p.values, dtype="<i4").astype(np.int64).reshape(-1, len(p.outputs))
-    count = _i64([g.count for g in p.grid])
-    strides = np.ones(len(p.grid), dtype=np.int64)
-    for j in range(len(p.grid) - 2, -1, -1):
-        strides[j] = strides[j + 1] * count[j + 1]
-    outputs = tuple(o.name.upper() for o in p.outputs)
-    step = _i64([_whole_counts(g.step, per_unit, f"grid axis {g.name} step") for g in p.grid])
-    if np.any(step < 1):
-        raise ValueError("a grid step must be at least one count")
+def grid_program(values: bytes, count: Sequence[int], start: Sequence[int],
+                 step: Sequence[int], outputs: Sequence[str], reversal: Sequence[int],
+                 thermal: Sequence[FactoredThermal], inputs: Sequence[str]) -> GridProgram:
+    """The integer form of an int32 grid map (§6.1): its int32 values (row-major, output
+    fastest), per grid axis its node count and its start and step in counts (the loader
+    converted the f64 fields, §6's rule), per output its name and reversal in counts,
+    its thermal records in fixed point; ``inputs`` the axes whose positions a lookup
+    takes (grid axes first)."""
+    k = len(outputs)
+    raw = np.array(np.frombuffer(values, dtype="<i4"), dtype=np.int64).reshape(-1, k)
+    cnt = _i64(count)
+    strides = np.ones(len(cnt), dtype=np.int64)
+    for j in range(len(cnt) - 2, -1, -1):
+        strides[j] = strides[j + 1] * cnt[j + 1]
+    names = tuple(o.upper() for o in outputs)
     return GridProgram(
-        start=_i64([_whole_counts(g.start, per_unit, f"grid axis {g.name} start")
-                    for g in p.grid]),
-        step=step, count=count, strides=strides, values=raw, outputs=outputs,
-        reversal=_i64([0 if o.reversal is None else int(o.reversal) for o in p.outputs]),
-        thermal=tuple(_record(r, outputs, per_unit) for r in p.thermal),
-        slope_cols=_i64([list(inputs).index(o) if o in inputs else -1 for o in outputs]))
-
-
-def _record(r: ThermalRecord, outputs: Sequence[str], per_unit: int) -> FactoredThermal:
-    return thermal_fixed(r, list(outputs).index(r.axis.upper()), per_unit)
+        start=_i64(start), step=_i64(step), count=cnt, strides=strides, values=raw,
+        outputs=names, reversal=_i64(reversal), thermal=tuple(thermal),
+        slope_cols=_i64([list(inputs).index(o) if o in inputs else -1 for o in names]))
 
 
 def grid_counts(prog: GridProgram, q: I64, c0: I64, c1: I64) -> I64:

@@ -34,7 +34,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from protocol.codes import MapEncoding
-from protocol.mapfactored import FactoredPayload
+from protocol.mapfactored import FactoredPayload, thermal_fixed
 from protocol.mapformat import THERMAL_DRIFT, ErrorMapPayload, ThermalRecord
 from protocol.maptables import TablesPayload
 
@@ -305,6 +305,16 @@ def readings_mC(temperatures: Mapping[str, float]) -> dict[str, int]:
     return out
 
 
+def _whole(x: Fraction, per_unit: int, what: str) -> int:
+    """``x · per_unit``, which must be a whole number (within 1e-6 of one, the f64's
+    rounding of a decimal), rounded half up."""
+    v = x * per_unit
+    n = (v + Fraction(1, 2)).__floor__()
+    if abs(v - n) > Fraction(1, 1_000_000):
+        raise ValueError(f"{what} is not a whole number of counts")
+    return n
+
+
 class FactoredLadder:
     """A factored map (format version 5) as the PMC ladder evaluates it: the integer
     arithmetic of :mod:`machine_sim.ladder` (protocol/README.md §6.5), the tables decoded
@@ -384,8 +394,17 @@ class GridLadder(GridMap):
         if p.encoding is not MapEncoding.INT32_INCREMENTS:
             raise ValueError("the integer ladder takes int32 grid maps only")
         g = GridMap.from_payload(p)
-        per_unit = round(1.0 / p.increment_mm)
-        prog = ladder.grid_program(p, per_unit, g.inputs)
+        # the loader's conversion of the f64 fields (protocol/README.md §6), once
+        per_unit = _whole(1 / Fraction(p.increment_mm), 1, "the increment's reciprocal")
+        prog = ladder.grid_program(
+            p.values, [a.count for a in p.grid],
+            [_whole(Fraction(a.start), per_unit, f"grid axis {a.name} start") for a in p.grid],
+            [_whole(Fraction(a.step), per_unit, f"grid axis {a.name} step") for a in p.grid],
+            g.outputs, [0 if o.reversal is None else int(o.reversal) for o in p.outputs],
+            [thermal_fixed(r, g.outputs.index(r.axis.upper()), per_unit) for r in p.thermal],
+            g.inputs)
+        if min((int(v) for v in prog.step), default=1) < 1:
+            raise ValueError("a grid step must be at least one count")
         k = len(g.outputs)
         out = GridLadder(
             machine=g.machine, version=g.version, valid_s=g.valid_s, grid=g.grid,

@@ -23,7 +23,7 @@ from ednc.cli import UserError
 from ednc.commands.compensate import parse_temperatures
 from ednc.inputs import dump_json, parse_number
 from machine_sim.chaineval import StructureError, sensor_key
-from machine_sim.lookup import FactoredLadder, GridMap, TablesMap
+from machine_sim.lookup import FactoredLadder, GridLadder, GridMap, TablesMap
 from protocol.codes import MapEncoding
 from protocol.mapfactored import FactoredPayload
 from protocol.mapformat import ErrorMapPayload, MapFormatError
@@ -175,13 +175,17 @@ def evaluate(p: Payload, q: F64, axes: list[str],
             values = tm.lookup(q)
         except StructureError as exc:
             raise UserError(str(exc)) from None
+    elif p.encoding is MapEncoding.INT32_INCREMENTS:
+        # the Fanuc-style ladder's integer evaluation (protocol/README.md §6.1, §6.4):
+        # whole increments, halves up, as machine_sim/fanuc.py writes them to the EMZPS
+        try:
+            ladder = GridLadder.from_payload(p, temperatures)
+        except ValueError as exc:
+            raise UserError(f"the int32 grid cannot be evaluated in counts: {exc}") from None
+        values = ladder.lookup(q[:, [axes.index(a) for a in ladder.inputs]])
     else:
         g = GridMap.from_payload(p, temperatures)
         values = g.lookup(q[:, [axes.index(a) for a in g.inputs]])
-        if p.encoding is MapEncoding.INT32_INCREMENTS:
-            # the ladder writes whole increments to the EMZPS (machine_sim/fanuc.py); the
-            # tables evaluation rounds to its encoding itself
-            values = np.rint(values / p.increment_mm) * p.increment_mm
     outputs = [o.name.upper() for o in p.outputs]
     for k, name in enumerate(outputs):
         out[:, axes.index(name)] = values[:, k]

@@ -129,7 +129,10 @@ def layout(machine: Machine, per_unit: int, shifts: Sequence[int],
     for a, shift in zip(machine.axes, shifts, strict=True):
         lo, hi = _travel_counts(a.travel, per_unit)
         n = max(2, -(-(hi - lo) >> shift) + 1)
-        grids.append(AxisGrid(n, lo, shift))
+        # the nodes overhang the travel by less than one spacing: half of it at each end,
+        # so that no end node is fitted from a sliver of samples
+        overhang = ((n - 1) << shift) - (hi - lo)
+        grids.append(AxisGrid(n, lo - overhang // 2, shift))
     lay = Layout(machine, grids, bases, rot_b, lin_b)
     rot = sorted(rot_b)
     lin = sorted(lin_b)
