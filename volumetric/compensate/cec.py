@@ -44,7 +44,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.compensate.cec_plan import CecPlan, Fn, Piece, plan_cec
-from volumetric.compensate.cec_select import group_shares, select_groups
+from volumetric.compensate.cec_select import carried_sum, group_shares, select_groups
 from volumetric.model.components import GeometricErrors
 from volumetric.model.machine import Machine
 
@@ -315,8 +315,15 @@ def cec_export(machine: Machine, geometry: GeometricErrors, *, tool_mm: float,
             d = g.key.split(":")[1]
             if not any(n.startswith("1d:") and n.endswith(f":{d}") for n in chosen):
                 left.append(LeftOut(g.label, g.effect_um, "no table onto this axis"))
+    # what is not carried is centred somewhere over the workspace; a constant rides free
+    # on any table onto the axis, so the file carries the centre of its range too
+    rest = total - carried_sum(chosen, shares, total)
+    mid = 0.5 * (rest.max(axis=0) + rest.min(axis=0))
+    means = {d: float(mid[i]) for i, d in enumerate(plan.linear) if abs(mid[i]) * 1e3 > 1e-3}
+    if fold_at:  # the user asked for the tables to be exact at a working height instead
+        means = {}
     return _build(machine, plan, chosen, scales, backlash, control, max_tables, max_points,
-                  tolerance_um, positioning, left)
+                  tolerance_um, positioning, left, means)
 
 
 def _rotary_um(machine: Machine, axis: str) -> float:
@@ -337,7 +344,8 @@ def _names(pieces: list[Piece]) -> str:
 def _build(machine: Machine, plan: CecPlan, chosen: set[str],
            scales: dict[tuple[str, str, str], float], backlash: Mapping[str, float],
            control: str, max_tables: int, max_points: int, tolerance_um: float,
-           positioning: bool, left: list[LeftOut]) -> CecExport:
+           positioning: bool, left: list[LeftOut],
+           means: Mapping[str, float] | None = None) -> CecExport:
     travel = {a.name: a.travel for a in machine.axes}
     centre = plan.centre
     one_d = {(k, d): list(p) for (k, d), p in plan.one_d.items()}
@@ -362,11 +370,14 @@ def _build(machine: Machine, plan: CecPlan, chosen: set[str],
         c = centre[m]
         one_d.setdefault((m, d), []).append(
             Piece(f"(cancels arm {m})", _arm_cancel(c, s)))
-    for d, c in plan.constants.items():
+    constants = dict(plan.constants)
+    for d, c in (means or {}).items():
+        constants[d] = constants.get(d, 0.0) + c
+    for d, c in constants.items():
         target = next((kd for kd in sorted(one_d) if kd[1] == d and f"1d:{kd[0]}:{d}" in chosen),
                       None)
         if target is not None:
-            one_d[target].append(Piece(f"constant {d}", _const(c)))
+            one_d[target].append(Piece(f"(constant {d})", _const(c)))
     tables: list[CecTable] = []
     index: dict[tuple[str, str], int] = {}
     for key in sorted(k for k in chosen if k.startswith("1d:")):

@@ -59,6 +59,10 @@ class ToolTip:
     """With the same tables and a tool :data:`LONGER_MM` longer: the Abbe arms of the
     tool-side angles grow, the tables do not follow."""
     rms_after_longer_tool_um: float = 0.0
+    worst_before_zeroed_um: float = 0.0
+    """The worst with each axis's mean error removed (what the workpiece zero absorbs),
+    before and after."""
+    worst_after_zeroed_um: float = 0.0
 
     def to_json(self) -> dict[str, object]:
         out: dict[str, object] = {k: (round(v, 4) if isinstance(v, float) else v)
@@ -83,6 +87,11 @@ def tool_tip_error(machine: Machine, geometry: GeometricErrors, q: F64, dq: F64,
             if name in sens:
                 err = err + sens[name][1] * (-direction[:, i] * b / 2)[:, None]
     return err
+
+
+def _zeroed(e: F64) -> float:
+    """Worst norm with the per-axis mean removed, µm."""
+    return float(np.linalg.norm(e - e.mean(axis=0), axis=1).max())
 
 
 def _norms(e: F64) -> tuple[float, float]:
@@ -117,7 +126,8 @@ def tool_tip(machine: Machine, geometry: GeometricErrors, export: CecExport, *,
               if any(t.output == a.name for t in export.tables)}
     wt, rt = _norms(tool_tip_error(machine, geometry, q, dq, export.tool_mm + LONGER_MM, bl,
                                    direction))
-    return ToolTip(wb, rb, wa, ra, wl, rl, n, export.tool_mm, totals, wt, rt)
+    return ToolTip(wb, rb, wa, ra, wl, rl, n, export.tool_mm, totals, wt, rt,
+                   _zeroed(before), _zeroed(after))
 
 
 __all__ = ["LONGER_MM", "POINTS", "ToolTip", "tool_tip", "tool_tip_error"]

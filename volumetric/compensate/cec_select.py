@@ -2,7 +2,8 @@
 
 Each group of tables (a 1-D table, a product with the tables it needs, a backlash pair)
 is judged by what it removes at the tool tip, not by its own size: shares of different
-tables onto one axis add and may cancel. Three choices are tried and the best kept, judged
+tables onto one axis add and may cancel; a constant over the whole workspace is not
+judged (the workpiece zero absorbs it). Three choices are tried and the best kept, judged
 by the worst plus the RMS tool-tip error the first-order correction leaves: greedy from
 nothing, adding the group that lowers that most per table it costs, or most outright,
 until the table count is reached or nothing lowers it; and the groups by the size of their
@@ -71,8 +72,22 @@ def group_shares(plan: CecPlan, backlash: Mapping[str, float], n: int = 1500,
 
 
 def _score(rest: F64) -> float:
-    norm = np.linalg.norm(rest, axis=1)
+    # a constant over the whole workspace is what the workpiece zero absorbs: not judged
+    norm = np.linalg.norm(rest - rest.mean(axis=0), axis=1)
     return float(norm.max() + 0.25 * np.sqrt(np.mean(norm * norm)))
+
+
+def carried_sum(keys: set[str], shares: Mapping[str, F64], total: F64) -> F64:
+    """The correction the tables ``keys`` carry at the points (a location constant rides
+    on any 1-D table onto its axis)."""
+    out = np.zeros_like(total)
+    for key, v in shares.items():
+        if key.startswith("const:"):
+            if any(t.startswith("1d:") and t.endswith(":" + key[6:]) for t in keys):
+                out = out + v
+        elif key in keys:
+            out = out + v
+    return out
 
 
 def select_groups(needs: Mapping[str, Sequence[str]], shares: Mapping[str, F64],
@@ -90,14 +105,7 @@ def select_groups(needs: Mapping[str, Sequence[str]], shares: Mapping[str, F64],
         return every
 
     def carried(keys: set[str]) -> F64:
-        out = np.zeros_like(total)
-        for key, v in shares.items():
-            if key.startswith("const:"):
-                if any(t.startswith("1d:") and t.endswith(key[5:]) for t in keys):
-                    out = out + v
-            elif key in keys:
-                out = out + v
-        return out
+        return carried_sum(keys, shares, total)
 
     def greedy(per_table: bool) -> set[str]:
         chosen: set[str] = set()
@@ -208,4 +216,4 @@ def _improve(start: set[str], needs: Mapping[str, Sequence[str]],
     return set(state)
 
 
-__all__ = ["group_shares", "select_groups"]
+__all__ = ["carried_sum", "group_shares", "select_groups"]

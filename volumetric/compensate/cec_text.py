@@ -113,6 +113,9 @@ def cec_text(e: CecExport, figures: ToolTip, *, machine_name: str, model_note: s
         f";   with these tables          {figures.worst_after_um:.2f} / "
         f"{figures.rms_after_um:.2f} um",
     ]
+    lines.append(f";   worst with each axis's mean removed (the workpiece zero absorbs it): "
+                 f"{figures.worst_before_zeroed_um:.2f} -> {figures.worst_after_zeroed_um:.2f}"
+                 " um")
     lines.append(f";   with a tool {LONGER_MM:g} mm longer (same tables) "
                  f"{figures.worst_after_longer_tool_um:.2f} / "
                  f"{figures.rms_after_longer_tool_um:.2f} um")
