@@ -7,7 +7,8 @@ The lifespan is the one place where long-lived services start and stop, in an
    key) and the machines of ``EDNC_MACHINES_FILE``,
 2. the :class:`~server.center.Center` stored as ``app.state.center``,
 3. the built-in services (:class:`~server.retention.EventRetention`, the dashboard's
-   :class:`~server.dashboard.sampler.CorrectionSampler` and
+   :class:`~server.dashboard.sampler.CorrectionSampler`,
+   :class:`~server.dashboard.rollup.TemperatureRollup` and
    :class:`~server.dashboard.mapcheck.MapChecks`), then each factory
    in ``services``, called with the Center; the machine TCP server, the push scheduler and
    the MQTT bridge plug in here as async context managers.
@@ -36,6 +37,7 @@ from server.api.routes.measurements import MAX_UPLOAD_BYTES
 from server.bootstrap import read_machines_file, register_machines
 from server.center import Center
 from server.dashboard.mapcheck import MapChecks
+from server.dashboard.rollup import TemperatureRollup
 from server.dashboard.sampler import CorrectionSampler
 from server.db import Database
 from server.db.secretbox import SecretBox, seal_all
@@ -117,7 +119,8 @@ def create_app(
             center = Center(settings=settings, db=db)
             app.state.center = center
             stack.callback(delattr, app.state, "center")
-            builtin: tuple[ServiceFactory, ...] = (EventRetention, CorrectionSampler, MapChecks)
+            builtin: tuple[ServiceFactory, ...] = (EventRetention, CorrectionSampler,
+                                                   TemperatureRollup, MapChecks)
             for factory in (*builtin, *services):
                 await stack.enter_async_context(factory(center))
             if not settings.writes_enabled:

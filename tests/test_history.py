@@ -14,6 +14,7 @@ import pytest
 from fastapi import FastAPI
 
 from server.dashboard.sampler import CorrectionSampler
+from server.db import history as history_repo
 from server.db import maps as map_repo
 from server.db import temperatures as reading_repo
 from server.db.temperatures import NewReading
@@ -62,29 +63,74 @@ async def test_temperatures_come_back_downsampled_to_the_buckets_asked_for(
     rows, offsets, celsius = readings(mid)
     await center_of(app).db.run(reading_repo.add_readings, rows)
     r = await client.get("/api/machines/vmc-01/history", params={
-        "window_s": WINDOW_S, "points": 10, "until": UNTIL.isoformat()})
+        "window_s": WINDOW_S, "points": 20, "until": UNTIL.isoformat()})
     assert r.status_code == 200, r.text
     body = r.json()
-    assert body["bucket_s"] == 100.0
+    assert body["bucket_s"] == 50.0
     [series] = body["temperatures"]
     assert (series["name"], series["unit"]) == ("spindle", "°C")
     inside = (offsets >= 0) & (offsets < WINDOW_S)
-    bucket = (offsets[inside] // 100).astype(int)
-    assert series["count"] == np.bincount(bucket).tolist()  # 100 per bucket, none outside
+    bucket = (offsets[inside] // 50).astype(int)
+    assert series["count"] == np.bincount(bucket).tolist()  # 50 per bucket, none outside
     means = np.bincount(bucket, weights=celsius[inside]) / np.bincount(bucket)
     assert series["mean"] == pytest.approx(means.tolist(), abs=1e-9)
     assert series["low"] == pytest.approx(
-        [celsius[inside][bucket == k].min() for k in range(10)])
+        [celsius[inside][bucket == k].min() for k in range(20)])
     assert series["high"] == pytest.approx(
-        [celsius[inside][bucket == k].max() for k in range(10)])
+        [celsius[inside][bucket == k].max() for k in range(20)])
     start = (UNTIL - dt.timedelta(seconds=WINDOW_S)).timestamp()
-    assert series["t"] == pytest.approx([start + 100 * k + 49.5 for k in range(10)], abs=1e-3)
+    assert series["t"] == pytest.approx([start + 50 * k + 24.5 for k in range(20)], abs=1e-3)
     # the other machine has none, and the fleet endpoint has both machines
     fleet = (await client.get("/api/history", params={
-        "window_s": WINDOW_S, "points": 10, "until": UNTIL.isoformat()})).json()
+        "window_s": WINDOW_S, "points": 20, "until": UNTIL.isoformat()})).json()
     assert [(m["machine"], len(m["temperatures"])) for m in fleet["machines"]] == [
         ("vmc-01", 1), ("vmc-03", 0)]
     assert fleet["machines"][0]["temperatures"][0]["mean"] == series["mean"]
+
+
+async def test_minute_summaries_give_the_same_buckets_as_the_readings(
+        api: tuple[FastAPI, httpx.AsyncClient]) -> None:
+    """Long windows read the per-minute summaries (and the readings after them): the
+    buckets are those the readings give, whether the summaries reach the window's end,
+    stop inside it, or do not exist yet."""
+    app, client = api
+    db = center_of(app).db
+    rng = np.random.default_rng(5)
+    rows = []
+    for name, sensor in (("vmc-01", "T_spindle_C"), ("vmc-01", "T_bed_C"),
+                         ("vmc-03", "T_spindle_C")):
+        mid = await machine_id(app, name)
+        stamps = np.sort(rng.uniform(-4 * 3600.0, 0.0, 3000))  # 4 h, irregular
+        rows += [NewReading(mid, sensor, float(20 + rng.normal()),
+                            UNTIL + dt.timedelta(seconds=float(t)), "mqtt") for t in stamps]
+    await db.run(reading_repo.add_readings, rows)
+    until = UNTIL + dt.timedelta(seconds=20)  # the window starts at 09:00:20
+    params = {"window_s": 3 * 3600.0, "points": 30, "until": until.isoformat()}
+
+    async def buckets() -> list[Any]:
+        r = await client.get("/api/history", params=params)
+        assert r.status_code == 200, r.text
+        body = r.json()  # whole minutes from 09:00: 3 h 20 s in 30 buckets of 7 min
+        assert (body["bucket_s"], body["since"]) == (420.0, "2026-11-27T09:00:00Z")
+        return [(m["machine"], s["name"], s["count"], s["mean"], s["low"], s["high"], s["t"])
+                for m in body["machines"] for s in m["temperatures"]]
+
+    from_readings = await buckets()
+    assert sum(sum(b[2]) for b in from_readings) > 6000
+    rolled = 0
+    for now in (UNTIL - dt.timedelta(minutes=50), UNTIL + dt.timedelta(minutes=5)):
+        while n := await db.run(history_repo.roll_up, now, chunk_s=3600.0):
+            rolled += n
+        got = await buckets()
+        assert [b[:3] for b in got] == [b[:3] for b in from_readings]  # same counts
+        for a, b in zip(got, from_readings, strict=True):
+            assert a[3] == pytest.approx(b[3], abs=1e-9)  # means
+            assert (a[4], a[5]) == (b[4], b[5])  # extremes
+            assert a[6] == pytest.approx(b[6], abs=2e-3)  # mean times
+    assert rolled == 3 * 4 * 60  # every minute of every sensor, once
+    assert await db.run(history_repo.roll_up, UNTIL + dt.timedelta(minutes=5)) == 0
+    assert await db.run(history_repo.delete_minutes_before,
+                        UNTIL - dt.timedelta(hours=1)) == 3 * 3 * 60
 
 
 async def test_windows_and_points_out_of_range_are_refused(

@@ -11,6 +11,7 @@ whatever the rate the data came in at.
 from __future__ import annotations
 
 import datetime as dt
+import math
 from collections import defaultdict
 from collections.abc import Mapping, Sequence
 from typing import Literal
@@ -111,11 +112,21 @@ class FleetHistory(Window):
 
 def window(until: dt.datetime | None, window_s: float, points: int
            ) -> tuple[dt.datetime, dt.datetime, float]:
-    """``(since, until, bucket_s)``; ``until`` defaults to now."""
+    """``(since, until, bucket_s)``; ``until`` defaults to now.
+
+    Buckets of a minute or more are whole minutes from the start of a minute (the window
+    starts up to a minute early), so that the per-minute summaries serve them exactly
+    (:func:`server.db.history.temperature_buckets`); still at most ``points`` of them.
+    """
     end = until if until is not None else dt.datetime.now(dt.UTC)
     if end.tzinfo is None:
         end = end.replace(tzinfo=dt.UTC)
-    return end - dt.timedelta(seconds=window_s), end, window_s / points
+    since = end - dt.timedelta(seconds=window_s)
+    if window_s / points < 60.0:
+        return since, end, window_s / points
+    since = since.replace(second=0, microsecond=0)
+    span = (end - since).total_seconds()
+    return since, end, 60.0 * math.ceil(span / points / 60.0)
 
 
 def sensor_name(column: str) -> str:

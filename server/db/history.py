@@ -16,7 +16,7 @@ import datetime as dt
 from dataclasses import dataclass
 from typing import Any
 
-from sqlalchemy import Float, cast, extract, func, select
+from sqlalchemy import Float, cast, delete, extract, func, insert, select
 from sqlalchemy.orm import Session, defer
 from sqlalchemy.sql.elements import ColumnElement
 
@@ -27,10 +27,12 @@ from server.db.tables import (
     EventRow,
     MachineRow,
     MapVersionRow,
+    TemperatureMinuteRow,
     TemperatureReadingRow,
 )
 
 UNIX_EPOCH_JULIAN_DAY = 2440587.5
+MINUTE = dt.timedelta(minutes=1)
 EDGE_S = 1e-3
 """Bucket edges are this much early, s (see :func:`_buckets`)."""
 
@@ -68,29 +70,116 @@ def epoch(session: Session, column: Any) -> ColumnElement[float]:
     return cast(extract("epoch", column), Float)
 
 
-def _buckets(session: Session, row: Any, series: Any, value: Any, low: Any, high: Any,
-             count: Any, machine_ids: list[int] | None, since: dt.datetime,
-             until: dt.datetime, bucket_s: float) -> list[Bucket]:
-    t = epoch(session, row.time)
+def _grouped(session: Session, row: Any, series: Any, t: Any, value: Any, low: Any,
+             high: Any, count: Any, machine_ids: list[int] | None, time_col: Any,
+             origin: dt.datetime, start: dt.datetime, end: dt.datetime, bucket_s: float
+             ) -> dict[tuple[int, str, int], Bucket]:
+    """Buckets by (machine id, series, bucket index counted from ``origin``) of the rows
+    whose ``time_col`` is in [start, end)."""
     # + EDGE_S: SQLite's julianday carries ~50 µs of rounding, which would put a reading
     # taken exactly on a bucket's edge into the bucket before
-    index = func.floor((t - since.timestamp() + EDGE_S) / bucket_s)
-    query = select(row.machine_id, series, func.avg(t), value, low, high, count).where(
-        row.time >= since, row.time < until)
+    index = func.floor((epoch(session, time_col) - origin.timestamp() + EDGE_S) / bucket_s)
+    query = select(row.machine_id, series, index, t, value, low, high, count).where(
+        time_col >= start, time_col < end)
     if machine_ids is not None:
         query = query.where(row.machine_id.in_(machine_ids))
-    query = query.group_by(row.machine_id, series, index).order_by(
-        row.machine_id, series, index)
-    return [Bucket(int(m), str(s), float(tt), float(v), float(lo), float(hi), int(n))
-            for m, s, tt, v, lo, hi, n in session.execute(query)]
+    query = query.group_by(row.machine_id, series, index)
+    return {(int(m), str(s), int(k)): Bucket(int(m), str(s), float(tt), float(v), float(lo),
+                                             float(hi), int(n))
+            for m, s, k, tt, v, lo, hi, n in session.execute(query)}
+
+
+def _merged(*parts: dict[tuple[int, str, int], Bucket]) -> list[Bucket]:
+    """Buckets of several sources, those of one key combined (weighted by their counts),
+    ordered by machine, series and time."""
+    out: dict[tuple[int, str, int], Bucket] = {}
+    for part in parts:
+        for key, b in part.items():
+            a = out.get(key)
+            if a is None:
+                out[key] = b
+                continue
+            n = a.count + b.count
+            out[key] = Bucket(a.machine_id, a.series, (a.t * a.count + b.t * b.count) / n,
+                              (a.mean * a.count + b.mean * b.count) / n, min(a.low, b.low),
+                              max(a.high, b.high), n)
+    return [out[k] for k in sorted(out)]
+
+
+def rolled_until(session: Session) -> dt.datetime | None:
+    """The end of the last minute summarised in ``temperature_minutes`` (None: none yet)."""
+    last = session.scalar(select(func.max(TemperatureMinuteRow.minute)))
+    return None if last is None else last + MINUTE
 
 
 def temperature_buckets(session: Session, machine_ids: list[int] | None, since: dt.datetime,
                         until: dt.datetime, bucket_s: float) -> list[Bucket]:
-    """Accepted temperature readings per machine and sensor (°C), downsampled."""
+    """Accepted temperature readings per machine and sensor (°C), downsampled.
+
+    Buckets of whole minutes starting on a minute read the per-minute summaries up to
+    where they reach (:func:`roll_up`) and the readings after it; others read the
+    readings. Both give the same buckets (tests/test_history.py).
+    """
+    whole_minutes = bucket_s % 60 == 0 and since.second == 0 and since.microsecond == 0
+    reach = rolled_until(session) if whole_minutes else None
+    if reach is None or reach <= since:
+        return _merged(_raw_from(session, machine_ids, since, since, until, bucket_s))
+    boundary = min(reach, until)
+    m = TemperatureMinuteRow
+    weight = func.sum(m.count)
+    minutes = _grouped(session, m, m.sensor, func.sum(m.t_mean * m.count) / weight,
+                       func.sum(m.mean * m.count) / weight, func.min(m.low), func.max(m.high),
+                       weight, machine_ids, m.minute, since, since, boundary, bucket_s)
+    if boundary >= until:
+        return _merged(minutes)
+    return _merged(minutes, _raw_from(session, machine_ids, since, boundary, until, bucket_s))
+
+
+def _raw_from(session: Session, machine_ids: list[int] | None, since: dt.datetime,
+              start: dt.datetime, end: dt.datetime, bucket_s: float
+              ) -> dict[tuple[int, str, int], Bucket]:
+    """Buckets (indexed from ``since``) of the readings in [start, end)."""
     r = TemperatureReadingRow
-    return _buckets(session, r, r.sensor, func.avg(r.celsius), func.min(r.celsius),
-                    func.max(r.celsius), func.count(), machine_ids, since, until, bucket_s)
+    t = epoch(session, r.time)
+    return _grouped(session, r, r.sensor, func.avg(t), func.avg(r.celsius),
+                    func.min(r.celsius), func.max(r.celsius), func.count(), machine_ids,
+                    r.time, since, start, end, bucket_s)
+
+
+def roll_up(session: Session, now: dt.datetime, *, chunk_s: float = 86400.0) -> int:
+    """Summarise the readings of the complete minutes not summarised yet, at most
+    ``chunk_s`` of them per call, into ``temperature_minutes``; returns the rows added.
+
+    A minute is complete one minute after it ended (a reading is stamped when taken and
+    may arrive a little later); a reading that arrives later still stays out of the
+    summary (it is in the readings). Several nodes may run this at once: the loser's
+    insert hits the primary key and it adds nothing (the caller rolls back).
+    """
+    start = rolled_until(session)
+    first = session.scalar(select(func.min(TemperatureReadingRow.time)).where(
+        *(() if start is None else (TemperatureReadingRow.time >= start,))))
+    if first is None:
+        return 0
+    first = first.replace(second=0, microsecond=0)
+    start = first if start is None else max(start, first)  # skip a silent stretch
+    end = min(now.replace(second=0, microsecond=0) - MINUTE,
+              start + dt.timedelta(seconds=chunk_s))
+    if end <= start:
+        return 0
+    buckets = _raw_from(session, None, start, start, end, 60.0)
+    rows = [{"machine_id": m, "sensor": s, "minute": start + k * MINUTE, "t_mean": b.t,
+             "mean": b.mean, "low": b.low, "high": b.high, "count": b.count}
+            for (m, s, k), b in buckets.items()]
+    if rows:
+        session.execute(insert(TemperatureMinuteRow), rows)
+    return len(rows)
+
+
+def delete_minutes_before(session: Session, time: dt.datetime) -> int:
+    """Delete the minute summaries older than ``time``; returns how many (retention)."""
+    result = session.execute(delete(TemperatureMinuteRow).where(
+        TemperatureMinuteRow.minute < time))
+    return int(getattr(result, "rowcount", 0) or 0)
 
 
 def correction_buckets(session: Session, machine_ids: list[int] | None, since: dt.datetime,
@@ -98,9 +187,11 @@ def correction_buckets(session: Session, machine_ids: list[int] | None, since: d
     """Applied compensation per machine and axis (µm; µrad rotary), downsampled: the
     mean of the stored periods' means weighted by their readings, the extremes of theirs."""
     r = CorrectionSampleRow
-    mean = func.sum(r.mean * r.samples) / func.sum(r.samples)
-    return _buckets(session, r, r.axis, mean, func.min(r.low), func.max(r.high),
-                    func.sum(r.samples), machine_ids, since, until, bucket_s)
+    weight = func.sum(r.samples)
+    return _merged(_grouped(session, r, r.axis, func.avg(epoch(session, r.time)),
+                            func.sum(r.mean * r.samples) / weight, func.min(r.low),
+                            func.max(r.high), weight, machine_ids, r.time, since, since,
+                            until, bucket_s))
 
 
 def deliveries(session: Session, machine_id: int, since: dt.datetime, until: dt.datetime,

@@ -279,3 +279,24 @@ class CorrectionSampleRow(Base):
     low: Mapped[float] = mapped_column(Float)
     high: Mapped[float] = mapped_column(Float)
     samples: Mapped[int] = mapped_column(Integer)
+
+
+class TemperatureMinuteRow(Base):
+    """One minute of one sensor's readings, summarised: what long history windows read
+    instead of every reading (:func:`server.db.history.roll_up`, run every minute by
+    :class:`server.dashboard.rollup.TemperatureRollup`; pruned like the readings).
+
+    ``minute`` is the start of the minute (UTC); ``mean``, ``low``, ``high`` in °C over
+    ``count`` readings; ``t_mean`` the mean time of those readings (s since the epoch).
+    """
+
+    __tablename__ = "temperature_minutes"
+
+    machine_id: Mapped[int] = mapped_column(_machine_fk(), primary_key=True)
+    sensor: Mapped[str] = mapped_column(String(64), primary_key=True)
+    minute: Mapped[dt.datetime] = mapped_column(primary_key=True, index=True)
+    t_mean: Mapped[float] = mapped_column(Float)
+    mean: Mapped[float] = mapped_column(Float)
+    low: Mapped[float] = mapped_column(Float)
+    high: Mapped[float] = mapped_column(Float)
+    count: Mapped[int] = mapped_column(Integer)
