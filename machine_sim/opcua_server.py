@@ -22,7 +22,7 @@ manual, 6FC5397-1DP41; /work/shared/spec/controllers.md), with its limits:
 
 The address space
 -----------------
-PLC data (the manual's table "PLC syntax", §5.3.3): ``/Plc/DB<n>.DBB<x>``,
+PLC data (the manual's table "PLC syntax", §5.3): ``/Plc/DB<n>.DBB<x>``,
 ``.DBW<x>``, ``.DBD<x>`` a byte, word or double word at byte ``x`` of data block ``n``,
 and with ``:[k]`` an array of ``k`` of them ("/Plc/DB8.DBW2:[10]: Array of 10 words
 beginning at byte offset 2"). Their OPC UA type is UInt32 (BYTE, WORD and DWORD all map
@@ -60,9 +60,15 @@ These are nodes of the address space (browsable under ``Sinumerik``), their valu
 from the machine when asked and, for subscriptions, sampled every 100 ms. The window's
 paths are not sampled: the center polls the status with reads.
 
+Not simulated: the limit of 1,000 samples/s, and the certificate trust list (with
+Basic256Sha256 any client certificate is accepted; a real controller must be told to
+trust the center's).
+
 The server runs in the machine's event loop (:class:`SinumerikOpcuaServer` is a
 ``ControllerServer``: ``port``, ``start()``, ``stop()``; port 0 binds a free port, read
-back after start). Build it with :func:`sinumerik_server`::
+back after start). Servers in one process share asyncua's standard address space, each
+copying a node the first time it touches it (:class:`_CopyOnAccess`), so a fleet of them
+starts in tens of milliseconds each. Build it with :func:`sinumerik_server`::
 
     cnc = WindowCNC(machine, sinumerik_server({"ednc": OpcuaUser("pw", PLC_WRITER)}))
 """
