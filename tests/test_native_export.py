@@ -79,9 +79,11 @@ def test_the_evaluator_can_fail() -> None:
     m = parse_machine(M3)
     geo = random_geometry(m, np.random.default_rng(0))
     text, _ = write(m, geo)
-    broken = text.replace("$AN_CEC_MULT_BY_TABLE[13]=", "$AN_CEC_MULT_BY_TABLE[13]=0;")
-    tables = cec_eval.parse("\n".join(ln.split(";")[0] if ln.startswith("$AN_CEC_MULT")
-                                      else ln for ln in broken.splitlines()))
+    tables = cec_eval.parse(text)
+    factor = next(t.index for t in tables.values() if t.mult)
+    tables = cec_eval.parse(text.replace(f"$AN_CEC_MULT_BY_TABLE[{factor}]={tables[factor].mult}",
+                                         f"$AN_CEC_MULT_BY_TABLE[{factor}]=0"))
+    assert tables[factor].mult == 0
     q = points(m, 2000, 5)
     after = residual_um(m, geo, q, cec_eval.compensation(tables, {"X1": 0, "Y1": 1, "Z1": 2},
                                                          q))
