@@ -60,9 +60,10 @@ These are nodes of the address space (browsable under ``Sinumerik``), their valu
 from the machine when asked and, for subscriptions, sampled every 100 ms. The window's
 paths are not sampled: the center polls the status with reads.
 
-Not simulated: the limit of 1,000 samples/s, and the certificate trust list (with
-Basic256Sha256 any client certificate is accepted; a real controller must be told to
-trust the center's).
+With certificates the server offers Basic256Sha256 (Sign, SignAndEncrypt) beside None,
+and ``trusted_clients`` is its trust list: a client certificate not on it gets
+``BadCertificateUntrusted`` at CreateSession (as on the real server, where the center's
+certificate must be trusted once). Not simulated: the limit of 1,000 samples/s.
 
 The server runs in the machine's event loop (:class:`SinumerikOpcuaServer` is a
 ``ControllerServer``: ``port``, ``start()``, ``stop()``; port 0 binds a free port, read
@@ -80,13 +81,14 @@ import contextlib
 import copy
 import re
 import struct
-from collections.abc import Callable, Iterator, Mapping, MutableMapping
+from collections.abc import Callable, Iterator, Mapping, MutableMapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, Final
 
 from asyncua import ua
 from asyncua.common.utils import ServiceError
+from asyncua.crypto import uacrypto
 from asyncua.crypto.permission_rules import User, UserRole
 from asyncua.server.address_space import NodeData
 from asyncua.server.internal_server import InternalServer
@@ -94,6 +96,7 @@ from asyncua.server.internal_session import InternalSession
 from asyncua.server.server import Server
 from asyncua.ua.attribute_ids import AttributeIds
 from asyncua.ua.status_codes import StatusCodes
+from cryptography.hazmat.primitives.serialization import Encoding
 
 from .siemens import SD_ABS_VALUE, SD_REF_POSITION, SD_SLOPE, SiemensAlarm, SiemensNC
 
@@ -500,17 +503,21 @@ class SinumerikOpcuaServer:
     certificate, private_key : Path, optional
         PEM or DER files; with them the server also offers Basic256Sha256 (Sign,
         SignAndEncrypt) beside None.
+    trusted_clients : sequence of Path, optional
+        Client certificates (PEM or DER) the server trusts; None trusts any.
     """
 
     def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], *,
                  host: str = "127.0.0.1", port: int = 0, db: int = 900,
                  max_sessions: int = MAX_SESSIONS, certificate: Path | None = None,
-                 private_key: Path | None = None) -> None:
+                 private_key: Path | None = None,
+                 trusted_clients: Sequence[Path] | None = None) -> None:
         self.cnc = cnc
         self.host = host
         self.port = port
         self.db = db
         self.certificate, self.private_key = certificate, private_key
+        self.trusted_clients = None if trusted_clients is None else list(trusted_clients)
         self.sinumerik = _Sinumerik(cnc, users, db)
         self._internal = _Internal(_Users(users), self.sinumerik, max_sessions)
         self.server: Server | None = None
@@ -537,6 +544,15 @@ class SinumerikOpcuaServer:
             policies += [ua.SecurityPolicyType.Basic256Sha256_Sign,
                          ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt]
         srv.set_security_policy(policies)
+        if self.trusted_clients is not None:
+            trusted = {(await uacrypto.load_certificate(str(p))).public_bytes(Encoding.DER)
+                       for p in self.trusted_clients}
+
+            async def validate(cert: Any, _app: Any) -> None:
+                if cert.public_bytes(Encoding.DER) not in trusted:
+                    raise ServiceError(_S.BadCertificateUntrusted)
+
+            srv.set_certificate_validator(validate)
         iserver = srv.iserver
         iserver.max_session_timeout_ms = SESSION_TIMEOUT_MS
         iserver.max_subscriptions = MAX_SUBSCRIPTIONS

@@ -401,14 +401,25 @@ async def certificate(tmp_path: Path, who: str, uri: str) -> tuple[Path, Path]:
 
 
 async def test_basic256sha256_sign_and_encrypt_carries_the_window(tmp_path: Path) -> None:
+    """Only a trusted client certificate gets a session; the window over an encrypted
+    channel reads and writes as over None."""
     server_cert, server_key = await certificate(tmp_path, "server",
                                                 "urn:freeopcua:python:server")
     client_cert, client_key = await certificate(tmp_path, "center",
                                                 "urn:example.org:FreeOpcUa:opcua-asyncio")
+    stranger_cert, stranger_key = await certificate(tmp_path, "stranger",
+                                                    "urn:example.org:FreeOpcUa:opcua-asyncio")
     m = spec(VMC).machine
-    factory = sinumerik_server(USERS, certificate=server_cert, private_key=server_key)
+    factory = sinumerik_server(USERS, certificate=server_cert, private_key=server_key,
+                               trusted_clients=[client_cert])
     async with WindowCNC(m, factory, runtime=MachineRuntime(m, seed=1), cycle_s=0.01) as cnc:
         url = f"opc.tcp://127.0.0.1:{cnc.server.port}"
+        stranger = OpcuaMemory(url, "ednc", "env:OPCUA_TEST_PW",
+                               security_policy="Basic256Sha256", security_mode="Sign",
+                               client_certificate=str(stranger_cert),
+                               client_private_key=str(stranger_key))
+        with pytest.raises(LinkError, match="does not trust the center's certificate"):
+            await stranger.connect()
         no_cert = OpcuaMemory(url, "ednc", "env:OPCUA_TEST_PW",
                               security_policy="Basic256Sha256",
                               security_mode="SignAndEncrypt")

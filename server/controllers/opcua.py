@@ -60,6 +60,8 @@ _HINTS: Final = {
     "BadOutOfRange": "outside the controller's data block (window larger than the DB?)",
     "BadTypeMismatch": "the node holds another type than UInt32 words",
     "BadSecurityPolicyRejected": "the server does not offer this security policy",
+    "BadCertificateUntrusted": "the controller does not trust the center's certificate "
+                               "(add client_certificate to its trusted clients)",
 }
 
 
