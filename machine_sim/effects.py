@@ -21,7 +21,13 @@ Periodic               A · sin(2π (q - q_min) / P + φ)                     ``
                                                                            ``period_mm`` = P
 TimeDrift              r · t / 3600  (t: s since the campaign start)       ``time_drift``,
                                                                            ``um_per_h`` = r
+RotaryBacklash         -(B / 2) · d on a rotary axis's angle (B in µrad)   ``rotary_backlash``,
+                                                                           ``reversal_urad`` = B
 =====================  ==================================================  =============
+
+A rotary axis's reversal error is not a translation: the axis stands off its command by
+that angle, so the whole chain beyond it turns (:func:`rotary_shift`, which the simulated
+machine adds to the axes' positions as a controller's shift would).
 
 A thermal drift with ``lag_s > 0`` follows the sensor place's temperature through a
 first-order lag of that time constant (a structure that deforms later than its surface
@@ -57,11 +63,13 @@ __all__ = [
     "Effects",
     "Noise",
     "Periodic",
+    "RotaryBacklash",
     "ThermalDrift",
     "ThermalExpansion",
     "TimeDrift",
     "axis_offsets",
     "lagged_key",
+    "rotary_shift",
 ]
 
 F64 = NDArray[np.float64]
@@ -178,6 +186,30 @@ class Backlash:
 
 
 @dataclass(frozen=True)
+class RotaryBacklash:
+    """Lost motion of a rotary axis on reversal (a worm's, a clamped table's): the axis
+    stands -(B/2)·d off its command, d the direction it last moved (the sign convention of
+    :class:`Backlash`: it lags behind the motion).
+
+    Attributes
+    ----------
+    axis : str
+        A rotary axis.
+    reversal_urad : float
+        B, the full reversal, µrad (>= 0; realistic 5 to 50).
+    """
+
+    axis: str
+    reversal_urad: float
+
+    def __post_init__(self) -> None:
+        _finite("RotaryBacklash.reversal_urad", self.reversal_urad)
+        if self.reversal_urad < 0:
+            raise ValueError(f"RotaryBacklash.reversal_urad must be >= 0, got "
+                             f"{self.reversal_urad}")
+
+
+@dataclass(frozen=True)
 class Periodic:
     """Cyclic (ballscrew pitch) error: A·sin(2π(q - q_min)/P + φ).
 
@@ -237,6 +269,9 @@ class Effects:
     periodic: tuple[Periodic, ...] = ()
     noise: Noise = field(default_factory=Noise)
     time: tuple[TimeDrift, ...] = ()
+    rotary_backlash: tuple[RotaryBacklash, ...] = ()
+    """Reversal errors of rotary axes (:func:`rotary_shift`; not among :attr:`active`,
+    which are the translations along linear axes)."""
 
     @property
     def active(self) -> bool:
@@ -272,6 +307,14 @@ class Effects:
                 if axis.kind != "linear":
                     raise ValueError(f"Effects.{group}[{i}]: axis {axis.name} is rotary; "
                                      "these effects act along linear axes")
+        for i, rb in enumerate(self.rotary_backlash):
+            try:
+                axis = machine.axis(rb.axis)
+            except KeyError as exc:
+                raise ValueError(f"Effects.rotary_backlash[{i}]: {exc.args[0]}") from None
+            if axis.kind != "rotary":
+                raise ValueError(f"Effects.rotary_backlash[{i}]: axis {axis.name} is linear; "
+                                 "use Backlash")
         if sensors is not None:
             thermal: tuple[ThermalExpansion | ThermalDrift, ...] = (*self.expansion,
                                                                     *self.drift)
@@ -338,4 +381,30 @@ def axis_offsets(
             raise ValueError(f"a time drift on axis {r.axis} needs the reading times")
         j = machine.axis_names.index(machine.axis(r.axis).name)
         out[:, j] += r.um_per_h * np.asarray(time_s, dtype=float) / 3600.0
+    return out
+
+
+def rotary_shift(machine: Machine, effects: Effects, q: F64,
+                 direction: NDArray[np.integer] | None) -> F64 | None:
+    """Where the rotary axes' reversal errors put them off their command, degrees, shape
+    (N, n_axes) (zero for the other axes), or None without any.
+
+    Parameters
+    ----------
+    machine : Machine
+    effects : Effects
+    q : ndarray, shape (N, n_axes)
+        Commanded positions (only the shape is used).
+    direction : ndarray of int, shape (N, n_axes), optional
+        Direction each axis last moved: -1, 0 or +1 (0 when omitted: no reversal error).
+    """
+    if not effects.rotary_backlash:
+        return None
+    out = np.zeros(q.shape)
+    if direction is None:
+        return out
+    d = np.asarray(direction).reshape(q.shape)
+    for b in effects.rotary_backlash:
+        j = machine.axis_names.index(machine.axis(b.axis).name)
+        out[:, j] += np.rad2deg(-0.5 * b.reversal_urad * 1e-6) * np.sign(d[:, j])
     return out

@@ -24,7 +24,7 @@ from volumetric.model.kinematics import tool_pose
 from volumetric.model.machine import Axis, Machine
 from volumetric.model.rigid import rotation_vector
 
-from .effects import Effects, axis_offsets
+from .effects import Effects, axis_offsets, rotary_shift
 from .program import MotionLimits
 from .thermal import ThermalConfig, default_thermal
 
@@ -117,6 +117,12 @@ class SimulatedMachine:
             Position (µm) and orientation (µrad) errors, shape (N, 3) each.
         """
         qc = np.atleast_2d(np.asarray(q, dtype=float))
+        turned = rotary_shift(self.machine, self.effects, qc,
+                              None if direction is None else np.asarray(direction))
+        if turned is not None:
+            # a rotary axis's reversal error puts the axis off its command, as a shift does
+            compensation = turned + (0.0 if compensation is None else np.asarray(
+                compensation, dtype=float).reshape(qc.shape))
         if compensation is None:
             qa = qc
             rigid = volumetric_error(self.machine, self.geometry, qa, spindle=spindle,

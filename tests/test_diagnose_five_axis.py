@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from machine_sim.campaign import standard_campaign
-from machine_sim.effects import Effects, Noise
+from machine_sim.effects import Effects, Noise, RotaryBacklash
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.truth import cyclic_error, random_geometry, rotary_error_motions
 from tests.support.five_axis import (
@@ -102,3 +102,20 @@ def test_r_tests_too_coarse_for_any_order_beyond_the_base_say_so() -> None:
     assert order_limit(60.0) == 2 and order_limit(30.0) == 5 and order_limit(2.5) == 71
     assert "rotary_periodic c" in missing, missing
     assert "resolves 2 per turn at most" in missing["rotary_periodic c"]
+
+
+@pytest.mark.parametrize(("axis", "reversal", "seed"), [("c", 30.0, 1), ("a", 20.0, 2)])
+def test_a_rotary_axis_reversal_error_is_named_with_its_size_and_sense(
+        axis: str, reversal: float, seed: int) -> None:
+    machine = five_axis_machine(2, 1)
+    rng = np.random.default_rng(seed)
+    sim = SimulatedMachine(machine, random_geometry(machine, rng),
+                           Effects(noise=NOISE, rotary_backlash=(RotaryBacklash(axis, reversal),)),
+                           seed=seed)
+    d = diagnose(machine, standard_campaign(sim, rng, runs=1))
+    assert (d.effect, d.axis) == ("rotary_backlash", axis), (d.effect, d.axis,
+                                                              d.candidates[:3])
+    assert abs(d.estimate["reversal_urad"] - reversal) <= 0.3 * reversal
+    # the simulated axis lags behind its motion, as a linear backlash's sign convention
+    assert d.estimate["sign"] == "lags behind the motion"
+    assert [e["effect"] for e in d.details["effects"]] == ["rotary_backlash"]
