@@ -23,3 +23,9 @@ def test_the_fleet_table_is_complete_on_a_pipe() -> None:
         line = next(x for x in text.splitlines() if r.name in x)  # one row, one line
         for cell in (r.controller, r.chain, "123456", "thermal_drift", "12,345", "99 %"):
             assert cell in line, line
+
+
+def test_a_rule_on_a_pipe_is_its_title() -> None:
+    out = io.StringIO()
+    demo_console(out).rule("EDNC control center demo")
+    assert out.getvalue() == "EDNC control center demo\n"

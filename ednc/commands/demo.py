@@ -5,7 +5,7 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import sys
-from typing import Annotated, TextIO
+from typing import Annotated, Any, TextIO
 
 import typer
 from rich.console import Console
@@ -22,8 +22,16 @@ def demo_console(file: TextIO | None = None) -> Console:
     stream = file if file is not None else sys.stdout
     if stream.isatty():
         return Console(file=file)
-    return Console(file=stream, width=PIPE_WIDTH, no_color=True, color_system=None,
-                   force_terminal=False, soft_wrap=True)
+    return _PipeConsole(file=stream, width=PIPE_WIDTH, no_color=True, color_system=None,
+                        force_terminal=False, soft_wrap=True)
+
+
+class _PipeConsole(Console):
+    """A console for a pipe: a rule is its title on a line of its own, not a line of
+    :data:`PIPE_WIDTH` box characters."""
+
+    def rule(self, title: Any = "", *args: Any, **kwargs: Any) -> None:
+        self.print(title if title else "")
 
 
 def register(app: typer.Typer) -> None:
@@ -48,10 +56,7 @@ def register(app: typer.Typer) -> None:
         from ednc.demo import run_numeric_demo
 
         console = demo_console()
-        if console.is_terminal:
-            console.rule("EDNC control center demo: measure, identify, diagnose, map")
-        else:
-            console.print("EDNC control center demo: measure, identify, diagnose, map")
+        console.rule("EDNC control center demo: measure, identify, diagnose, map")
         prepared = run_numeric_demo(console, warm=offline)
         if offline:
             return
