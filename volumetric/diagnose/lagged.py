@@ -15,7 +15,7 @@ from numpy.typing import NDArray
 
 from volumetric.diagnose.candidates import Candidate, temperature_columns
 from volumetric.diagnose.estimate import offsets_of
-from volumetric.diagnose.gates import MAX_EFFECTS, Scored, score
+from volumetric.diagnose.gates import MAX_EFFECTS, Scored, passes, score
 from volumetric.diagnose.splits import BaseGrams, Judge, combined, rms_of, solve_normal
 from volumetric.identify.fit import FitResult, model_from_parameters
 from volumetric.identify.thermal import DENSE_TAUS_S, fit_thermal_drift
@@ -271,8 +271,8 @@ def lagged_scored(m: Measurements, scored: list[Scored], judge: Judge, resid: F6
     ``scored``, its terms selected again in every fold (unless it fails the screening),
     and the all-sensor models (:func:`all_sensor_scored`), among them the plain least
     squares on every sensor, so that the model saved never loses on the split to that
-    plain one. The one with the lowest held-out RMS is returned: the saved model is the
-    one the split prefers.
+    plain one. The one with the lowest held-out RMS of those that pass the gain and
+    significance gates is returned: the saved model is the one the split prefers.
 
     ``resid`` is the base's residual fitted on every training reading, ``base`` its
     held-out residuals, shape (N,) each.
@@ -295,7 +295,10 @@ def lagged_scored(m: Measurements, scored: list[Scored], judge: Judge, resid: F6
         # the lags and sensors are chosen again in every fold from its training readings
         dyn = per_fold_dynamic(m, best_drift.candidate, dyn, judge.grams, sp.train, sp.order)
         out.append(score(dyn, judge.of([dyn]), base, rms_before, sp.judge, sp.order_judge))
-    return min(out, key=lambda s: s.rms_after_um) if out else None
+    # one that fails the gates would be picked over a static drift that passes them, and
+    # then name nothing: only those that pass are offered
+    passing = [s for s in out if passes(s)]
+    return min(passing, key=lambda s: s.rms_after_um) if passing else None
 
 
 def lagged_model(machine: Machine, m: Measurements, judge: Judge, c: Candidate,
