@@ -500,6 +500,9 @@ class SinumerikOpcuaServer:
     db : int
         The data block holding the window.
     max_sessions : int
+    session_timeout_s : float
+        A session idle this long is closed (every session gets this timeout, whatever it
+        asks; asyncua does not go below 5 s).
     certificate, private_key : Path, optional
         PEM or DER files; with them the server also offers Basic256Sha256 (Sign,
         SignAndEncrypt) beside None.
@@ -509,7 +512,9 @@ class SinumerikOpcuaServer:
 
     def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], *,
                  host: str = "127.0.0.1", port: int = 0, db: int = 900,
-                 max_sessions: int = MAX_SESSIONS, certificate: Path | None = None,
+                 max_sessions: int = MAX_SESSIONS,
+                 session_timeout_s: float = SESSION_TIMEOUT_MS / 1000,
+                 certificate: Path | None = None,
                  private_key: Path | None = None,
                  trusted_clients: Sequence[Path] | None = None) -> None:
         self.cnc = cnc
@@ -517,6 +522,7 @@ class SinumerikOpcuaServer:
         self.port = port
         self.db = db
         self.certificate, self.private_key = certificate, private_key
+        self.session_timeout_ms = max(5_000.0, 1000 * float(session_timeout_s))
         self.trusted_clients = None if trusted_clients is None else list(trusted_clients)
         self.sinumerik = _Sinumerik(cnc, users, db)
         self._internal = _Internal(_Users(users), self.sinumerik, max_sessions)
@@ -554,7 +560,8 @@ class SinumerikOpcuaServer:
 
             srv.set_certificate_validator(validate)
         iserver = srv.iserver
-        iserver.max_session_timeout_ms = SESSION_TIMEOUT_MS
+        iserver.max_session_timeout_ms = self.session_timeout_ms
+        iserver.min_session_timeout_ms = self.session_timeout_ms
         iserver.max_subscriptions = MAX_SUBSCRIPTIONS
         iserver.allow_remote_admin = False
         ns = await srv.register_namespace(NAMESPACE)

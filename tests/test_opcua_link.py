@@ -470,3 +470,31 @@ async def test_servers_in_one_process_share_no_node() -> None:
                 assert got == sorted(cnc.machine.axis_names), got
             finally:
                 await c.disconnect()
+
+
+async def test_an_idle_session_is_closed_after_the_session_timeout() -> None:
+    m = spec(VMC).machine
+    async with WindowCNC(m, sinumerik_server(USERS, session_timeout_s=5.0),
+                         cycle_s=0.01) as cnc:
+        idle = Client(f"opc.tcp://127.0.0.1:{cnc.server.port}", timeout=5,
+                      watchdog_intervall=600.0)  # no keep-alive reads of its own
+        idle.set_user("viewer")
+        idle.set_password("view-pw")
+        await idle.connect()
+        assert idle.session_timeout == 5_000  # revised to the server's
+        busy = memory(cnc)
+        await busy.connect()
+        try:
+            node = idle.get_node("ns=2;s=/Plc/DB900.DBD0:[1]")
+            assert await node.read_value() == [int.from_bytes(b"EDCM", "big")]
+            for _ in range(8):  # 8 s: the busy session reads, the idle one does not
+                await asyncio.sleep(1.0)
+                assert await busy.read(0, 4) == b"EDCM"
+            with pytest.raises(ua.UaStatusCodeError) as err:
+                await node.read_value()
+            assert err.value.code in (ua.StatusCodes.BadSessionIdInvalid,
+                                      ua.StatusCodes.BadSessionClosed,
+                                      ua.StatusCodes.BadSessionNotActivated), err.value
+        finally:
+            await busy.close()
+            idle.disconnect_socket()
