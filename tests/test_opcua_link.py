@@ -61,6 +61,16 @@ def payloads() -> tuple[bytes, bytes]:
     return one, two
 
 
+@functools.cache
+def coarse_payload() -> bytes:
+    """Version 2 of the machine's map, built at 4 µm instead of 1 µm (other tables)."""
+    sim, readings, _ = campaign(VMC)
+    model = fit(sim.machine, readings).model
+    formats = MapEncoding.FLOAT32_MM | MapEncoding.TABLES
+    built = build_for(spec(VMC).description, "siemens", model.to_json(), {}, 4.0, formats)
+    return encode(with_version(built, 2))
+
+
 @contextlib.asynccontextmanager
 async def machine() -> AsyncIterator[WindowCNC]:
     m = spec(VMC).machine
@@ -498,3 +508,33 @@ async def test_an_idle_session_is_closed_after_the_session_timeout() -> None:
         finally:
             await busy.close()
             idle.disconnect_socket()
+
+
+async def test_two_centers_writing_at_once_never_give_a_mixed_map() -> None:
+    p1, _ = payloads()
+    other = coarse_payload()  # version 2, other values everywhere
+    rng = np.random.default_rng(5)
+    q = np.column_stack([rng.uniform(lo, hi, 20) for lo, hi in
+                         (a.travel for a in spec(VMC).machine.axes)])
+    good = [active_map(decode_payload(p)).lookup(q) for p in (p1, other)]
+    assert not np.allclose(good[0], good[1])
+    async with machine() as cnc:
+        m = cnc.machine
+        for _round in range(3):
+            a, b = (ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names,
+                                      memory(cnc), link="opcua", chain=m.chain, poll_s=0.1)
+                    for _ in range(2))
+            await a.open()
+            await b.open()
+            runs = [asyncio.create_task(a.run()), asyncio.create_task(b.run())]
+            verdicts = await asyncio.gather(a.push_map(1, p1, 30.0),
+                                            b.push_map(2, other, 30.0),
+                                            return_exceptions=True)
+            for x in (a, b):
+                x.abort(None, "round over")
+            await asyncio.gather(*runs)
+            active = cnc.runtime.controller.store.active
+            if active is not None:
+                got = active.lookup(q)
+                assert any(np.array_equal(got, g) for g in good), "a mixed map applied"
+            assert all(isinstance(v, Exception) or v.version in (1, 2) for v in verdicts)
