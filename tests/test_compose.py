@@ -101,12 +101,27 @@ def test_each_machine_container_is_a_fleet_machine_at_its_own_address(
         address = svc["networks"]["plant"]["ipv4_address"]
         assert ipaddress.ip_address(address) in subnet
         assert registered[only] == address  # the center knows it by this address
+        assert _mounted(svc, cmd[cmd.index("--fleet") + 1]) == fleet_file
+        entry = next(e for e in entries if e.machine.name == only)
+        if entry.link_kind != "ednc":
+            # the center connects to its controller's server, at the container's address
+            assert "--center" not in cmd
+            link = dict(entry.link or {})
+            where = link.get("host") or link.get("endpoint", "")
+            assert address in str(where), (only, link)
+            ref = str(link.get("password_ref", ""))
+            if ref.startswith("env:"):
+                var = ref[4:]
+                assert var in center["environment"] and var in svc["environment"], var
+            seen.add(only)
+            continue
         port = center["environment"]["EDNC_MACHINE_PORT"]
         assert cmd[cmd.index("--center") + 1] == f"center:{port}"
         assert cmd[cmd.index("--mqtt") + 1] == "mosquitto:1883"
-        assert _mounted(svc, cmd[cmd.index("--fleet") + 1]) == fleet_file
         seen.add(only)
     assert seen == set(registered)  # every registered machine runs somewhere
+    kinds = {e.link_kind for e in entries}
+    assert kinds == {"ednc", "modbus", "opcua"}, kinds  # every link is in the plant
 
 
 def test_the_containers_use_options_the_real_commands_have(compose: dict[str, Any]) -> None:

@@ -22,9 +22,15 @@ def test_the_demo_runs_the_whole_loop_and_says_where_the_dashboard_is() -> None:
     # Siemens-style endpoints evaluate tables, Fanuc PMCs factored maps (smaller than grids)
     kinds = {"vmc-01": "tables", "gantry-02": "factored", "hmc-03": "factored",
              "5ax-04": "tables", "arch-05": "factored"}
+    # gantry-02 over Modbus/TCP and 5ax-04 over OPC UA: the center writes into their
+    # controllers' memory; the others connect with the EDNC protocol
+    served = {"gantry-02", "5ax-04"}
     for name, kind in kinds.items():
-        assert re.search(rf"{name} \(127\.0\.2\.\d\): {kind} map version \d+ received",
+        how = "written into controller memory" if name in served else "received"
+        assert re.search(rf"{name} \(127\.0\.2\.\d\): {kind} map version \d+ {how}",
                          text), name
+    assert re.search(r"│ gantry-02\s+│ fanuc\s+│ modbus ", text)
+    assert re.search(r"│ 5ax-04\s+│ siemens\s+│ opcua ", text)
     # the numeric loop says, per machine, the kind, bytes and worst error of its map
     assert len(re.findall(r"map: (tables|grid|factored), [\d,]+ bytes, worst tool-tip "
                           r"error \d+\.\d+ µm", text)) == 5

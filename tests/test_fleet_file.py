@@ -20,7 +20,7 @@ MACHINES = yaml.safe_load(FLEET.read_text())["machines"]
 def test_the_fleet_file_loads_with_every_machine() -> None:
     entries, _ = load_fleet(FLEET)
     assert [e.machine.name for e in entries] == [m["machine"]["name"] for m in MACHINES]
-    assert len(entries) == 6
+    assert len(entries) == 8  # six EDNC clients, one Modbus and one OPC UA controller
 
 
 @pytest.mark.parametrize("entry", MACHINES, ids=[m["machine"]["name"] for m in MACHINES])

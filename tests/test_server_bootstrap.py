@@ -31,7 +31,8 @@ async def test_the_deploy_fleet_file_registers_every_machine(tmp_path: Path) -> 
                         machines_file=REPO / "deploy" / "fleet.yaml")
     got = await _machines(settings)
     assert [m["name"] for m in got] == sorted(["vmc-01", "gantry-02", "hmc-03", "vmc-04",
-                                                "5ax-05", "mill-06"])
+                                                "5ax-05", "mill-06", "pmc-07",
+                                                "sinumerik-08"])
     assert all("secret" not in m for m in got)
     assert {m["name"]: m["ip"] for m in got}["vmc-01"] == "172.30.0.11"
 
@@ -45,7 +46,7 @@ async def test_a_second_start_updates_instead_of_duplicating(tmp_path: Path) -> 
     fleet["machines"][0]["machine"]["tool_length_mm"] = 175.0
     path.write_text(yaml.safe_dump(fleet))
     got = await _machines(settings)
-    assert len(got) == 6
+    assert len(got) == 8
     vmc = next(m for m in got if m["name"] == "vmc-01")
     assert isinstance(vmc["description"], dict)
     assert vmc["description"]["tool_length_mm"] == 175.0
