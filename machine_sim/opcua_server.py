@@ -43,7 +43,10 @@ every offset and length inside the block, as on the real server, which resolves 
 valid path; browsing shows ``/Plc/DB900`` only. Bytes outside the block answer
 ``BadOutOfRange``, another data block ``BadNodeIdUnknown``, a value of another type or
 length ``BadTypeMismatch``. All nodes of one Write request are written in one event-loop
-step, so no PLC scan sees half of a request.
+step, so no PLC scan sees half of a request. On a real controller the data block must be
+at least the window's size (``Layout.size``: 33,344 bytes at the default 16 kB capacity)
+and allow byte-offset addressing (on an S7-1500 / SINUMERIK ONE PLC: a DB without
+"optimized block access").
 
 NC data, per machine axis ``k`` (1-based, the machine's axis order):
 
