@@ -14,6 +14,7 @@ import numpy as np
 from ednc.cli import UserError
 from volumetric.errors import ComponentErrorSpecError, MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
+from volumetric.measure.plausible import rotary_mismatch
 from volumetric.model.machine import Machine, load_machine
 from volumetric.model.model import MachineModel
 from volumetric.model.modelcheck import check_model
@@ -151,21 +152,11 @@ class ReadingsTravel:
 
 
     def check_axes(self, m: Measurements) -> None:
-        """The readings' rotary columns match the machine's rotary axes: a three-axis
-        campaign fitted against a five-axis description would read as every table at 0°,
-        and a rotary column of a machine without that axis is another machine's file."""
-        names = {a.name for _, a in self.axes}
-        for j, axis in enumerate("ABC"):
-            column = f"{axis.lower()}_deg"
-            if axis in names and not m.has_rotary[j]:
-                raise UserError(
-                    f"{self.path}: no {column} column, but the machine has rotary axis "
-                    f"{axis}: these readings are not of this machine (a campaign without "
-                    "its rotary axes), or the description is another machine's")
-            if axis not in names and m.has_rotary[j] and np.any(m.q[:, 3 + j] != 0):
-                raise UserError(
-                    f"{self.path}: column {column} moves axis {axis}, which the machine "
-                    "does not have; check the description's chain")
+        """The readings' rotary columns match the machine's rotary axes
+        (:func:`volumetric.measure.plausible.rotary_mismatch`)."""
+        problem = rotary_mismatch(m.has_rotary, m.q[:, 3:], {a.name for _, a in self.axes})
+        if problem is not None:
+            raise UserError(f"{self.path}: {problem}")
 
 
 def read_model(path: Path, machine: Machine | None = None) -> MachineModel:

@@ -19,6 +19,7 @@ from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
 from volumetric.errors import MachineSpecError
 from volumetric.identify.fit import FitError, fit
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
+from volumetric.measure.plausible import rotary_mismatch
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import FORMAT as MODEL_FORMAT
 from volumetric.model.modelcheck import check_model as check_model_content
@@ -77,7 +78,8 @@ def _read(text: str, source: str) -> Measurements:
         raise MeasurementError(str(exc)) from None
 
 
-def count_measurement_rows(text: str, source: str) -> int:
+def count_measurement_rows(text: str, source: str,
+                           description: dict[str, Any] | None = None) -> int:
     """Validate a measurement CSV (formats.md §2) and return its number of readings.
 
     Parameters
@@ -86,13 +88,23 @@ def count_measurement_rows(text: str, source: str) -> int:
         The whole file, decoded.
     source
         What to call it in error messages (the upload's file name).
+    description
+        The machine's description: its rotary axes must match the readings' columns.
 
     Raises
     ------
     MeasurementError
         With the core's message naming the line and column.
     """
-    return len(_read(text, source))
+    m = _read(text, source)
+    if description is not None:
+        # the check `ednc fit` and `diagnose` make: a five-axis machine's readings have its
+        # rotary columns (a description the API stored always parses)
+        rotary = {a.name for a in parse_machine(description).axes if a.name in ("A", "B", "C")}
+        problem = rotary_mismatch(m.has_rotary, m.q[:, 3:], rotary)
+        if problem is not None:
+            raise MeasurementError(f"{source}: {problem}")
+    return len(m)
 
 
 def check_model(body: dict[str, Any], description: dict[str, Any]) -> None:

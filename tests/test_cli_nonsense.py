@@ -219,3 +219,16 @@ def test_the_rest_commands_refuse_in_one_line(work: Path, tmp_path: Path) -> Non
     line = one_line_error(ednc("machine", "register", "--machine", f"{work}/huge.json",
                                "--secret", "0123456789abcdef", "--api", "http://127.0.0.1:9"))
     assert "travel_mm.x" in line
+
+
+def test_the_service_refuses_the_readings_the_cli_refuses(work: Path) -> None:
+    """The measurement upload reads with the CLI's reader (plausible sizes, with the line)
+    and checks the rotary columns against the machine as ``fit`` does."""
+    from server.numeric import MeasurementError, count_measurement_rows
+
+    text = (work / "c.csv").read_text()
+    assert count_measurement_rows(text, "c.csv", VMC) == text.count("\n") - 1
+    with pytest.raises(MeasurementError, match="no a_deg column"):
+        count_measurement_rows(text, "c.csv", FIVE_AXIS)
+    with pytest.raises(MeasurementError, match="line 6"):
+        count_measurement_rows((work / "reading-1e9.csv").read_text(), "bad.csv", VMC)

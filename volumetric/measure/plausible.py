@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["LIMITS", "Limit", "implausible"]
+__all__ = ["LIMITS", "Limit", "implausible", "rotary_mismatch"]
 
 
 @dataclass(frozen=True)
@@ -100,3 +100,32 @@ def implausible(columns: Mapping[str, NDArray[np.float64]], is_angle: NDArray[np
         return None
     i, col, message = first
     return line_of(i), col, message
+
+
+def rotary_mismatch(has_rotary: tuple[bool, bool, bool], rotary_q: NDArray[np.float64],
+                    rotary_axes: set[str]) -> str | None:
+    """Why readings cannot be of a machine with these rotary axes, or None.
+
+    A machine with a rotary axis needs that axis's column (a three-axis campaign fitted
+    against a five-axis description reads as every table at 0°); a rotary column that
+    moves an axis the machine lacks is another machine's file.
+
+    Parameters
+    ----------
+    has_rotary : tuple of 3 bool
+        Whether the readings have ``a_deg``, ``b_deg``, ``c_deg``.
+    rotary_q : ndarray of float64, shape (N, 3)
+        Those columns (0 where absent).
+    rotary_axes : set of str
+        The machine's rotary axes among ``A``, ``B``, ``C``.
+    """
+    for j, axis in enumerate("ABC"):
+        column = f"{axis.lower()}_deg"
+        if axis in rotary_axes and not has_rotary[j]:
+            return (f"no {column} column, but the machine has rotary axis {axis}: these "
+                    "readings are not of this machine (a campaign without its rotary axes), "
+                    "or the description is another machine's")
+        if axis not in rotary_axes and has_rotary[j] and bool(np.any(rotary_q[:, j] != 0)):
+            return (f"column {column} moves axis {axis}, which the machine does not have; "
+                    "check the description's chain")
+    return None

@@ -115,7 +115,8 @@ async def upload_measurements(
     source = filename or set_name or "upload.csv"
     text = _decode(data, source)
     try:
-        rows = await asyncio.to_thread(count_measurement_rows, text, source)
+        rows = await asyncio.to_thread(count_measurement_rows, text, source,
+                                       machine.description)
     except MeasurementError as exc:
         raise _unprocessable(str(exc)) from None
     name = set_name
