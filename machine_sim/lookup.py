@@ -305,6 +305,12 @@ def readings_mC(temperatures: Mapping[str, float]) -> dict[str, int]:
     return out
 
 
+def _thermal_view(c0: I64, c1: I64, per_unit: int) -> F64:
+    """The ladder's thermal constants (2^-16 counts, 2^-32 counts per count) as mm and mm
+    per mm, (2, K)."""
+    return np.vstack([c0 / 65536.0 / per_unit, c1 / 4294967296.0])
+
+
 def _whole(x: Fraction, per_unit: int, what: str) -> int:
     """``x · per_unit``, which must be a whole number (within 1e-6 of one, the f64's
     rounding of a decimal), rounded half up."""
@@ -336,6 +342,9 @@ class FactoredLadder:
         d = len(self.grid)
         self.c0 = np.zeros(d, dtype=np.int64)
         self.c1 = np.zeros(d, dtype=np.int64)
+        self.thermal_mm = np.zeros((2, d))
+        """(2, D) the thermal constant (mm) and slope (mm per mm) the ladder holds, in
+        float for display and tests: ``c0 / 2^16`` counts and ``c1 / 2^32``."""
         if temperatures:
             self.set_temperatures(temperatures)
 
@@ -348,6 +357,7 @@ class FactoredLadder:
         """Fold the latest temperatures (°C by sensor label) into constants and slopes."""
         self.c0, self.c1 = ladder.thermal_constants(self.program.thermal, len(self.grid),
                                                     readings_mC(temperatures))
+        self.thermal_mm = _thermal_view(self.c0, self.c1, self.per_unit)
 
     def _counts_in(self, q: F64) -> I64:
         qa = np.atleast_2d(np.asarray(q, dtype=float))
@@ -423,7 +433,9 @@ class GridLadder(GridMap):
             return
         c0, c1 = ladder.thermal_constants(self.program.thermal, len(self.outputs),
                                           readings_mC(temperatures))
-        self.consts[:] = [c0, c1]
+        # new objects, not in-place updates: a copy of the map keeps its temperatures
+        object.__setattr__(self, "consts", [c0, c1])
+        object.__setattr__(self, "thermal_mm", _thermal_view(c0, c1, self.per_unit))
 
     def counts(self, q: F64) -> I64:
         """What the ladder writes, counts (N, K), for a positive approach at positions q
@@ -511,7 +523,9 @@ class FleetLadder:
 
     def scan(self, q: F64) -> I64:
         """One scan: positions (M, D) in each map's grid order → shifts (M, K), counts."""
-        target = np.rint(self.lookup.lookup(q) / self.increment_mm).astype(np.int64)
+        # halves up, the tie rule of protocol/README.md section 6 (the interpolation itself
+        # is in float here: the fleet benchmark's vectorised stand-in for GridLadder)
+        target = np.floor(self.lookup.lookup(q) / self.increment_mm + 0.5).astype(np.int64)
         np.clip(target, -self.limit_counts, self.limit_counts, out=target)
         step = np.clip(target - self.shifts, -self.max_step_counts, self.max_step_counts)
         self.shifts += step

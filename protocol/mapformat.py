@@ -123,8 +123,10 @@ class ThermalRecord:
     Attributes
     ----------
     sensor : str
-        Temperature label, 1..16 printable ASCII characters without spaces; ``T_<s>_C``
-        (a measurement CSV column) names the machine's sensor ``<s>``.
+        Temperature label, 1..16 printable ASCII characters without spaces: exactly the
+        name the Temperatures message carries (``spindle``; the center writes no
+        measurement column ``T_spindle_C`` here), matched exactly by an int32 ladder
+        (protocol/README.md section 6).
     axis : str
         A linear axis (a chain axis of a tables map, an output axis of a grid map).
     kind : int
