@@ -20,7 +20,7 @@ from volumetric.errors import MachineSpecError
 from volumetric.identify.fit import FitError, fit
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
 from volumetric.measure.plausible import rotary_mismatch
-from volumetric.model.machine import parse_machine
+from volumetric.model.machine import missing_pivots, parse_machine
 from volumetric.model.model import FORMAT as MODEL_FORMAT
 from volumetric.model.modelcheck import check_model as check_model_content
 from volumetric.verify.iso230_6 import DiagonalTestError, diagonal_ranges, improvement
@@ -64,9 +64,11 @@ def check_machine_description(spec: dict[str, Any]) -> None:
     every linear axis, unit spindle directions, ...).
     """
     try:
-        parse_machine(spec)
+        problem = missing_pivots(spec, parse_machine(spec))  # as `ednc` reads a description
     except MachineSpecError as exc:
         raise ValueError(str(exc)) from None
+    if problem is not None:
+        raise ValueError(problem)
 
 
 def _read(text: str, source: str) -> Measurements:

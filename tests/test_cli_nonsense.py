@@ -232,3 +232,14 @@ def test_the_service_refuses_the_readings_the_cli_refuses(work: Path) -> None:
         count_measurement_rows(text, "c.csv", FIVE_AXIS)
     with pytest.raises(MeasurementError, match="line 6"):
         count_measurement_rows((work / "reading-1e9.csv").read_text(), "bad.csv", VMC)
+
+
+def test_the_service_refuses_the_description_the_cli_refuses() -> None:
+    from server.numeric import check_machine_description
+
+    no_pivots = {k: v for k, v in FIVE_AXIS.items() if k != "pivots_mm"}
+    with pytest.raises(ValueError, match='add for example "pivots_mm"'):
+        check_machine_description(no_pivots)
+    with pytest.raises(ValueError, match="travel_mm.x"):
+        check_machine_description({**VMC, "travel_mm": {**VMC["travel_mm"], "x": [0, 1e9]}})
+    check_machine_description(FIVE_AXIS)
