@@ -9,7 +9,10 @@ programme). Every model is also judged on the split ``ednc diagnose`` chooses by
 (:func:`volumetric.diagnose.diagnosis.forward_blocks`): equal-count blocks in time order, each
 of the later half predicted by the model selected and fitted again on the blocks before it.
 
-Run: ``.venv/bin/python benchmarks/thermal_fl_study.py`` (a few minutes). Prints one table row
+Run: ``.venv/bin/python benchmarks/thermal_fl_study.py`` (a few minutes); with ``--cuts``
+only issue 27's table: on every channel and three cuts, the saved model of ``ednc
+diagnose`` applied forward against the plain least squares on all sensors (ten minutes).
+Prints one table row
 per model: number of columns, training RMS, blocked-CV RMS where the model was chosen by it,
 the 40 h held-out RMS, the blind RMS (pooled over the judged blocks) and each judged block's;
 then the automated procedure's path, coefficients and run time on the 40 h split; how well
@@ -27,6 +30,7 @@ import json
 import sys
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -335,6 +339,90 @@ def other_channels() -> None:
               f"[{figures[2]}; {' '.join(scales) or 'nothing joined'}]")
 
 
+CUTS: tuple[tuple[str, float | None], ...] = (("60 %", 0.6), ("70 %", 0.7), ("40 h", None))
+"""The three forward cuts of every channel (:func:`saved_against_plain`): at 60 % and 70 %
+of the test's time, and at the end of the heat/cool cycles (``SPLIT_S``)."""
+
+
+def channel_readings(m: Measurements, data: NDArray[np.void], ch: int) -> Measurements:
+    """The ch3 readings ``m`` with the drift of channel ``ch`` instead (same rows, times,
+    temperatures; the channel's direction taken along z like ch3's)."""
+    y = np.asarray(data[f"ch{ch}_um"], dtype=float)
+    if not np.allclose(np.asarray(data["ch3_um"], dtype=float), m.value):
+        raise SystemExit(f"{CHANNELS.name} and {DATA.name} do not hold the same rows")
+    return replace(m, value=y)
+
+
+def saved_terms(model: MachineModel) -> str:
+    """What a saved model's thermal part holds, in a few words."""
+    out = []
+    for term in model.terms:
+        cols = getattr(term, "columns", None)
+        if cols is None:
+            out.append(f"{type(term).__name__} {getattr(term, 'sensor', '')}".strip())
+            continue
+        levels = sum(c.kind == "level" for c in cols)
+        taus = sorted({c.tau_s for c in cols if c.kind == "lag"})
+        lags = sum(c.kind == "lag" for c in cols)
+        out.append(f"{levels} levels + {lags} lags ("
+                   + ", ".join(f"{tau / 60:.0f}" for tau in taus) + " min)" if lags else
+                   f"{levels} levels")
+    return "; ".join(out) or "rigid model only"
+
+
+def saved_against_plain(m: Measurements) -> None:
+    """Issue 27, item 4: on every channel and each cut of :data:`CUTS`, ``ednc diagnose``
+    on the readings before the cut, its saved model (through its JSON) applied by ``ednc
+    predict`` to the readings after it, beside the plain least squares on all 16 sensors
+    (and with their rates, the lag at 15 min and 1 h: causal) fitted on the same readings;
+    then ``ednc diagnose`` on the whole channel (its blind figure). RMS µm."""
+    if not CHANNELS.is_file():
+        print(f"\nmissing {CHANNELS}: the channels are skipped")
+        return
+    data = np.genfromtxt(CHANNELS, delimiter=",", names=True)
+    machine = parse_machine(FL_MACHINE)
+    t = m.time_s
+    T = np.column_stack([m.temperatures[s] for s in m.temperature_columns])
+    rates = {tau: first_order_lag(t, T, tau) for tau in (900.0, 3600.0)}
+    print("\nsaved model forward (ednc diagnose --out before the cut, ednc predict after it) "
+          "against the plain least squares on all 16 sensors fitted on the same readings "
+          "[with the rates at 15 min / 1 h], RMS µm after the cut; what the diagnosis saved")
+    worse = 0
+    cpu: list[float] = []
+    for ch in range(1, 6):
+        mc = channel_readings(m, data, ch)
+        y = mc.value
+        for label, frac in CUTS:
+            cut = SPLIT_S if frac is None else float(t.min() + frac * np.ptp(t))
+            train = t < cut
+
+            def plain(x: F64, y: F64 = y, train: NDArray[np.bool_] = train) -> float:
+                a = np.column_stack([x, np.ones(t.size)])
+                c = np.linalg.lstsq(a[train], y[train], rcond=None)[0]
+                return rms((y - a @ c)[~train])
+
+            start = time.process_time()
+            d = diagnose(machine, mc.select(train))
+            cpu.append(time.process_time() - start)
+            saved = MachineModel.from_json(json.loads(json.dumps(d.model.to_json())))
+            ahead = predict(machine, saved, mc.select(~train)).to_json()["rms_um"]
+            ref = plain(T)
+            worse += ahead > ref
+            what = saved_terms(saved)
+            print(f"  ch{ch} {label}: saved {ahead:5.2f}  plain {ref:5.2f} "
+                  f"[{plain(np.column_stack([T, rates[900.0]])):5.2f} / "
+                  f"{plain(np.column_stack([T, rates[3600.0]])):5.2f}]"
+                  f"{'  WORSE' if ahead > ref else ''}  ({d.effect}; saved {what}; "
+                  f"claimed {d.rms_after_um:.2f})")
+    print(f"  saved model worse than the plain one in {worse} of {5 * len(CUTS)} cuts; "
+          f"CPU per diagnosis median {np.median(cpu):.1f} s, worst {max(cpu):.1f} s")
+    for ch in range(1, 6):
+        d = diagnose(machine, channel_readings(m, data, ch))
+        per = " ".join(f"{b['rms_after_um']:.2f}" for b in d.details["blocks"]["per_block"])
+        print(f"  ch{ch} whole test, ednc diagnose blind: {d.rms_before_um:.2f} -> "
+              f"{d.rms_after_um:.2f} µm (blocks {per}; {d.effect})")
+
+
 def main() -> int:
     if not DATA.is_file():
         print(f"missing {DATA}", file=sys.stderr)
@@ -342,6 +430,9 @@ def main() -> int:
     m = read_measurements(DATA)
     if np.any(np.diff(m.time_s) < 0):
         raise SystemExit("the rows are not in time order")
+    if "--cuts" in sys.argv[1:]:
+        saved_against_plain(m)
+        return 0
     t, y = m.time_s, m.value
     temps = {col: m.temperatures[s] for s, col in m.temperature_columns.items()}
     rpm = {"spindle_rpm": m.extra["spindle_rpm"]}

@@ -16,6 +16,7 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -31,7 +32,7 @@ from tests.support.thermal_sim import NOISE_UM, lagged_spindle
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.diagnose.predict import PredictionError, predict
 from volumetric.identify.fit import fit
-from volumetric.measure.measurement import read_measurements, write_measurements
+from volumetric.measure.measurement import Measurements, read_measurements, write_measurements
 from volumetric.model.lag import first_order_lag, lag_step
 from volumetric.model.live import live_lags, live_model
 from volumetric.model.machine import parse_machine
@@ -119,6 +120,63 @@ def live_drift(model: MachineModel, t_s: np.ndarray, temps: dict[str, np.ndarray
                      if isinstance(r, ThermalTerm)) + sum(
             d.intercept_um for d in live.terms if isinstance(d, DynamicThermalTerm))
     return out
+
+
+def channel(real_data: Path, ch: int) -> Measurements:
+    """The real test's readings with channel ``ch``'s drift along z (same times and
+    temperatures as ch3's, ``tests/data/README.md``)."""
+    readings = read_measurements(real_data / "fl_thermal_ch3_measurements.csv")
+    data = np.genfromtxt(real_data / "fl_thermal_channels.csv", delimiter=",", names=True)
+    np.testing.assert_array_equal(data["time_s"], readings.time_s)
+    np.testing.assert_allclose(data["ch3_um"], readings.value, rtol=0, atol=1e-9)
+    return replace(readings, value=np.asarray(data[f"ch{ch}_um"], dtype=float))
+
+
+def plain_forward_rms(readings: Measurements, train: np.ndarray) -> float:
+    """RMS (µm) after the cut of the plain least squares on every sensor's level and an
+    intercept, fitted on the readings before it."""
+    temps = np.column_stack([readings.temperatures[s] for s in readings.temperature_columns])
+    a = np.column_stack([temps, np.ones(len(readings))])
+    x = np.linalg.lstsq(a[train], readings.value[train], rcond=None)[0]
+    r = (readings.value - a @ x)[~train]
+    return float(np.sqrt(np.mean(r * r)))
+
+
+def test_real_test_ch1_cut_at_70_percent_saved_model_is_no_worse_than_plain_least_squares(
+        tmp_path: Path, real_data: Path) -> None:
+    """Issue 27, item 4: the saved model predicts the rest at least as well as the plain
+    least squares on all 16 sensors fitted on the same 70 % (it gave 7.01 µm against
+    4.54: the diagnosis named nothing and saved the rigid model), and it is one the live
+    path carries: one thermal record per sensor level and one per lag state."""
+    readings = channel(real_data, 1)
+    cut = float(readings.time_s.min() + 0.7 * np.ptp(readings.time_s))
+    train = readings.time_s < cut
+    write_measurements(tmp_path / "first.csv", readings.select(train))
+    write_measurements(tmp_path / "rest.csv", readings.select(~train))
+    (tmp_path / "m.json").write_text(json.dumps(FL))
+    d = json.loads(_run("diagnose", "--machine", str(tmp_path / "m.json"), "--data",
+                        str(tmp_path / "first.csv"), "--json", "--out",
+                        str(tmp_path / "model.json")))
+    assert d["split"] == "forward"
+    p = json.loads(_run("predict", "--machine", str(tmp_path / "m.json"), "--model",
+                        str(tmp_path / "model.json"), "--data", str(tmp_path / "rest.csv"),
+                        "--json"))
+    plain = plain_forward_rms(readings, train)
+    assert plain == pytest.approx(4.54, abs=0.01)  # the issue's figure
+    # measured 2.58 µm: every sensor's level and lag at 15 min, by ridge
+    assert p["rms_um"] <= plain, (p["rms_um"], plain)
+    model = MachineModel.from_json(json.loads((tmp_path / "model.json").read_text()))
+    (term,) = model.terms
+    assert isinstance(term, DynamicThermalTerm)
+    live = live_model(model)
+    machine = parse_machine(FL)
+    tables = mapcodec.build_for(machine, live, {s: 25.0 for s in live.sensors},
+                                kind="tables", tolerance_um=0.5, controller="siemens")
+    assert len(tables.thermal) == len(live.sensors) <= MAX_THERMAL
+    temps = {col: readings.temperatures[s] for s, col in readings.temperature_columns.items()}
+    ahead = term.series(readings.time_s[~train], {c: v[~train] for c, v in temps.items()})
+    np.testing.assert_allclose(live_drift(model, readings.time_s, temps)[~train], ahead,
+                               rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2])

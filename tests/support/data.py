@@ -14,6 +14,8 @@ DATA = Path(__file__).resolve().parents[1] / "data"
 SHA256 = {
     "fl_thermal_ch3_measurements.csv":
         "94570ad061e269e2d713d92c6689c4716acba0837be0ec1e73ae3b694318f017",
+    "fl_thermal_channels.csv":
+        "28bfee77c04bafc135b39d3635c4c4dd9d352119084d08030adb307085a1d788",
     "iso230_2_ecmccfg_mcu1025_axis.csv":
         "bd380e9dcda0bc5a06f2c862e1574a5244998c279debfe62dc40b4ffce624505",
 }
