@@ -223,7 +223,10 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
             return f.summary()
 
     with contextlib.suppress(KeyboardInterrupt):
-        summary = asyncio.run(main())
+        try:
+            summary = asyncio.run(main())
+        except FleetSpecError as exc:  # e.g. a served machine's password is not set
+            raise UserError(str(exc)) from exc
         typer.echo(json.dumps(summary))
         if summary["welcomes"] == 0 and summary["served"] < summary["machines"]:
             typer.echo(unwelcomed_hint(machines > 0), err=True)

@@ -155,7 +155,7 @@ async def _opcua(host: str, port: int, timeout_s: float) -> Found | None:
             client = Client(url, timeout=timeout_s * 4)
             endpoints = await client.connect_and_get_server_endpoints()
         modes = sorted({f"{e.SecurityPolicyUri.rsplit('#', 1)[-1]}/"
-                        f"{e.SecurityMode.name}" for e in endpoints})
+                        f"{e.SecurityMode.name.rstrip('_')}" for e in endpoints})
         detail += f" (endpoints {', '.join(modes)})"
     return Found(host, port, "opcua", detail + "; login needed to see its data",
                  {"kind": "opcua", "endpoint": url, "user": "USER",
