@@ -10,6 +10,7 @@ exception response, time-out or lost connection is a :class:`LinkError` naming i
 from __future__ import annotations
 
 import asyncio
+import logging
 
 from pymodbus.client import AsyncModbusTcpClient
 from pymodbus.exceptions import ModbusException
@@ -19,6 +20,10 @@ from protocol.ctrlmem import ByteOrder, from_registers, to_registers
 from .memory import LinkError
 
 __all__ = ["MAX_READ_REGISTERS", "MAX_WRITE_REGISTERS", "ModbusMemory"]
+
+# pymodbus logs every time-out with a hex dump of the frames; the LinkError raised here
+# names the request and the session logs it once, so only its errors' own failures remain
+logging.getLogger("pymodbus").setLevel(logging.CRITICAL)
 
 MAX_READ_REGISTERS = 125
 MAX_WRITE_REGISTERS = 123

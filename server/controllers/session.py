@@ -290,6 +290,8 @@ class ControllerSession:
             raise LinkClosed(str(exc)) from None
         finally:
             self._pending = None
+            if future.done() and not future.cancelled():
+                future.exception()  # retrieved: an abort during writing set it unread
         if verdict.applied:
             self._slots = slots
             self._temp_dirty.set()  # the new map's sensors get their readings at once
