@@ -92,8 +92,11 @@ async def test_mqtt_temperature_moves_the_map_by_the_model(
     print(f"\nthermal in the {kind.__name__}: k = {term.coefficient:.3f} µm/K; z correction moved "
           f"{steps.round(3)} µm per 1.5 K step (expected {expected.round(3)})")
     assert abs(expected[0]) > 2.0  # a move the test can see
-    # exact before the ladder's rounding (the term is added, not interpolated)
-    np.testing.assert_allclose(steps, expected, rtol=0, atol=1e-6)
+    # exact before the ladder's rounding (the term is added, not interpolated) to the
+    # ladder's fixed point: the published temperatures are whole m°C, the thermal constant
+    # is held in 2^-16 counts (each rounded by at most half of that) and the coefficient in
+    # 2^-32 counts per m°C (protocol/README.md section 6): within 2^-15 µm at 0.001 mm
+    np.testing.assert_allclose(steps, expected, rtol=0, atol=2.0**-15)
     _check_shift(snapshots[0], snapshots[-1], term, temps[-1] - temps[0])
     _check_still_compensated(snapshots[0], snapshots[-1], temps[0], temps[-1])
 

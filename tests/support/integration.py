@@ -39,7 +39,7 @@ from machine_sim.effects import Effects, Noise, ThermalDrift
 from machine_sim.fanuc import FanucConfig
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.link import MqttTarget, SimulatedCNC
-from machine_sim.lookup import ActiveMap, FactoredLadder
+from machine_sim.lookup import ActiveMap, FactoredLadder, GridLadder, GridMap
 from machine_sim.runtime import MachineRuntime
 from machine_sim.truth import random_geometry
 from protocol.backoff import Backoff
@@ -367,6 +367,8 @@ def before_rounding(active: ActiveMap, q: np.ndarray) -> np.ndarray:
         out: np.ndarray = active.fields(q)[:, :d] + active.thermal_mm[0] + \
             active.thermal_mm[1] * q
         return out
+    if isinstance(active, GridLadder):  # the interpolation before the ladder rounds it
+        return GridMap.lookup(active, q)
     return active.lookup(q)
 
 
