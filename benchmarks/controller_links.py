@@ -1,0 +1,338 @@
+"""Controller links (Modbus/TCP): delivery of a five-axis map, a fleet re-pushed, and a
+temperature's way to the applied compensation. Run by hand:
+
+    .venv/bin/python benchmarks/controller_links.py delivery [--delay-ms 2]
+    .venv/bin/python benchmarks/controller_links.py fleet [--machines 1000]
+    .venv/bin/python benchmarks/controller_links.py temperature [--machines 20] [--rate 200]
+
+* ``delivery``: a Fanuc-style five-axis machine (the test fleet's 5ax-09) gets its
+  factored map (built from its simulated campaign's fit at 1 µm) through
+  :class:`~server.controllers.session.ControllerSession` over Modbus/TCP, its PMC server
+  waiting ``delay_ms`` per request (network and scan); the time from the first write to
+  the PLC's verdict, against the same push with no delay, and the requests it took.
+* ``fleet``: ``ednc serve``'s services (SQLite) with N machines registered with a modbus
+  link and a stored map each; the simulated PMCs (WindowCNC + PmcModbusServer, one port
+  each on 127.0.0.1) run in a child process. Round 1 is every machine connected and
+  given its map; round 2 re-pushes to all at once. Center CPU per push is this process's
+  CPU time over the round divided by the pushes.
+* ``temperature``: N machines with a spindle-growth map; temperatures go into the center's
+  intake (as MQTT or REST readings do) at ``rate`` per second across the machines; the
+  child process stamps when each PLC program took each value from its slots
+  (CLOCK_MONOTONIC is one clock for both processes). Latency p50/p99 and the center's CPU
+  per temperature.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+from contextlib import AsyncExitStack
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from center_connections import center, percentiles  # noqa: E402
+
+BASE_PORT = 21000
+TEMPS: list[tuple[str, int, float]] = []
+"""Child process: (machine, milli-°C taken, monotonic time) per slot value taken."""
+
+
+def fleet_description(i: int, port: int) -> dict[str, Any]:
+    return {"name": f"mb-{i:04d}", "controller": "fanuc",
+            "ip": f"127.3.{i // 250}.{i % 250 + 1}", "chain": "w b Y X Z t",
+            "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]},
+            "tool_length_mm": 150.0,
+            "link": {"kind": "modbus", "host": "127.0.0.1", "port": port, "poll_ms": 1000}}
+
+
+# -- the child process: the simulated PMCs
+
+async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float = 0.0,
+                     five_axis: bool = False) -> None:
+    from machine_sim.modbus_server import PmcModbusServer
+    from machine_sim.plcmap import PlcMapProgram
+    from machine_sim.runtime import MachineRuntime
+    from machine_sim.windowcnc import WindowCNC
+    from protocol.ctrlmem import MAX_SENSORS, NO_TEMPERATURE, TEMPERATURES_AT
+    from volumetric.model.machine import parse_machine
+
+    class Stamping(PlcMapProgram):
+        def _take_temperatures(self, now_s: float) -> None:
+            before = self._temp_seq
+            super()._take_temperatures(now_s)
+            if self._temp_seq != before:
+                import struct
+                values = struct.unpack_from(f"<{MAX_SENSORS}i", self.window, TEMPERATURES_AT)
+                t = time.monotonic()
+                name = self.controller.store.machine
+                TEMPS.extend((name, v, t) for v in values[:len(self._slots)]
+                             if v != NO_TEMPERATURE)
+
+    async with AsyncExitStack() as stack:
+        cncs = []
+        for i in range(count):
+            if five_axis:
+                from machine_sim.fanuc import FanucConfig
+                from tests.support.integration import FANUC_5AX
+                m = FANUC_5AX.machine
+                fanuc = FanucConfig(max_step_counts=100_000)
+            else:
+                m = parse_machine(fleet_description(i, base_port + i))
+                fanuc = None
+            rt = MachineRuntime(m, seed=i, own_sensors=False, fanuc=fanuc)
+            cnc = WindowCNC(m, lambda c, p=base_port + i: PmcModbusServer(
+                c, port=p, delay_s=delay_s), runtime=rt, cycle_s=cycle_s)
+            cnc.program = Stamping(cnc.window, cnc.layout, rt.controller,
+                                   formats=cnc.program.formats)
+            cncs.append(await stack.enter_async_context(cnc))
+        print(json.dumps({"ready": len(cncs)}), flush=True)
+        await asyncio.get_running_loop().run_in_executor(None, sys.stdin.read)
+        applied = sum(c.program.applied_switches for c in cncs)
+        print(json.dumps({"applied": applied, "temps": TEMPS}), flush=True)
+
+
+class ChildFleet:
+    def __init__(self, count: int, base_port: int, cycle_s: float, *, delay_ms: float = 0.0,
+                 five_axis: bool = False) -> None:
+        self.proc = subprocess.Popen(
+            [sys.executable, __file__, "child", "--machines", str(count), "--base-port",
+             str(base_port), "--cycle-s", str(cycle_s), "--delay-ms", str(delay_ms),
+             *(["--five-axis"] if five_axis else [])],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
+
+    async def ready(self) -> int:
+        assert self.proc.stdout is not None
+        line = await asyncio.to_thread(self.proc.stdout.readline)
+        return int(json.loads(line)["ready"])
+
+    async def finish(self) -> dict[str, Any]:
+        assert self.proc.stdin is not None and self.proc.stdout is not None
+        self.proc.stdin.close()
+        line = await asyncio.to_thread(self.proc.stdout.readline)
+        await asyncio.to_thread(self.proc.wait, 60)
+        return dict(json.loads(line)) if line else {}
+
+
+def register(session: Any, count: int, base_port: int, model: dict[str, Any],
+             payload: Any) -> None:
+    from server.db import error_models, machines
+    from server.db import maps as map_repo
+    for i in range(count):
+        d = fleet_description(i, base_port + i)
+        row = machines.create_machine(session, name=d["name"], ip=d["ip"],
+                                      controller="fanuc", description=d,
+                                      secret="benchmark-secret-0123456789")
+        error_models.add_model(session, row.id, source="upload",
+                               body={**model, "machine": d["name"]})
+        if payload is not None:
+            map_repo.add_map_version(session, row.id, payload=payload(d["name"]),
+                                     model_version=1)
+
+
+def fitted_model() -> dict[str, Any]:
+    """A realistic model: the fit of the test fleet's gantry-02 campaign (21 component
+    errors of a Fanuc-style gantry of the same chain and travel)."""
+    from tests.support.integration import campaign
+    from volumetric.identify.fit import fit
+
+    sim, readings, _ = campaign("gantry-02")
+    body: dict[str, Any] = fit(sim.machine, readings).model.to_json()
+    return body
+
+
+def _factored(name: str, model: dict[str, Any]) -> Any:
+    from protocol import MapEncoding
+    from server.mapcodec import build_for, encode, with_version
+    from volumetric.model.machine import parse_machine
+    from volumetric.model.model import MachineModel
+
+    m = parse_machine(fleet_description(0, BASE_PORT))
+    formats = MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL | MapEncoding.FACTORED
+    built = build_for(m, MachineModel.from_json({**model, "machine": m.name}), {},
+                      formats=formats,
+                      tolerance_um=1.0, controller="fanuc")
+    import dataclasses
+
+    def payload(machine: str) -> bytes:
+        return encode(with_version(dataclasses.replace(built, machine=machine), 1))
+    return payload
+
+
+MODEL = {"format": "ednc-model/1", "machine": "mb-0000",
+         "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, 0.01, 1e-5],
+                                "origin": 0.0, "scale": 1.0},
+                        "EYY": {"type": "polynomial", "coefficients": [0.0, -0.02, 3e-5],
+                                "origin": 0.0, "scale": 1.0}},
+         "locations": {}, "terms": [], "info": {}}
+
+THERMAL_MODEL = {**MODEL, "terms": [{"kind": "thermal_drift", "axis": "z",
+                                     "sensor": "T_spindle_C", "coefficient": -2.5,
+                                     "t_ref_C": 20.0, "q_min": 0.0}]}
+
+
+async def fleet(count: int, cycle_s: float) -> None:
+    from server.push import Delivery
+
+    model = fitted_model()
+    payload = _factored("mb-0000", model)
+    size = len(payload("mb-0000"))
+    with tempfile.TemporaryDirectory() as tmp:
+        child = ChildFleet(count, BASE_PORT, cycle_s)
+        ready = await child.ready()
+        async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
+            got: list[Delivery] = []
+            services.push.observers.append(got.append)
+            t0, cpu0 = time.perf_counter(), time.process_time()
+            await c.db.run(register, count, BASE_PORT, model, payload)
+            while len({d.machine for d in got if d.outcome == "applied"}) < count:
+                await asyncio.sleep(0.05)
+                if time.perf_counter() - t0 > 600:
+                    break
+            rounds = [("round 1 (connect and push)", list(got), time.perf_counter() - t0,
+                       time.process_time() - cpu0)]
+            got.clear()
+            t0, cpu0 = time.perf_counter(), time.process_time()
+            for name in list(services.push.connected()):
+                services.push.request(name, "benchmark", resend=True)
+            while len(got) < count and time.perf_counter() - t0 < 600:
+                await asyncio.sleep(0.05)
+            rounds.append(("round 2 (re-push to all at once)", list(got),
+                           time.perf_counter() - t0, time.process_time() - cpu0))
+        done = await child.finish()
+    print(f"machines {count} ({ready} PMC servers in a child process, PLC cycle "
+          f"{cycle_s * 1000:.0f} ms, status polled every 1 s), factored map {size} bytes, "
+          f"{done.get('applied')} switches applied by the PLCs")
+    for label, ds, wall, cpu in rounds:
+        lat = [d.latency_s for d in ds if d.latency_s is not None]
+        bad = sum(d.outcome != "applied" for d in ds)
+        p50, p99 = percentiles(lat, 50, 99)
+        failed = f", {bad} failed" if bad else ""
+        print(f"{label}: {len(lat)} applied in {wall:.1f} s; write->verdict p50 "
+              f"{p50 * 1000:.0f} ms, p99 {p99 * 1000:.0f} ms; center CPU {cpu:.1f} s "
+              f"({cpu / max(len(lat), 1) * 1000:.1f} ms per push){failed}")
+
+
+async def temperature(count: int, rate: float, seconds: float) -> None:
+    payload = _factored("mb-0000", THERMAL_MODEL)
+    sent: dict[tuple[str, int], float] = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        child = ChildFleet(count, BASE_PORT, 0.008)
+        await child.ready()
+        async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
+            await c.db.run(register, count, BASE_PORT, THERMAL_MODEL, payload)
+            names = [f"mb-{i:04d}" for i in range(count)]
+            while sum(1 for n in names if c.registry.get(n).telemetry.get("map_version")
+                      == 1) < count:
+                await asyncio.sleep(0.1)
+            await asyncio.sleep(1.0)
+            intake = services.intake
+            assert intake is not None
+            n = int(rate * seconds)
+            rng = np.random.default_rng(1)
+            t0, cpu0 = time.perf_counter(), time.process_time()
+            for k in range(n):
+                name = names[k % count]
+                milli = 20000 + int(rng.integers(0, 3000)) * 1 + k % 7
+                while (name, milli) in sent:
+                    milli += 7
+                sent[(name, milli)] = time.monotonic()
+                intake.take(name, "spindle", milli / 1000.0, source="rest")
+                target = t0 + (k + 1) / rate
+                await asyncio.sleep(max(0.0, target - time.perf_counter()))
+            await asyncio.sleep(1.0)
+            cpu = time.process_time() - cpu0
+        done = await child.finish()
+    taken: dict[tuple[str, int], float] = {}
+    for name, milli, t in done.get("temps", []):
+        taken.setdefault((name, int(milli)), float(t))
+    lat = [taken[k] - t for k, t in sent.items() if k in taken]
+    p50, p99, pmax = percentiles(lat, 50, 99, 100)
+    print(f"{count} machines, {len(sent)} temperatures at {rate:g}/s: {len(lat)} taken by "
+          f"the PLCs ({len(sent) - len(lat)} superseded by the next one within the "
+          f"forwarder's 20 ms before being written); intake->PLC took it p50 "
+          f"{p50 * 1000:.1f} ms, p99 {p99 * 1000:.1f} ms, max {pmax * 1000:.1f} ms; center "
+          f"CPU {cpu / len(sent) * 1000:.2f} ms per temperature")
+
+
+async def delivery(delay_ms: float, repeats: int) -> None:
+    from protocol import Controller, MapEncoding
+    from server.controllers.modbus import ModbusMemory
+    from server.controllers.session import ControllerSession
+    from server.mapcodec import encode, with_version
+    from server.push.adapter import build_for
+    from tests.support.integration import FANUC_5AX, campaign
+    from volumetric.identify.fit import fit
+
+    s = FANUC_5AX
+    sim, readings, _ = campaign(s.name)
+    formats = MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL | MapEncoding.FACTORED
+    built = build_for(s.description, "fanuc", fit(sim.machine, readings).model.to_json(), {},
+                      1.0, formats)
+    rows = []
+    for delay in (0.0, delay_ms / 1000.0):
+        times, requests = [], []
+        # the PMC in a process of its own: its ladder scans (8 ms) must not share this
+        # event loop with the center's client
+        child = ChildFleet(1, BASE_PORT, 0.008, delay_ms=delay * 1000, five_axis=True)
+        await child.ready()
+        try:
+            mem = ModbusMemory("127.0.0.1", BASE_PORT)
+            session = ControllerSession(s.name, "127.0.0.1", Controller.FANUC,
+                                        s.machine.axis_names, mem, link="modbus",
+                                        chain=s.machine.chain, poll_s=0.01)
+            await session.open()
+            runner = asyncio.create_task(session.run())
+            for v in range(1, repeats + 1):
+                payload = encode(with_version(built, v))
+                r0 = mem.requests
+                t0 = time.perf_counter()
+                verdict = await session.push_map(v, payload, 30.0)
+                times.append(time.perf_counter() - t0)
+                requests.append(mem.requests - r0)
+                assert verdict.applied, verdict
+            session.abort(None, "done")
+            await runner
+        finally:
+            await child.finish()
+        rows.append((delay, len(payload), times, requests))
+    for delay, size, times, requests in rows:
+        print(f"5-axis factored map {size} bytes over Modbus/TCP, {delay * 1000:g} ms per "
+              f"request: first write to verdict median {np.median(times) * 1000:.0f} ms, "
+              f"max {max(times) * 1000:.0f} ms over {len(times)} pushes "
+              f"({int(np.median(requests))} requests each, status polls included)")
+
+
+if __name__ == "__main__":
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("what", choices=["delivery", "fleet", "temperature", "child"])
+    p.add_argument("--machines", type=int, default=None)
+    p.add_argument("--delay-ms", type=float, default=2.0)
+    p.add_argument("--repeats", type=int, default=5)
+    p.add_argument("--rate", type=float, default=200.0)
+    p.add_argument("--seconds", type=float, default=20.0)
+    p.add_argument("--base-port", type=int, default=BASE_PORT)
+    p.add_argument("--cycle-s", type=float, default=1.0)
+    p.add_argument("--five-axis", action="store_true")
+    a = p.parse_args()
+    os.environ.setdefault("EDNC_NODE_ID", "bench")
+    if a.what == "child":
+        asyncio.run(fleet_main(a.machines, a.base_port, a.cycle_s, a.delay_ms / 1000,
+                               a.five_axis))
+    elif a.what == "delivery":
+        asyncio.run(delivery(a.delay_ms, a.repeats))
+    elif a.what == "fleet":
+        asyncio.run(fleet(a.machines or 1000, a.cycle_s))
+    else:
+        asyncio.run(temperature(a.machines or 20, a.rate, a.seconds))
