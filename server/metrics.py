@@ -67,6 +67,7 @@ class MachineSample:
     map_error_um: float | None = None
     temperatures_C: dict[str, float] = field(default_factory=dict)
     rejects_total: int = 0
+    link: str = "ednc"
 
 
 _GAUGES: tuple[tuple[str, str, str], ...] = (
@@ -107,12 +108,18 @@ class MachineCollector(Collector):
             labels=["machine", "state"])
         connected = GaugeMetricFamily("ednc_machine_connected",
                                       "1 while the machine has a live link.", labels=["machine"])
+        links = GaugeMetricFamily(
+            "ednc_machine_link_info", "1 for how the center reaches the machine: ednc (the "
+            "machine connects), modbus or opcua (the center connects to its controller).",
+            labels=["machine", "link"])
         for s in samples:
             for label in STATES:
                 state.add_metric([s.machine, label], 1.0 if s.state == label else 0.0)
             connected.add_metric([s.machine], 1.0 if s.connected else 0.0)
+            links.add_metric([s.machine, s.link], 1.0)
         yield state
         yield connected
+        yield links
         for attr, name, doc in _GAUGES:
             family = GaugeMetricFamily(name, doc, labels=["machine"])
             for s in samples:
@@ -240,5 +247,5 @@ def machine_samples(snapshot: DashboardSnapshot, rejects: dict[str, int] | None 
             tolerance_um=None if accuracy is None else accuracy.tolerance_um,
             map_error_um=card.maps.error_um,
             temperatures_C={t.name: t.celsius for t in card.temperatures},
-            rejects_total=(rejects or {}).get(card.name, 0)))
+            rejects_total=(rejects or {}).get(card.name, 0), link=card.link))
     return out

@@ -86,6 +86,13 @@ async def test_a_fanuc_pmc_over_modbus_gets_its_map_and_compensates(
         assert st["telemetry"]["link"] == "modbus"
         events = [e["kind"] for e in await plant.events(machine=s.name)]
         assert "connected" in events and "applied" in events, events
+        # the dashboard and the metrics say how the center reaches it
+        r = await plant.client.get("/api/dashboard")
+        card = next(c for c in r.json()["machines"] if c["name"] == s.name)
+        assert card["link"] == "modbus" and card["connected"] is True, card
+        assert await plant.metric("ednc_machine_link_info", link="modbus",
+                                  machine=s.name) == 1.0
+        assert await plant.metric("ednc_machine_connected", machine=s.name) == 1.0
         assert [e.kind for e in cnc.runtime.controller.store.events] == ["applied"]
     _check_diagonals(sim, received, f"({sim.machine.chain}) factored over Modbus/TCP")
 

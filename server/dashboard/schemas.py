@@ -144,6 +144,8 @@ class MachineCard(BaseModel):
     controller: str
     ip: str
     chain: str = Field(description="Kinematic chain, or the type numbers when none is given.")
+    link: str = Field(default="ednc", description="How the center reaches the machine: ednc "
+                      "(it connects), modbus or opcua (the center connects to its controller).")
     health: Health = Field(description="The accuracy state (``accuracy.state``).")
     health_reason: str = Field(description="Why the row has its colour, for the operator: "
                                "the first of ``accuracy.reasons``.")

@@ -233,6 +233,13 @@ def chain_text(description: Mapping[str, Any]) -> str:
             f"/{description.get('rotary_type', 0)}")
 
 
+def link_kind(description: Mapping[str, Any]) -> str:
+    """``ednc``, ``modbus`` or ``opcua``: the description's link (server/schemas/link.py)."""
+    link = description.get("link")
+    kind = link.get("kind") if isinstance(link, Mapping) else None
+    return kind if kind in ("ednc", "modbus", "opcua") else "ednc"
+
+
 def residual(v: VerificationSummary | None) -> tuple[float | None, bool]:
     """The verification's largest diagonal range, µm, and whether it is the compensated
     run's (the "after" ranges when the report has them)."""
@@ -343,6 +350,7 @@ def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
     card = MachineCard(
         name=m.name, controller=m.controller, ip=m.ip,
         chain=chain_text(m.description if isinstance(m.description, Mapping) else {}),
+        link=link_kind(m.description if isinstance(m.description, Mapping) else {}),
         health="unknown", health_reason="", connected=link.connected, owner=link.owner,
         address=link.address, connected_since=link.connected_since, last_seen=link.last_seen,
         telemetry_age_s=age, telemetry_stale=stale, state=live.state, axes=list(live.axes),

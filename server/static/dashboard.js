@@ -88,7 +88,9 @@
     return el("td", { class: "machine" },
       el("a", { href: `/machines/${encodeURIComponent(card.name)}`, class: "name",
         "data-field": "name" }, card.name),
-      el("div", { class: "sub" }, `${card.controller} · ${card.ip}`),
+      el("div", { class: "sub", "data-field": "link" },
+        `${card.controller} · ${card.ip}` + (card.link && card.link !== "ednc"
+          ? ` · ${card.link === "modbus" ? "Modbus/TCP" : "OPC UA"} link` : "")),
       el("div", { class: "sub chain", "data-field": "chain" }, card.chain));
   }
 

@@ -87,6 +87,11 @@
       kv([
         ["Controller", d.controller],
         ["Address", d.ip],
+        ["Link", !d.link || d.link.kind === "ednc" ? "EDNC (the machine connects)"
+          : d.link.kind === "modbus"
+            ? `Modbus/TCP to ${d.link.host || d.ip}:${d.link.port ?? 502}, window at ` +
+              `register ${d.link.start_register ?? 0} (${d.link.pmc || "D0000"})`
+            : `OPC UA to ${d.link.endpoint} as ${d.link.user}`],
         ["Chain", d.chain || `type ${d.translational_type}/${d.rotary_type || 0}`],
         ["Travel", travel ? `${travel} (mm; rotary °)` : "—"],
         ["Tool length", qty(d.tool_length_mm ?? 0, "mm", 1)],
