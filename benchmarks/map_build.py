@@ -118,8 +118,9 @@ def kinds(label: str, spec: dict[str, object], tolerance_um: float, controller: 
     m = parse_machine({**spec, "controller": controller})
     geo = errors(m, np.random.default_rng(2024), 5.0)
     if periodic:  # a 10 mm-pitch ballscrew error of 3 µm on X on top of the smooth errors
-        geo = GeometricErrors({**geo.components,
-                               "EXX": Sum((geo.components["EXX"], Sinusoid(3.0, 10.0)))},
+        exx = geo.components["EXX"]
+        parts = exx.terms if isinstance(exx, Sum) else (exx,)
+        geo = GeometricErrors({**geo.components, "EXX": Sum((*parts, Sinusoid(3.0, 10.0)))},
                               dict(geo.locations))
     model = MachineModel(m.name, geo)
     # a Fanuc-style endpoint takes grids and (declared in its Hello) factored maps
