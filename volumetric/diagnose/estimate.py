@@ -43,7 +43,13 @@ def estimate_effect(
     r = yt - at @ x
     dof = max(int(train.sum()) - a.shape[1], 1)
     s2 = float(np.sum(wt * r * r) / dof)
-    cov = np.linalg.pinv(g) * s2
+    if c.effect == "rotary_periodic":
+        # a dozen columns of very different scales beside the base: the inverse of the
+        # scaled matrix (the unscaled one loses the small directions to round-off)
+        dg = np.sqrt(np.clip(np.diag(g), 1e-300, None))
+        cov = np.linalg.pinv(g / np.outer(dg, dg)) / np.outer(dg, dg) * s2
+    else:
+        cov = np.linalg.pinv(g) * s2
     kx = c.columns.shape[1]
     coef = x[-kx:]
     std = np.sqrt(np.clip(np.diag(cov)[-kx:], 0, None))
@@ -54,8 +60,13 @@ def estimate_effect(
         # a dozen columns, some nearly collinear on a given set of balls: their joint
         # significance (Wald, per column), where the norm ratio would let the worst
         # determined column drown the others
-        ck = cov[-kx:, -kx:]
-        wald = float(coef @ np.linalg.pinv(ck) @ coef)
+        # computed as the drop of the weighted residual sum of squares that the columns
+        # make, over s², which is the Wald statistic of a linear least-squares problem and
+        # needs no inverse of their (ill-conditioned) covariance block
+        a_b = a[:, :-kx]
+        gb = a_b[train].T @ (a_b[train] * wt[:, None])
+        r0 = yt - a_b[train] @ solve_normal(gb, (a_b[train] * wt[:, None]).T @ yt)
+        wald = float(np.sum(wt * r0 * r0) - np.sum(wt * r * r)) / max(s2, 1e-300)
         est["_t"] = math.sqrt(max(wald, 0.0) / kx)
     else:
         est["_t"] = float(np.linalg.norm(coef) / max(float(np.linalg.norm(std)), 1e-300))

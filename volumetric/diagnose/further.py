@@ -26,7 +26,7 @@ from volumetric.diagnose.gates import (
     prefer_physical,
     significance,
 )
-from volumetric.diagnose.rotary import with_harmonics
+from volumetric.diagnose.rotary import rotary_again, with_harmonics
 from volumetric.diagnose.splits import Judge, combined, known_sum, rms_of, solve_normal
 from volumetric.measure.measurement import Measurements
 from volumetric.model.machine import Machine
@@ -149,6 +149,10 @@ def next_effect(
             continue
         if c.effect == "periodic":
             c = periodic_again(machine, m, c, resid_now, train) or c
+        elif c.effect == "rotary_periodic":
+            # a cyclic error's order, too, from the residual of the model with the effects
+            # found so far (a 4 µm pitch error distorts the periodogram of a 1 µm one)
+            c = rotary_again(machine, m, c, resid_now, train, base) or c
         r = heldout_of([*chosen, c])
         rms = rms_of(r[judge])
         tried.append(Scored(c, r, rms, 0.0, (rms0 - rms) / rms0))

@@ -247,3 +247,14 @@ def with_harmonics(geometry: GeometricErrors, order: int,
     for name, (a, b) in harmonics.items():
         comps[name] = add_components(comps.get(name), Fourier(0.0, (*zeros, a), (*zeros, b)))
     return GeometricErrors(comps, geometry.locations)
+
+
+def rotary_again(machine: Machine, m: Measurements, c: Any, resid: F64,
+                 train: NDArray[np.bool_], a0: F64) -> Any:
+    """The ``rotary_periodic`` candidate of ``c``'s axis with its order found again from
+    ``resid`` (the residual of the model with the effects found so far) beside ``a0``
+    (that model's design), or None when there is none."""
+    for effect, key, cols, extra in rotary_candidates(machine, m, resid, train, {}, a0):
+        if effect == "rotary_periodic" and key == c.axis:
+            return type(c)(effect, key, None, cols, extra)
+    return None
