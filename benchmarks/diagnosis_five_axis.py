@@ -18,13 +18,15 @@ hides:
   counted on its own;
 * ``single`` (four in ten): one effect: a cyclic error of 6 to 18 per turn on a random
   rotary axis (:func:`machine_sim.truth.cyclic_error`: indexing 8 to 30 µrad, radial 1 to
-  4 µm), or one of the three-axis families (backlash, periodic, thermal_drift,
+  4 µm), a reversal error of 10 to 40 µrad of a rotary axis whose angle the tool tip
+  feels (:class:`machine_sim.effects.RotaryBacklash`; not a tool-side C, which turns the
+  tool about its own axis), or one of the three-axis families (backlash, periodic, thermal_drift,
   thermal_expansion on a random linear axis, as ``benchmarks/diagnosis_hit_rate.py``
   draws them: sensors of formats.md, the spindle's among them); a hit names it first with
   its axis (and order for a cyclic error, indexing amplitude within 30 %), sensor and
   size within 30 %;
-* ``pair`` (three in ten): a cyclic error with one of the three-axis families, or two
-  three-axis families; a hit lists both.
+* ``pair`` (three in ten): a cyclic error or a rotary reversal error with one of the
+  three-axis families, or two three-axis families; a hit lists both.
 
 With ``--cyclic`` the campaigns are those of the issue's target instead: the demo's
 ``5ax-04`` (``w C A X b Y Z t``) whose C and A carry once- and twice-per-turn error
@@ -68,7 +70,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from diagnosis_hit_rate import FAMILIES, matches, one_effect
 
-from machine_sim.effects import Effects, Noise
+from machine_sim.effects import Effects, Noise, RotaryBacklash
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.truth import cyclic_error, random_geometry, rotary_error_motions
 from tests.support.five_axis import (
@@ -114,11 +116,26 @@ def judge(seed: int) -> dict[str, Any]:
     parts: list[Effects] = []
     kinds: list[str] = []
     if cat == "single":
-        kinds = ["rotary_periodic" if rng.uniform() < 0.4 else str(rng.choice(FAMILIES))]
+        u = rng.uniform()
+        kinds = ["rotary_periodic" if u < 0.3 else "rotary_backlash" if u < 0.45
+                 else str(rng.choice(FAMILIES))]
     elif cat == "pair":
-        kinds = ([str(k) for k in rng.choice(FAMILIES, 2, replace=False)]
-                 if rng.uniform() < 0.4 else ["rotary_periodic", str(rng.choice(FAMILIES))])
+        u = rng.uniform()
+        kinds = ([str(k) for k in rng.choice(FAMILIES, 2, replace=False)] if u < 0.35
+                 else ["rotary_periodic" if u < 0.8 else "rotary_backlash",
+                       str(rng.choice(FAMILIES))])
     for k in kinds:
+        if k == "rotary_backlash":
+            # a tool-side C turns the tool about its own axis: no reading of the tool tip
+            # sees its angle, so its reversal is not drawn
+            seen = [a for a in machine.axes if a.kind == "rotary"
+                    and (a.name != "C" or a.side == "workpiece")]
+            axis = seen[int(rng.integers(len(seen)))]
+            b = float(rng.uniform(10, 40))
+            hidden.append({"effect": k, "axis": axis.key, "sensor": None,
+                           "size": {"reversal_urad": b}})
+            parts.append(Effects(rotary_backlash=(RotaryBacklash(axis.key, b),)))
+            continue
         if k == "rotary_periodic":
             rot = [a for a in machine.axes if a.kind == "rotary"]
             axis = rot[int(rng.integers(len(rot)))]
@@ -137,7 +154,8 @@ def judge(seed: int) -> dict[str, Any]:
     eff = Effects(expansion=sum((p.expansion for p in parts), ()),
                   drift=sum((p.drift for p in parts), ()),
                   backlash=sum((p.backlash for p in parts), ()),
-                  periodic=sum((p.periodic for p in parts), ()), noise=NOISE)
+                  periodic=sum((p.periodic for p in parts), ()), noise=NOISE,
+                  rotary_backlash=sum((p.rotary_backlash for p in parts), ()))
     sim = SimulatedMachine(machine, truth, eff, seed=seed)
     m = five_axis_campaign(sim, rng, step_deg=STEP_DEG, runs=1)
     t0, c0 = time.perf_counter(), time.process_time()
@@ -227,6 +245,13 @@ def judge_cyclic(seed: int) -> dict[str, Any]:
 
 def match(h: dict[str, Any], e: dict[str, Any]) -> tuple[bool, list[float]]:
     """Whether entry ``e`` names hidden effect ``h``, and the relative size errors."""
+    if h["effect"] == "rotary_backlash":
+        if (e["effect"], e["axis"]) != (h["effect"], h["axis"]):
+            return False, []
+        err = abs(e["estimate"]["reversal_urad"] - h["size"]["reversal_urad"]) / h["size"][
+            "reversal_urad"]
+        # the simulated axis lags behind its motion (machine_sim.effects.RotaryBacklash)
+        return err <= TOLERANCE and e["estimate"]["sign"] == "lags behind the motion", [err]
     if h["effect"] != "rotary_periodic":
         return matches(h, e)
     if (e["effect"], e["axis"]) != ("rotary_periodic", h["axis"]):
@@ -315,7 +340,7 @@ def report(results: list[dict[str, Any]], wall: float) -> None:
           f"{sum(r.get('extra', 0) for r in results):4d}")
     print(f"\n{'family':20s} {'single':>9s} {'in pairs':>9s}  "
           "estimate error median / 95 % / worst")
-    for fam in ["rotary_periodic", *FAMILIES]:
+    for fam in ["rotary_periodic", "rotary_backlash", *FAMILIES]:
         if not (fam_total[("single", fam)] or fam_total[("pair", fam)]):
             continue
         errs = np.array(errors.get(fam) or [np.inf])
