@@ -304,3 +304,22 @@ def test_build_for_offers_factored_to_fanuc_only(
     got = build_for(mach, model, kind="factored", tolerance_um=1.0, controller="fanuc",
                     formats=MapEncoding.INT32_INCREMENTS | MapEncoding.FACTORED)
     assert kind_of(got) == "factored"
+
+
+def test_thermal_records_carry_the_temperatures_name_and_refuse_a_long_one() -> None:
+    """The model names a sensor by its column (T_spindle_C); the record carries what the
+    Temperatures message carries (spindle), so a ladder matching names exactly applies it;
+    a name over the record's 16 bytes is refused with the reason, not cut."""
+    from volumetric.compensate.maps import MapBuildError
+    from volumetric.model.model import ThermalTerm
+    fm = factored_from_payload(TINY)
+    drift = ThermalTerm("thermal_drift", "x", "T_spindle_C", -2.5, 20.0)
+    p = factored_to_payload(dataclasses.replace(fm, thermal=(drift,)))
+    assert [r.sensor for r in p.thermal] == ["spindle"]
+    assert [r.sensor for r in decode_factored(encode_factored(p)).thermal] == ["spindle"]
+    # -2.5 µm/K at 1000 counts per mm: -0.0025 counts per m°C, in 2^-32
+    assert p.thermal[0].coefficient == round(-2.5e-3 * 2**32) == -10737418
+    assert p.thermal[0].t_ref_mC == 20000
+    long = ThermalTerm("thermal_drift", "x", "T_spindle_bearing_front_C", -2.5, 20.0)
+    with pytest.raises(MapBuildError, match=r"'spindle_bearing_front'.* 1 to 16 printable"):
+        factored_to_payload(dataclasses.replace(fm, thermal=(long,)))
