@@ -44,7 +44,8 @@ disable_created_metrics()  # type: ignore[no-untyped-call]
 OUTCOMES = ("applied", "rejected", "failed")
 """Map delivery outcomes, pre-created at 0 so that ``rate()`` and alerts see the series
 before the first rejection."""
-REFUSAL_REASONS = ("unknown", "unregistered", "auth", "duplicate", "throttled", "busy")
+REFUSAL_REASONS = ("unknown", "unregistered", "auth", "duplicate", "owned", "throttled",
+                   "busy", "timeout", "protocol")
 
 
 @dataclass(frozen=True, slots=True)
