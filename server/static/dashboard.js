@@ -14,7 +14,6 @@
   // The trend cell of each machine is kept across snapshots (a chart is not redrawn every
   // second), and replaced when the history is fetched again.
   const trendNodes = new Map();
-  let lastHistory = null;
 
   function trendBox(name) {
     let box = trendNodes.get(name);
@@ -27,7 +26,6 @@
   }
 
   function drawTrends(h) {
-    lastHistory = h;
     for (const m of h.machines) {
       const opts = { width: 280, height: 130, since: Date.parse(h.since) / 1000,
         until: Date.parse(h.until) / 1000 };
@@ -234,5 +232,4 @@
   setInterval(loadHistory, HISTORY_EVERY_MS);
   const indicator = document.getElementById("live");
   EDNC.follow(render, (state) => EDNC.showLinkState(indicator, state));
-  window.EDNC_HISTORY = () => lastHistory;  // for a look from the console
 })();
