@@ -378,7 +378,16 @@ const EDNC = (() => {
     return root;
   }
 
-  return { el, svg, fill, estimate, estimates, effectText, infoText, num, qty, signed, age,
+  /** Destroy the uPlot charts under a node before it is refilled: each one listens on the
+   *  window (resize, scroll) until destroyed, and the pages redraw every 30 s. */
+  function dropCharts(node) {
+    node.querySelectorAll(".trend-chart").forEach((c) => {
+      if (c.chart) c.chart.destroy();
+      c.chart = null;
+    });
+  }
+
+  return { el, svg, fill, dropCharts, estimate, estimates, effectText, infoText, num, qty, signed, age,
     time, posUnit, compUnit, getJSON, follow, showLinkState, healthPill, reasonList, bytes,
     builtAt, mapFacts, KIND_TEXT, HEALTH_TEXT, SEVERITY, diverging, ticks, lineChart,
     timeChart, windowS, windowSelect };

@@ -30,6 +30,7 @@
       const opts = { width: 280, height: 130, since: Date.parse(h.since) / 1000,
         until: Date.parse(h.until) / 1000 };
       const linear = m.corrections.filter((s) => s.unit === "µm");
+      EDNC.dropCharts(trendBox(m.machine));
       EDNC.fill(trendBox(m.machine),
         m.temperatures.length ? EDNC.timeChart(m.temperatures, { ...opts, unit: "°C" })
           : el("p", { class: "sub nodata", "data-unit": "°C" }, "no temperatures recorded"),

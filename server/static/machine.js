@@ -392,7 +392,9 @@
     charts.forEach((c, i) => c.setAttribute("data-field",
       ["history-temp", "history-comp", "history-comp-rot", "history-verif"][
         i === charts.length - 1 ? 3 : i]));
-    EDNC.fill(document.getElementById("history-charts"), ...charts);
+    const box = document.getElementById("history-charts");
+    EDNC.dropCharts(box);
+    EDNC.fill(box, ...charts);
     document.getElementById("history-note").textContent =
       `(mean per ${age(h.bucket_s).replace(" ago", "")} bucket, until ${time(h.until)})`;
     EDNC.fill(document.getElementById("deliveries"), h.maps.length ? el("table",
