@@ -45,7 +45,7 @@ def test_the_cli_refuses_a_negative_tool_length(tmp_path: Path) -> None:
 def files(tmp_path: Path) -> tuple[Path, Path]:
     machine = tmp_path / "m.json"
     machine.write_text(json.dumps(VMC))
-    geo = GeometricErrors(components={"EXX": Polynomial((0.0, 5.0, -2.0))},
+    geo = GeometricErrors(components={"EXX": Polynomial((0.0, 5.0, -2.0), 250.0, 250.0)},
                           locations={"EC0Y": 20.0})
     model = tmp_path / "model.json"
     model.write_text(json.dumps(MachineModel("vmc", geo).to_json()))

@@ -335,8 +335,12 @@ def test_compensate_command_prints_corrections_and_residuals(files: tuple[Path, 
                "z=-20,x=100,y=50", "--temperature", "T_x_C=20", "--json")
     assert json.loads(one.stdout)["points"][0] == out["points"][0]
     c = out["points"][0]
-    assert np.allclose([c["correction"][k] * 1e3 for k in "xyz"], -np.array(c["error_um"]["main"]),
-                       atol=0.01)
+    # the correction of the positive approach (the default): the errors' negative plus half
+    # the model's backlash of x (9.8 µm), as the maps and ednc lookup apply it
+    assert out["approach"] == "+" and out["backlash_um"] == {"x": 9.8}
+    half = np.array([out["backlash_um"].get(k, 0.0) / 2 for k in "xyz"])
+    assert np.allclose([c["correction"][k] * 1e3 for k in "xyz"],
+                       -np.array(c["error_um"]["main"]) + half, atol=0.01)
     assert max(out["max_residual_um"]["main"]) < 1e-3
 
 

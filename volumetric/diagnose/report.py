@@ -227,8 +227,7 @@ def _page(machine: Machine, m: Measurements, d: Diagnosis, figures: list[tuple[s
                      "this one.</p>" + _effects_table(effects))
     for kind in dict.fromkeys(str(x.get("effect")) for x in effects or [{"effect": d.effect}]):
         if kind in SIGN_NOTES:
-            parts.append(f"<p class='note'>Sign convention ({e(kind)}): "
-                         f"{e(SIGN_NOTES[kind])}</p>")
+            parts.append(f"<p class='note'>Sign convention: {e(SIGN_NOTES[kind])}</p>")
     if d.not_assessed:
         items = "".join(f"<li>{e(k)}: {e(v)}</li>" for k, v in d.not_assessed.items())
         parts.append(f"<h2>Not assessed</h2><ul>{items}</ul>")
