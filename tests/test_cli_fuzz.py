@@ -43,7 +43,7 @@ assert sum(CASES.values()) >= 10_000
 
 _load_commands()
 RUNNER = CliRunner()
-COMMAND = typer.main.get_command(app)  # built once: typer rebuilds it on every invoke
+COMMAND: Any = typer.main.get_command(app)  # built once: typer rebuilds it per invoke
 SETTINGS = dict(deadline=None, derandomize=True, database=None,
                 suppress_health_check=[HealthCheck.too_slow,
                                        HealthCheck.function_scoped_fixture,
@@ -132,7 +132,7 @@ JSON = st.recursive(
     max_leaves=12)
 
 
-def mutate(base: Any, draw: st.DrawFn) -> Any:
+def mutate(base: Any, draw: Callable[[Any], Any]) -> Any:
     """``base`` with one entry, somewhere in its tree, replaced, removed or added."""
     if isinstance(base, dict) and base and draw(st.integers(0, 3)):
         key = draw(st.sampled_from(sorted(base)))
@@ -197,7 +197,7 @@ OPTION = st.one_of(NUMBERS, TEXT, st.sampled_from(["x=1", "1,2", "T=1", "+", "-"
                                                    "fanuc", "grid", "auto"]))
 
 
-def options(files: dict[str, Path]) -> dict[str, Callable[[st.DrawFn], list[str]]]:
+def options(files: dict[str, Path]) -> dict[str, Callable[[Callable[[Any], Any]], list[str]]]:
     m, model, mp = str(files["machine"]), str(files["model"]), str(files["map"])
     out = str(files["dir"] / "o")
     return {

@@ -11,15 +11,17 @@ import csv
 import json
 from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import pytest
 
 from tests.support.cli import ednc, one_line_error
 
-VMC = {"name": "vmc", "controller": "fanuc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
-       "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}}
-FIVE_AXIS = {**VMC, "chain": "w C A X b Y Z t",
-             "travel_mm": {**VMC["travel_mm"], "a": [-110, 110], "c": [-180, 180]},
+TRAVEL: dict[str, list[float]] = {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}
+VMC: dict[str, Any] = {"name": "vmc", "controller": "fanuc", "chain": "w X Y b Z t",
+                       "tool_length_mm": 100.0, "travel_mm": TRAVEL}
+FIVE_AXIS: dict[str, Any] = {**VMC, "chain": "w C A X b Y Z t",
+             "travel_mm": {**TRAVEL, "a": [-110, 110], "c": [-180, 180]},
              "pivots_mm": {"A": [0.0, 300.0, -150.0], "C": [400.0, 300.0, -100.0]}}
 
 
@@ -30,8 +32,7 @@ def work(tmp_path_factory: pytest.TempPathFactory) -> Path:
     (d / "vmc.json").write_text(json.dumps(VMC))
     (d / "vmc-siemens.json").write_text(json.dumps({**VMC, "controller": "siemens"}))
     (d / "5ax.json").write_text(json.dumps(FIVE_AXIS))
-    (d / "huge.json").write_text(json.dumps({**VMC, "travel_mm": {**VMC["travel_mm"],
-                                                                  "x": [0, 1e9]}}))
+    (d / "huge.json").write_text(json.dumps({**VMC, "travel_mm": {**TRAVEL, "x": [0, 1e9]}}))
     r = ednc("sim", "--campaign", str(d / "c.csv"), "--machine", str(d / "vmc.json"),
              "--effect", "noise:0.3", "--seed", "1")
     assert r.returncode == 0, r.stderr
@@ -240,6 +241,6 @@ def test_the_service_refuses_the_description_the_cli_refuses() -> None:
     no_pivots = {k: v for k, v in FIVE_AXIS.items() if k != "pivots_mm"}
     with pytest.raises(ValueError, match='add for example "pivots_mm"'):
         check_machine_description(no_pivots)
-    with pytest.raises(ValueError, match="travel_mm.x"):
-        check_machine_description({**VMC, "travel_mm": {**VMC["travel_mm"], "x": [0, 1e9]}})
+    with pytest.raises(ValueError, match=r"travel_mm\.x"):
+        check_machine_description({**VMC, "travel_mm": {**TRAVEL, "x": [0, 1e9]}})
     check_machine_description(FIVE_AXIS)

@@ -3,9 +3,11 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 from volumetric.diagnose.report import _effects_table
 
-FIVE_AXIS_EFFECTS = [
+FIVE_AXIS_EFFECTS: list[dict[str, Any]] = [
     {"effect": "backlash", "axis": "x", "sensor": None, "estimate": {"reversal_um": 8.0},
      "rms_after_um": 1.0},
     {"effect": "rotary_periodic", "axis": "c", "sensor": None,

@@ -10,6 +10,7 @@ already running on 8080/7878.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import re
 import signal
@@ -47,10 +48,8 @@ def test_the_first_hour_runs_as_documented(tmp_path: Path) -> None:
                            capture_output=True, text=True, timeout=240)
     finally:
         if pid_file.exists():  # the script's last step kills it; a failed run may not
-            try:
+            with contextlib.suppress(ProcessLookupError):
                 os.kill(int(pid_file.read_text()), signal.SIGTERM)
-            except ProcessLookupError:
-                pass
     assert r.returncode == 0, (r.stdout, r.stderr)
     assert "registered vmc-01" in r.stdout
     assert "model v1 of vmc-01 stored" in r.stdout
