@@ -652,7 +652,8 @@ class ChainBatch:
             return out
         inc = self.increment[idx][:, None]
         int32 = self.int32[idx][:, None]
-        rounded = np.where(int32, np.rint(c / inc),
+        # int32: halves up, the one tie rule of protocol/README.md section 6
+        rounded = np.where(int32, np.floor(c / inc + 0.5),
                            c.astype(np.float32).astype(np.float64))
         if directions is not None:
             neg = np.asarray(directions, dtype=float) < 0
