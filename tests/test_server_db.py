@@ -48,7 +48,7 @@ def test_schema_has_every_table(db: Database) -> None:
     names = set(inspect(db.engine).get_table_names())
     assert names == {"machines", "models", "measurement_sets", "map_versions", "applied",
                      "diagnoses", "events", "leases", "live_links", "temperature_readings",
-                     "map_version_marks"}
+                     "map_version_marks", "correction_samples", "temperature_minutes"}
 
 
 def test_machine_round_trip_keeps_secret_and_description(db: Database) -> None:
