@@ -83,7 +83,7 @@ def test_grid_map_corrections_interpolate_its_nodes(tmp_path: Path) -> None:
     corr = [[pt["correction"][k] for k in ("x", "y", "z")] for pt in out["points"]]
     np.testing.assert_allclose(corr, [[0.175, 0.0, -0.05], [0.4, 0.0, -0.2]], atol=1e-12)
     # the same grid with thermal records (format version 3): -ΔE added per record
-    records = (ThermalRecord("T_spindle_C", "Z", 1, -2.0, 20.0),
+    records = (ThermalRecord("spindle", "Z", 1, -2.0, 20.0),  # the Temperatures name
                ThermalRecord("x", "X", 2, 11.5, 20.0, 0.0))
     (tmp_path / "map3.bin").write_bytes(encode_payload(
         ErrorMapPayload(p.machine, p.version, p.encoding, p.grid, p.outputs, p.values,
