@@ -94,9 +94,12 @@
   }
 
   function statusCell(card) {
+    const more = card.accuracy ? card.accuracy.reasons.length - 1 : 0;
     return el("td", {},
       EDNC.healthPill(card),
       el("div", { class: "sub", "data-field": "health-reason" }, card.health_reason),
+      more > 0 ? el("div", { class: "sub" }, el("a", { href: "#accuracy-section" },
+        `+${more} more reason${more > 1 ? "s" : ""}`)) : null,
       card.state ? el("div", { class: "sub" }, "machine state: ",
         el("b", { "data-field": "state" }, card.state)) : null);
   }
