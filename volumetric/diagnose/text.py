@@ -90,6 +90,15 @@ def _dynamic_text(dyn: Mapping[str, Any]) -> str:
     terms = dyn.get("terms", [])
     selected = dyn.get("selected", [t["name"] for t in terms])
     line = f"lagged model: {', '.join(selected)}"
+    every = dyn.get("all_sensors")
+    if every:
+        # the plain model on every sensor (no selection): say what it holds and how fitted
+        tau = every.get("rate_tau_s")
+        levels = sum(t["kind"] == "level" for t in terms)
+        line = (f"thermal model on every sensor: {levels} levels"
+                + (f" and their lags of {tau / 60:.0f} min (their rates)" if tau else "")
+                + (f", ridge λ {every['shrinkage']:.0e}" if every.get("shrinkage")
+                   else ", least squares"))
     taus = dyn.get("all_sensor_taus_s")
     if taus:
         line += (f"; averaged with every sensor's level and lags of {min(taus) / 60:.0f} min"
