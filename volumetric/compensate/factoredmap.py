@@ -269,6 +269,15 @@ def build_factored_map(
             q_fit_c = q_fit * per_unit
         else:
             budget_um /= 2
+            # the decision set found what the fit samples did not show: fit it too, and
+            # decide the next round on a fresh one (the final check stays unseen)
+            q_fit = np.vstack([q_fit, q_dec])
+            targets = np.vstack([targets, np.hstack([
+                prob.exact(q_dec) + 0.5 * backlash, sensitivities(prob, q_dec)])])
+            q_fit_c = q_fit * per_unit
+            q_dec = prob.lo + span * rng.random((check_points // 2, k))
+            exact_dec = full.exact(q_dec)
+            last = math.inf
     worst_sent = _sent_error(full, fm, q_chk, exact_chk, backlash, temps)
     approx = fm.corrections(q_chk, temps) - 0.5 * backlash - exact_chk
     worst_interp = float(full.tip_um(q_chk, approx).max())
