@@ -119,44 +119,75 @@ def fit_all_sensors(
         return final_fit(terms, cols, y_tr, n_blocks, float(t[0]),
                          cv_rms=float(np.sqrt(cv.block_sse(cols).sum() / n_train)),
                          baseline=baseline, steps=())
-    x = np.column_stack(cols)
-    sse = [sum(float(np.sum((y_tr[blocks == b] - _ridge(x[blocks != b], y_tr[blocks != b], lam)
-                             (x[blocks == b])) ** 2)) for b in range(n_blocks))
-           for lam in SHRINKAGE_GRID]
-    k = int(np.argmin(sse))
-    lam = SHRINKAGE_GRID[k]
-    whole = _ridge(x, y_tr, lam)
-    leave_out = np.array([_ridge(x[blocks != b], y_tr[blocks != b], lam).coefficients
-                          for b in range(n_blocks)])
+    lam, coefficients, leave_out, sse = _ridge_by_blocks(np.column_stack(cols), y_tr, blocks,
+                                                         n_blocks)
+    design = np.column_stack([np.ones(n_train), *cols])
     spread = leave_out - leave_out.mean(axis=0)
     u = np.sqrt((n_blocks - 1) / n_blocks * np.sum(spread**2, axis=0))
     return ThermalDriftModel(
-        terms=tuple(terms), intercept_um=float(whole.coefficients[0]),
-        coef=whole.coefficients[1:], intercept_u_um=float(u[0]), coef_u=u[1:],
-        t0_s=float(t[0]), train_rms_um=float(np.sqrt(np.mean((y_tr - whole(x)) ** 2))),
-        cv_rms_um=float(np.sqrt(sse[k] / n_train)), baseline_cv_rms_um=baseline,
-        n_train=n_train, n_blocks=n_blocks, steps=(), selected=tuple(terms),
-        shrinkage=lam)
+        terms=tuple(terms), intercept_um=float(coefficients[0]), coef=coefficients[1:],
+        intercept_u_um=float(u[0]), coef_u=u[1:], t0_s=float(t[0]),
+        train_rms_um=float(np.sqrt(np.mean((y_tr - design @ coefficients) ** 2))),
+        cv_rms_um=float(np.sqrt(sse / n_train)), baseline_cv_rms_um=baseline,
+        n_train=n_train, n_blocks=n_blocks, steps=(), selected=tuple(terms), shrinkage=lam)
 
 
-class _Ridge:
-    """A ridge fit: intercept and coefficients in the columns' own units."""
+def _ridge_by_blocks(x: F64, y: F64, blocks: NDArray[np.intp], n_blocks: int
+                     ) -> tuple[float, F64, F64, float]:
+    """Ridge regression of ``y`` (n,) on ``x`` (n, p) with λ from :data:`SHRINKAGE_GRID`
+    by leave-one-block-out CV, all from per-block Gram matrices.
 
-    def __init__(self, coefficients: F64) -> None:
-        self.coefficients = coefficients  # (1 + p,): intercept, then one per column
+    The columns are standardised once on all ``n`` rows (so a fold's penalty is the same
+    λ on the same scale), the intercept is not penalised, and a fit on ``m`` rows takes
+    the penalty ``λ · m``. Held-out squared errors come from the Gram sums, as in
+    :class:`~volumetric.identify.thermal.blocked_cv.BlockedCV`.
 
-    def __call__(self, x: F64) -> F64:
-        """Predictions for rows ``x``, shape (n, p) -> (n,)."""
-        return np.asarray(self.coefficients[0] + x @ self.coefficients[1:], dtype=np.float64)
-
-
-def _ridge(x: F64, y: F64, lam: float) -> _Ridge:
-    """Ridge regression of ``y`` (n,) on ``x`` (n, p): columns standardised on these rows,
-    penalty ``lam · n`` on their coefficients, the intercept free."""
+    Returns
+    -------
+    lam : float
+        The λ of least held-out squared error.
+    coefficients : ndarray, shape (1 + p,)
+        Intercept and one coefficient per column (the columns' own units), fitted with
+        ``lam`` on all rows.
+    leave_out : ndarray, shape (n_blocks, 1 + p)
+        The same, fitted with every block left out in turn.
+    sse : float
+        The held-out squared error (µm²) with ``lam``, summed over the blocks.
+    """
     mu, sd = x.mean(axis=0), x.std(axis=0)
     sd[sd == 0.0] = 1.0
-    z = (x - mu) / sd
     ym = float(y.mean())
-    c = np.linalg.solve(z.T @ z + lam * y.shape[0] * np.eye(x.shape[1]), z.T @ (y - ym))
-    b = c / sd
-    return _Ridge(np.concatenate([[ym - float(mu @ b)], b]))
+    # centred: sums of squares of a drift with a large offset would cancel badly below
+    z = np.column_stack([np.ones(y.shape[0]), (x - mu) / sd])
+    yc = y - ym
+    masks = [blocks == b for b in range(n_blocks)]
+    grams = [z[k].T @ z[k] for k in masks]
+    rhs = [z[k].T @ yc[k] for k in masks]
+    sy = [float(yc[k] @ yc[k]) for k in masks]
+    rows = [int(k.sum()) for k in masks]
+    g_all, r_all, n = sum(grams[1:], grams[0]), sum(rhs[1:], rhs[0]), y.shape[0]
+    penalty = np.ones(z.shape[1])
+    penalty[0] = 0.0  # the intercept is free
+
+    def solve(g: F64, r: F64, m: int, lam: float) -> F64:
+        return np.asarray(np.linalg.solve(g + np.diag(lam * m * penalty), r), dtype=np.float64)
+
+    def held_out(lam: float) -> float:
+        out = 0.0
+        for g_b, r_b, s_b, n_b in zip(grams, rhs, sy, rows, strict=True):
+            c = solve(g_all - g_b, r_all - r_b, n - n_b, lam)
+            out += s_b - 2.0 * float(c @ r_b) + float(c @ g_b @ c)
+        return out
+
+    sse = [held_out(lam) for lam in SHRINKAGE_GRID]
+    best = int(np.argmin(sse))
+    lam = SHRINKAGE_GRID[best]
+
+    def in_units(c: F64) -> F64:
+        b = c[1:] / sd
+        return np.concatenate([[ym + c[0] - float(mu @ b)], b])
+
+    whole = in_units(solve(g_all, r_all, n, lam))
+    leave_out = np.array([in_units(solve(g_all - g_b, r_all - r_b, n - n_b, lam))
+                          for g_b, r_b, n_b in zip(grams, rhs, rows, strict=True)])
+    return lam, whole, leave_out, sse[best]
