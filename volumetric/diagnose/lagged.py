@@ -1,7 +1,9 @@
-"""The lagged thermal drift of the diagnosis: the dynamic refinement of the best static
-thermal drift (:mod:`volumetric.identify.thermal`), selected again in every fold of the
-split, and the ``thermal_dynamic`` model term it saves (steps 2, 3 and 5 of
-:mod:`volumetric.diagnose`).
+"""The thermal models of many columns in the diagnosis: the dynamic refinement of the best
+static thermal drift (:mod:`volumetric.identify.thermal`), selected again in every fold of
+the split; the models on every sensor (levels, with lags as their rates; least squares and
+ridge, :mod:`volumetric.identify.thermal.plain`) that it must not lose to; the one the
+split prefers (:func:`lagged_scored`); and the ``thermal_dynamic`` model term it saves
+(steps 2, 3 and 5 of :mod:`volumetric.diagnose`).
 """
 
 from __future__ import annotations
