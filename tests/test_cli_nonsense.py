@@ -244,3 +244,27 @@ def test_the_service_refuses_the_description_the_cli_refuses() -> None:
     with pytest.raises(ValueError, match=r"travel_mm\.x"):
         check_machine_description({**VMC, "travel_mm": {**TRAVEL, "x": [0, 1e9]}})
     check_machine_description(FIVE_AXIS)
+
+
+def test_sizes_that_overflow_the_arithmetic_are_refused() -> None:
+    """What the fuzz found: a location of 1e300 µrad (NaN through the kinematics' sines),
+    a tool of 1e300 mm (overflow in the Jacobian), a backlash of 1e300 µm, a pivot 1e300 mm
+    away."""
+    from volumetric.errors import MachineSpecError
+    from volumetric.model.machine import parse_machine
+    from volumetric.model.modelcheck import ModelContentError, check_model
+
+    machine = parse_machine(VMC)
+    base = {"format": "ednc-model/1", "machine": "vmc", "components": {}, "locations": {}}
+    for body, match in (({**base, "locations": {"EB0Z": 1e300}}, r"locations\.EB0Z"),
+                        ({**base, "terms": [{"effect": "backlash", "axis": "x",
+                                             "reversal_um": 1e300}]}, "reversal_um"),
+                        ({**base, "components": {"EXX": {"type": "polynomial",
+                                                         "coefficients": [0, 1e6]}}},
+                         r"components\.EXX")):
+        with pytest.raises(ModelContentError, match=match):
+            check_model(body, machine)
+    with pytest.raises(MachineSpecError, match="tool_length_mm"):
+        parse_machine({**VMC, "tool_length_mm": 1e300})
+    with pytest.raises(MachineSpecError, match=r"pivots_mm\.C"):
+        parse_machine({**FIVE_AXIS, "pivots_mm": {"A": [0, 300, -150], "C": [1e300, 0, 0]}})

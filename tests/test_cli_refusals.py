@@ -18,7 +18,7 @@ VMC = {"name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
        "travel_mm": {"x": [0, 500], "y": [0, 300], "z": [-300, 0]}}
 
 
-@pytest.mark.parametrize("length", [-100.0, -1e-3, float("inf"), float("nan")])
+@pytest.mark.parametrize("length", [-100.0, -1e-3, float("inf"), float("nan"), 1e5, 1e300])
 def test_a_tool_length_below_zero_or_not_finite_is_refused(length: float) -> None:
     with pytest.raises(MachineSpecError, match="tool_length_mm"):
         parse_machine({**VMC, "tool_length_mm": length})

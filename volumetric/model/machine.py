@@ -261,6 +261,8 @@ MAX_LINEAR_TRAVEL_MM = 100_000.0
 """Largest |end| of a linear axis's travel, mm: 100 m, beyond the largest gantry. Past it a
 description is a unit slip (µm for mm), and the kinematics would work with positions whose
 squares overflow the arithmetic a map build does."""
+MAX_TOOL_LENGTH_MM = 10_000.0
+"""Longest tool, mm (the measurement CSV's ``tool_mm`` has the same limit)."""
 MAX_ROTARY_TRAVEL_DEG = 36_000.0
 """Largest |end| of a rotary axis's travel, degrees: a hundred turns."""
 PIVOT_MARGIN_MM = 10.0
@@ -315,10 +317,10 @@ def _tool_length(value: object, where: str) -> float:
         length = float(value)  # type: ignore[arg-type]
     except (TypeError, ValueError):
         raise MachineSpecError(f"{where}: expected a number, got {value!r}") from None
-    if not math.isfinite(length) or length < 0:
+    if not math.isfinite(length) or length < 0 or length > MAX_TOOL_LENGTH_MM:
         raise MachineSpecError(
-            f"{where}: {length:g} mm; a tool length is a finite length >= 0 mm from the "
-            "spindle gauge line to the tool tip")
+            f"{where}: {length:g} mm; a tool length is a finite length from 0 to "
+            f"{MAX_TOOL_LENGTH_MM:g} mm from the spindle gauge line to the tool tip")
     return length
 
 
@@ -372,6 +374,9 @@ def parse_machine(spec: Mapping[str, Any]) -> Machine:
         pivot = (0.0, 0.0, 0.0)
         if kind == "rotary" and token in pivots_raw:
             pivot = _vector(pivots_raw[token], f"pivots_mm.{token}", unit=False)
+            if max(abs(c) for c in pivot) > MAX_LINEAR_TRAVEL_MM:
+                raise MachineSpecError(f"pivots_mm.{token}: {list(pivot)} lies beyond "
+                                       f"±{MAX_LINEAR_TRAVEL_MM:g} mm; check the unit (mm)")
         return Axis(
             name=token,
             kind=kind,

@@ -71,6 +71,12 @@ def check_model(data: Any, machine: Machine | None = None) -> MachineModel:
             if isinstance(value, float) and not math.isfinite(value):
                 raise ModelContentError(f"terms[{i}] ({kind}): {f.name} = {value} is not "
                                         "finite")
+            # sizes (µm, µrad, mm, °C, µm/K) far beyond a machine's; times (``*_s``) are
+            # campaign seconds and may be large
+            if (isinstance(value, float) and not f.name.endswith("_s")
+                    and abs(value) > MAX_TERM_VALUE):
+                raise ModelContentError(f"terms[{i}] ({kind}): {f.name} = {value:g} is "
+                                        f"beyond ±{MAX_TERM_VALUE:g}; check the unit")
         axis = str(term.axis).lower()
         if keys is not None and axis not in keys:
             assert machine is not None
@@ -89,6 +95,9 @@ def check_model(data: Any, machine: Machine | None = None) -> MachineModel:
     return model
 
 
+MAX_TERM_VALUE = 1e9
+"""Largest |number| of a term's size fields: past it arithmetic on it overflows or the
+model is a unit slip."""
 MAX_ERROR = 100_000.0
 """Largest |error| a model may give anywhere on its machine's travel, µm or µrad: 0.1 m or
 0.1 rad. Far beyond any machine tool, far below what turns the kinematics' sines and
