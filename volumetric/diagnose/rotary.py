@@ -72,6 +72,16 @@ def component_sensitivity(machine: Machine, m: Measurements, axis: Axis
     return names, out
 
 
+def _turning(angles: F64, tests: NDArray[np.str_]) -> NDArray[np.bool_]:
+    """The readings of the tests that read the axis at 5 or more angles."""
+    out = np.zeros(len(angles), dtype=bool)
+    for label in np.unique(tests):
+        rows = tests == label
+        if np.unique(np.round(angles[rows], 4)).size >= 5:
+            out |= rows
+    return out
+
+
 def angular_step(angles: F64, tests: NDArray[np.str_]) -> float:
     """The finest angular step (degrees) at which one test reads the axis: per test, the
     median gap between its distinct angles (tests at fewer than 5 angles do not count);
@@ -170,14 +180,23 @@ def rotary_candidates(machine: Machine, m: Measurements, resid: F64, train: NDAr
         if axis.kind != "rotary":
             continue
         names, sens = component_sensitivity(machine, m, axis)
-        sensed_cols = np.flatnonzero(np.any(np.abs(sens) > 1e-9, axis=0))
-        rows = np.any(np.abs(sens) > 1e-9, axis=1) & ~m.is_angle
+        disp = ~m.is_angle
+        # a component the readings hardly sense is left out (a tool-side C turns the
+        # tool about its own axis: no tool-tip reading sees its indexing error, whose
+        # estimate would be noise over nothing): its sensitivity's RMS over the
+        # displacement readings of the tests that turn the axis (where its harmonics vary)
+        # under 1e-3 of the largest (µm per µm, or per µrad: a lever of 1 mm)
+        qa = q[:, machine.axes.index(axis)]
+        turning = disp & _turning(qa, m.test)
+        level = (np.sqrt(np.mean(sens[turning] ** 2, axis=0)) if turning.any()
+                 else np.zeros(sens.shape[1]))
+        sensed_cols = np.flatnonzero(level > 1e-3 * max(float(level.max(initial=0.0)), 1e-300))
+        rows = np.any(np.abs(sens[:, sensed_cols]) > 1e-9, axis=1) & disp
         if sensed_cols.size == 0 or not rows.any():
             missing[f"rotary_periodic {axis.key}"] = f"no reading senses axis {axis.name}"
             continue
         sens = sens[:, sensed_cols]
         comps = [names[i] for i in sensed_cols]
-        qa = q[:, machine.axes.index(axis)]
         theta = np.deg2rad(qa)
         key = f"rotary_periodic {axis.key}"
         if not fourier_axis(axis):
