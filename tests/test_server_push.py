@@ -139,7 +139,9 @@ async def test_a_grid_with_thermal_records_is_not_rebuilt_for_temperatures(
         board = r.services.temperatures
         delivered: list[Delivery] = []
         r.services.push.observers.append(delivered.append)
-        async with simulator(r.port) as sim:  # declares INT32_INCREMENTS | THERMAL
+        # declares INT32_INCREMENTS | THERMAL, not FACTORED: a factored map (format
+        # version 5) would be the smaller kind and auto would pick it
+        async with simulator(r.port, factored=False) as sim:
             store = sim.runtime.controller.store
             # no temperature needed: the map is built at the term's reference
             await until(lambda: store.version == 1)

@@ -128,12 +128,15 @@ async def rig(tmp_path: Path, *, heartbeat_s: float = 0.5, handshake_s: float = 
 
 def simulator(port: int, name: str = "vmc-01", *, controller: str = "fanuc",
               secret: str = SECRET, ip: str | None = None,
-              mqtt: MqttTarget | None = None, thermal_records: bool = True) -> SimulatedCNC:
+              mqtt: MqttTarget | None = None, thermal_records: bool = True,
+              factored: bool = True) -> SimulatedCNC:
     """A simulated CNC; ``thermal_records=False``: a Fanuc ladder that takes version-1
-    grids only (the center then rebuilds its map on temperature changes)."""
+    grids only (the center then rebuilds its map on temperature changes);
+    ``factored=False``: one that does not declare factored maps (it gets grids)."""
     m = parse_machine(description(name, controller, ip or "127.0.0.1"))
     runtime = MachineRuntime(m, seed=1, fanuc=FanucConfig(max_step_counts=1000,
-                                                          thermal_records=thermal_records))
+                                                          thermal_records=thermal_records,
+                                                          factored=factored))
     return SimulatedCNC(m, ("127.0.0.1", port), secret.encode(), runtime=runtime,
                         cycle_s=0.004, backoff=Backoff(initial_s=0.05, factor=2.0, cap_s=0.2),
                         mqtt=mqtt)
