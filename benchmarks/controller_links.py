@@ -177,7 +177,7 @@ MODEL = {"format": "ednc-model/1", "machine": "mb-0000",
                                 "origin": 0.0, "scale": 1.0}},
          "locations": {}, "terms": [], "info": {}}
 
-THERMAL_MODEL = {**MODEL, "terms": [{"kind": "thermal_drift", "axis": "z",
+THERMAL_MODEL = {**MODEL, "terms": [{"effect": "thermal_drift", "axis": "z",
                                      "sensor": "T_spindle_C", "coefficient": -2.5,
                                      "t_ref_C": 20.0, "q_min": 0.0}]}
 
