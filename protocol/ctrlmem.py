@@ -22,6 +22,7 @@ All multi-byte fields are little-endian, like the payload; sizes and offsets are
 
 from __future__ import annotations
 
+import math
 import struct
 import zlib
 from collections.abc import Sequence
@@ -421,7 +422,8 @@ def plan_temperatures(celsius: Sequence[float | None], seq: int) -> Write:
     """One write of the temperature slots and, after them, their sequence (u16).
 
     ``celsius[i]`` is slot i's reading (None: none, the PLC's terms for it add 0); sent as
-    int32 milli-°C rounded half away from zero. The PLC takes the slots when the sequence
+    int32 milli-°C rounded half up (``floor(c·1000 + 1/2)``, the protocol's one tie rule,
+    protocol/README.md §6). The PLC takes the slots when the sequence
     changes and reads it again after them (a torn read shows two sequences and is read
     again in the next scan).
     """
@@ -430,8 +432,7 @@ def plan_temperatures(celsius: Sequence[float | None], seq: int) -> Write:
     slots = [NO_TEMPERATURE] * MAX_SENSORS
     for i, c in enumerate(celsius):
         if c is not None:
-            milli = c * 1000.0
-            slots[i] = int(milli + (0.5 if milli >= 0 else -0.5))
+            slots[i] = math.floor(c * 1000.0 + 0.5)
     data = struct.pack(f"<{MAX_SENSORS}i", *slots) + struct.pack("<H", seq & 0xFFFF)
     return Write(TEMPERATURES_AT, data)
 

@@ -128,10 +128,10 @@ def test_the_plc_check_takes_only_a_whole_buffer() -> None:
 
 
 def test_temperature_slots_in_milli_celsius_with_the_sequence_after_them() -> None:
-    w = plan_temperatures([21.2345, None, -0.0005], 77)
+    w = plan_temperatures([21.2345, None, -0.0015], 77)
     assert w.offset == TEMPERATURES_AT and len(w.data) == TEMP_SEQ_AT - TEMPERATURES_AT + 2
     values = struct.unpack_from("<3i", w.data, 0)
-    assert values == (21235, -2**31, -1)  # half away from zero
+    assert values == (21235, -2**31, -1)  # half up: -1.5 m°C -> -1
     assert struct.unpack_from("<H", w.data, len(w.data) - 2)[0] == 77
     assert sensor_slots(["spindle", "air", "spindle", "bed"]) == {"spindle": 0, "air": 1,
                                                                   "bed": 2}
