@@ -1,13 +1,21 @@
 """The plain least squares on every sensor and its ridge version
 (volumetric.identify.thermal.plain): the same numbers as a direct least-squares fit, lags
-that make it a model with rates, a penalty that takes the sensors' noise out, refusals."""
+that make it a model with rates, a penalty that takes the sensors' noise out, refusals;
+in the diagnosis, offered only when a map can carry it."""
 
 from __future__ import annotations
+
+from dataclasses import replace
 
 import numpy as np
 import pytest
 
+from tests.support.thermal_sim import lagged_spindle
+from volumetric.diagnose.candidates import Candidate
+from volumetric.diagnose.gates import MAX_EFFECTS
+from volumetric.diagnose.lagged import MAP_THERMAL_RECORDS, all_sensor_drift
 from volumetric.identify.thermal.plain import SHRINKAGE_GRID, fit_all_sensors
+from volumetric.measure.measurement import Measurements
 from volumetric.model.lag import first_order_lag
 
 
@@ -86,3 +94,33 @@ def test_bad_input_is_refused_with_a_clear_message() -> None:
         fit_all_sensors(t, temps, np.full(t.size, np.nan))
     with pytest.raises(ValueError, match="train_mask"):
         fit_all_sensors(t, temps, y, np.ones(t.size))
+
+
+def test_an_all_sensor_model_beyond_a_maps_thermal_records_is_not_offered() -> None:
+    # the live path sends one record per sensor level and one per lag state; a map
+    # carries MAP_THERMAL_RECORDS, of which the other effects a diagnosis names may take
+    # MAX_EFFECTS - 1: 30 sensors' levels fit, with their rates (one more state) 29
+    base = lagged_spindle(0)
+    n = len(base)
+    rng = np.random.default_rng(4)
+
+    def with_sensors(k: int) -> Measurements:
+        temps = {f"s{i}": base.temperatures["a"] + rng.normal(0, 0.05, n) for i in range(k)}
+        return replace(base, temperatures=temps,
+                       temperature_columns={s: f"T_{s}_C" for s in temps})
+
+    assert MAP_THERMAL_RECORDS - (MAX_EFFECTS - 1) == 30
+    static = Candidate("thermal_drift", "z", "T_s0_C", np.zeros((n, 1)))
+    order = np.argsort(base.time_s, kind="stable")
+    train = np.ones(n, dtype=bool)
+    for k, tau, offered in ((30, None, True), (31, None, False), (29, 900.0, True),
+                            (30, 900.0, False)):
+        m = with_sensors(k)
+        c = all_sensor_drift(m, static, m.value, train, order, tau, False)
+        assert (c is not None) is offered, (k, tau)
+        if c is not None:
+            assert c.columns.shape == (n, k if tau is None else 2 * k)
+            assert len(c.extra["terms"]) == c.columns.shape[1] and not c.fixed
+    shrunk = all_sensor_drift(with_sensors(4), static, base.value, train, order, 900.0, True)
+    assert shrunk is not None and shrunk.fixed and shrunk.columns.shape == (n, 1)
+    assert shrunk.extra["description"]["all_sensors"]["rate_tau_s"] == 900.0
