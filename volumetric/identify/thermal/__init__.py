@@ -158,7 +158,10 @@ Modules: :mod:`~volumetric.identify.thermal.columns` (the regressors),
 :mod:`~volumetric.identify.thermal.model` (the fitted model),
 :mod:`~volumetric.identify.thermal.blocked_cv` (steps 2-3: the blocked CV, τ refinement),
 :mod:`~volumetric.identify.thermal.selection` (:func:`fit_thermal_drift`, steps 1-4),
-:mod:`~volumetric.identify.thermal.fits` (steps 5-6: the final fits).
+:mod:`~volumetric.identify.thermal.fits` (steps 5-6: the final fits),
+:mod:`~volumetric.identify.thermal.plain` (:func:`fit_all_sensors`: no selection, every
+sensor's level and lag by least squares or ridge, the reference a selection must not lose
+to; the diagnosis judges it beside the selection, :mod:`volumetric.diagnose.lagged`).
 """
 
 from __future__ import annotations
@@ -169,6 +172,7 @@ from volumetric.identify.thermal.columns import (
     thermal_regressors,
 )
 from volumetric.identify.thermal.model import SelectionStep, ThermalDriftModel
+from volumetric.identify.thermal.plain import fit_all_sensors
 from volumetric.identify.thermal.selection import DENSE_TAUS_S, fit_thermal_drift
 from volumetric.model.lag import first_order_lag
 
@@ -179,6 +183,7 @@ __all__ = [
     "ThermalDriftModel",
     "ThermalTerm",
     "first_order_lag",
+    "fit_all_sensors",
     "fit_thermal_drift",
     "thermal_regressors",
 ]
