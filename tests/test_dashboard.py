@@ -27,6 +27,7 @@ from server.settings import Settings
 from tests.support.api import API_KEY, CSV_HEADER, SECRET, VMC, WRITE, center_of, running
 from tests.support.dashboard import (
     DIAGNOSIS,
+    MODEL,
     OTHER,
     SIEMENS,
     correction_um,
@@ -199,10 +200,6 @@ async def test_snapshot_shows_every_machine_with_live_values_and_health(
         (EventKind.REFUSED, "10.9.9.9:5555", "unknown address")]
 
 
-MODEL = {"format": "ednc-model/1", "machine": "vmc-01",
-         "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, 4.0, 1.5],
-                                "origin": 250.0, "scale": 250.0}},
-         "locations": {"EC0Y": 12.0}, "terms": [], "info": {}}
 
 
 async def test_health_is_the_accuracy_and_names_the_first_thing_to_act_on(

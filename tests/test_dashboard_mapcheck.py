@@ -19,8 +19,7 @@ from server.db import maps as map_repo
 from server.push.adapter import build_for
 from server.settings import Settings
 from tests.support.api import API_KEY, SECRET, VMC, WRITE, center_of, running
-from tests.support.dashboard import SIEMENS
-from tests.test_dashboard import MODEL
+from tests.support.dashboard import MODEL, SIEMENS
 
 
 @pytest.fixture

@@ -14,11 +14,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from machine_sim.campaign import map_compensation, run_campaign
 from machine_sim.fanuc import FanucConfig, FanucPMC
-from machine_sim.instruments import SimulatedMachine
 from machine_sim.lookup import FactoredLadder
-from machine_sim.testprograms import diagonal_test
 from protocol.maptransfer import split_into_chunks
 from protocol.messages import MapAck
 from server.mapcodec import encode
@@ -27,33 +24,17 @@ from tests.support.integration import (
     FANUC_5AX,
     campaign,
     center,
+    check_diagonals,
     cnc,
     require_loopback_aliases,
     until,
 )
 from volumetric.compensate.factoredmap import build_factored_map
 from volumetric.model.model import MachineModel
-from volumetric.verify.iso230_6 import diagonal_ranges, improvement
 
 pytestmark = pytest.mark.slow
 
 DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
-
-
-def _check_diagonals(sim: SimulatedMachine, received: FactoredLadder, label: str) -> None:
-    """ISO 230-6 body diagonals on the true machine, without and with the shifts the ladder
-    computes from the map it received: 95 % better overall."""
-    m = sim.machine
-    programs = [diagonal_test(m, d, points=20, runs=2) for d in DIAGONALS]
-    before = diagonal_ranges(run_campaign(sim, programs).measurements)
-    comp = map_compensation(m, received, increment_mm=0.001)
-    after = diagonal_ranges(run_campaign(sim, programs, compensation=comp).measurements)
-    gain = improvement(before, after)
-    print(f"\n{m.name} {label}: ranges before "
-          f"{ {k: round(v, 1) for k, v in before.items()} } µm, after "
-          f"{ {k: round(v, 2) for k, v in after.items()} } µm")
-    assert max(before.values()) > 20.0
-    assert gain["overall"] >= 0.95, gain
 
 
 def test_a_fanuc_ladder_with_a_factored_map_cuts_the_diagonals() -> None:
@@ -68,7 +49,7 @@ def test_a_fanuc_ladder_with_a_factored_map_cuts_the_diagonals() -> None:
     assert isinstance(reply, MapAck)
     received = pmc.store.active
     assert isinstance(received, FactoredLadder)
-    _check_diagonals(sim, received, f"factored ({fm.nbytes} B)")
+    check_diagonals(sim, received, f"factored ({fm.nbytes} B)")
     # the EMZPS shifts the ladder's scans settle on are the map's counts at that point
     q = np.array([0.5 * (a.travel[0] + a.travel[1]) for a in m.axes])
     for k in range(200):
@@ -93,4 +74,4 @@ async def test_a_five_axis_fanuc_machine_gets_a_factored_map_over_tcp(tmp_path: 
         events = [e.kind for e in pmc.store.events]
     assert isinstance(received, FactoredLadder), type(received)
     assert events == ["applied"]
-    _check_diagonals(sim, received, f"({sim.machine.chain}) factored over TCP")
+    check_diagonals(sim, received, f"({sim.machine.chain}) factored over TCP")

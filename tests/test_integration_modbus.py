@@ -32,10 +32,10 @@ from tests.support.integration import (
     Spec,
     campaign,
     center,
+    check_diagonals,
     diagnosed_spindle,
     until,
 )
-from tests.test_integration_factored import _check_diagonals
 
 pytestmark = pytest.mark.slow
 
@@ -94,7 +94,7 @@ async def test_a_fanuc_pmc_over_modbus_gets_its_map_and_compensates(
                                   machine=s.name) == 1.0
         assert await plant.metric("ednc_machine_connected", machine=s.name) == 1.0
         assert [e.kind for e in cnc.runtime.controller.store.events] == ["applied"]
-    _check_diagonals(sim, received, f"({sim.machine.chain}) factored over Modbus/TCP")
+    check_diagonals(sim, received, f"({sim.machine.chain}) factored over Modbus/TCP")
 
 
 async def test_an_ednc_login_of_a_modbus_machine_is_refused(tmp_path: Path) -> None:

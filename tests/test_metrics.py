@@ -22,8 +22,7 @@ from server.health import STATES
 from server.settings import Settings
 from server.version import __version__
 from tests.support.api import API_KEY, SECRET, VMC, WRITE, center_of, running
-from tests.support.dashboard import OTHER, SIEMENS, diagonals_csv
-from tests.test_dashboard import MODEL
+from tests.support.dashboard import MODEL, OTHER, SIEMENS, diagonals_csv
 
 ALERTS = Path(__file__).resolve().parent.parent / "deploy" / "alerts.yml"
 

@@ -66,3 +66,10 @@ def diagonals_csv(scale: float, points: int = 11) -> str:
 
 DIAGNOSIS = {"effect": "backlash", "axis": "x", "sensor": None,
              "estimate": {"reversal_um": 9.8}, "rms_before_um": 2.9, "rms_after_um": 0.27}
+
+
+MODEL = {"format": "ednc-model/1", "machine": "vmc-01",
+         "components": {"EXX": {"type": "polynomial", "coefficients": [0.0, 4.0, 1.5],
+                                "origin": 250.0, "scale": 250.0}},
+         "locations": {"EC0Y": 12.0}, "terms": [], "info": {}}
+"""A small model of the test machine vmc-01 (an x scale error and a y-x squareness)."""

@@ -500,3 +500,28 @@ def map_chunk_hook(version: int, change: Callable[[bytes], bytes]) -> FrameHook:
         return payload[:8] + change(payload[8:])
 
     return hook
+
+
+DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
+
+
+def check_diagonals(sim: SimulatedMachine, received: ActiveMap, label: str,
+                    increment_mm: float | None = 0.001) -> None:
+    """ISO 230-6 body diagonals on the true machine, without and with the shifts the
+    controller computes from the map it received (rounded to ``increment_mm``, a Fanuc
+    PMC's; None for a Siemens NC's float values): 95 % better overall."""
+    from machine_sim.campaign import map_compensation, run_campaign
+    from machine_sim.testprograms import diagonal_test
+    from volumetric.verify.iso230_6 import diagonal_ranges, improvement
+
+    m = sim.machine
+    programs = [diagonal_test(m, d, points=20, runs=2) for d in DIAGONALS]
+    before = diagonal_ranges(run_campaign(sim, programs).measurements)
+    comp = map_compensation(m, received, increment_mm=increment_mm)
+    after = diagonal_ranges(run_campaign(sim, programs, compensation=comp).measurements)
+    gain = improvement(before, after)
+    print(f"\n{m.name} {label}: ranges before "
+          f"{ {k: round(v, 1) for k, v in before.items()} } µm, after "
+          f"{ {k: round(v, 2) for k, v in after.items()} } µm")
+    assert max(before.values()) > 20.0
+    assert gain["overall"] >= 0.95, gain
