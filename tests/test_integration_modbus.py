@@ -166,8 +166,8 @@ async def test_no_acknowledgement_is_lost_when_the_center_restarts(tmp_path: Pat
                 return bool(await plant.deliveries(s.name))
 
             await until(sent)
-            word = cnc.window[192:194]
-            await until(lambda: cnc.window[192:194] != word)  # the switch is written
+            # the switch is written (the window's switch word was 0 before any push)
+            await until(lambda: cnc.window[192:194] != b"\0\0")
         cnc.running = True  # the PLC program runs on and applies the map
         await until(lambda: cnc.runtime.controller.store.version == 1)
         restart = dt.datetime.now(dt.UTC).isoformat().replace("+00:00", "Z")
