@@ -136,8 +136,14 @@ async def test_thermal_records_follow_temperatures_over_modbus(tmp_path: Path) -
             assert r.status_code == 200, r.text
             await until(lambda c=celsius: abs(
                 ctl.temperatures.values().get(f"T_{sensor}_C", -1) - c) < 1e-6)
-            await asyncio.sleep(0.1)  # a few scans fold it in
-            seen.append(int(ctl.store.active.counts(q)[0][z]))  # type: ignore[union-attr]
+            def z_counts() -> int:
+                return int(ctl.store.active.counts(q)[0][z])  # type: ignore[union-attr]
+
+            if seen:  # the next scans fold the new temperature in
+                await until(lambda: z_counts() != seen[-1])
+            else:
+                await asyncio.sleep(0.3)
+            seen.append(z_counts())
         assert ctl.store.version == 1  # one map version all along
         # the spindle grows by -term's coefficient per K along z: the correction moves
         # by the opposite, 5 K a step

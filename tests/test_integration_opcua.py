@@ -121,8 +121,14 @@ async def test_thermal_records_follow_temperatures_over_opcua(tmp_path: Path) ->
             assert r.status_code == 200, r.text
             await until(lambda c=celsius: abs(
                 ctl.temperatures.values().get(f"T_{sensor}_C", -1) - c) < 1e-6)
-            await asyncio.sleep(0.2)
-            seen.append(float(ctl.store.active.lookup(q)[0][z]))  # type: ignore[union-attr]
+            def z_mm() -> float:
+                return float(ctl.store.active.lookup(q)[0][z])  # type: ignore[union-attr]
+
+            if seen:  # the next IPO cycles fold the new temperature in
+                await until(lambda: z_mm() != seen[-1])
+            else:
+                await asyncio.sleep(0.3)
+            seen.append(z_mm())
         assert ctl.store.version == 1 and ctl.store.active is active
         # the correction moves by -coefficient per K along z, in mm
         np.testing.assert_allclose(np.diff(seen) * 1000.0, -term.coefficient * 5.0, atol=0.2)
