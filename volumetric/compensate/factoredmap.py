@@ -16,8 +16,8 @@ its nodes a power of two counts apart, and its values are int16 times a power of
 (:mod:`volumetric.compensate.factoredtables`). So the ladder's loop is shifts, lookups,
 multiplies and adds in integers; no trigonometry: the trigonometric shapes the chain needs
 come as basis tables (``cos θ``, ``sin θ``, ``cos 2θ``, ``sin 2θ`` of each rotary axis on
-2.048° nodes) and the linear positions as two-node basis tables (an affine function is
-interpolated exactly).
+8.192° nodes, :data:`~volumetric.compensate.factoredfit.BASIS_STEP_DEG`) and the linear
+positions as two-node basis tables (an affine function is interpolated exactly).
 
 Why this structure. To first order in the errors, the weighted compensation of a chain
 with orthogonal nominal axes is: per rotary axis a function of that axis times trigonometric
@@ -101,7 +101,8 @@ share of the tolerance asked at the tool tip (halved in every further round), or
 more tables stop paying. The linear axes' own rounding is up to 0.87 increment and
 dominates what is sent: at 0.1 the tables chased 0.1 µm for an as-sent figure of 0.72 µm
 (5-axis, 17.4 kB in format version 4); at 0.2 ten 5-axis maps came out at 0.70-0.86 µm
-as sent, 5.1-7.6 kB; at 0.3 one in ten missed 1.0 µm (1.04) after its round."""
+as sent, 5.1-7.6 kB (4.2-6.3 kB with 8.192° basis tables); at 0.3 one in ten missed
+1.0 µm (1.04) after its round."""
 MIN_BUDGET_UM = 0.01
 """The smallest per-field budget, µm: below it tables only chase the fit's noise."""
 _MAX_ROUNDS = 5
