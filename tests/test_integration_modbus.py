@@ -30,10 +30,12 @@ from tests.support.integration import (
     THERMAL,
     Plant,
     Spec,
+    applied_map,
     campaign,
     center,
     check_diagonals,
     diagnosed_spindle,
+    follow_temperatures,
     until,
 )
 
@@ -59,10 +61,7 @@ async def pmc(s: Spec, **runtime: Any) -> AsyncIterator[WindowCNC]:
 
 
 async def _map_applied(plant: Plant, cnc: WindowCNC, s: Spec) -> FactoredLadder:
-    await until(lambda: plant.current_applied(s.name))
-    store = cnc.runtime.controller.store
-    await until(lambda: store.version >= 1)
-    active = store.active
+    active = await applied_map(plant, cnc.runtime.controller.store, s.name)
     assert isinstance(active, FactoredLadder), type(active)
     return active
 
@@ -127,23 +126,10 @@ async def test_thermal_records_follow_temperatures_over_modbus(tmp_path: Path) -
         sensor = term.sensor.removeprefix("T_").removesuffix("_C")
         q = np.array([[400.0, 300.0, -250.0]])
         z = cnc.machine.axis_names.index("Z")
-        seen = []
         ctl = cnc.runtime.controller
-        for celsius in (20.0, 25.0, 30.0):
-            r = await plant.client.post(f"/api/machines/{s.name}/temperatures",
-                                        json={"readings": [{"sensor": sensor,
-                                                            "celsius": celsius}]})
-            assert r.status_code == 200, r.text
-            await until(lambda c=celsius: abs(
-                ctl.temperatures.values().get(f"T_{sensor}_C", -1) - c) < 1e-6)
-            def z_counts() -> int:
-                return int(ctl.store.active.counts(q)[0][z])  # type: ignore[union-attr]
-
-            if seen:  # the next scans fold the new temperature in
-                await until(lambda: z_counts() != seen[-1])
-            else:
-                await asyncio.sleep(0.3)
-            seen.append(z_counts())
+        seen = await follow_temperatures(
+            plant, ctl, s.name, sensor,
+            lambda: float(ctl.store.active.counts(q)[0][z]))  # type: ignore[union-attr]
         assert ctl.store.version == 1  # one map version all along
         # the spindle grows by -term's coefficient per K along z: the correction moves
         # by the opposite, 5 K a step
@@ -164,7 +150,11 @@ async def test_no_acknowledgement_is_lost_when_the_center_restarts(tmp_path: Pat
         s = linked(base, cnc.server.port)
         async with center(db) as plant:
             await plant.register(s)
-            await until(lambda: plant.status(s.name))
+
+            async def linked_up() -> bool:
+                return bool((await plant.status(s.name))["connected"])
+
+            await until(linked_up)  # the center has opened its session
             cnc.stop_plc()  # the switch will wait for the PLC
             await plant.fit_from_campaign(s.name)
 

@@ -18,30 +18,26 @@ from typing import Any
 import numpy as np
 import pytest
 
-from machine_sim.campaign import map_compensation, run_campaign
-from machine_sim.lookup import ActiveMap
 from machine_sim.opcua_server import PLC_WRITER, OpcuaUser, sinumerik_server
 from machine_sim.runtime import MachineRuntime
-from machine_sim.testprograms import diagonal_test
 from machine_sim.windowcnc import WindowCNC
 from server.numeric import plain_json
 from tests.support.integration import (
     DEADLINE_S,
     THERMAL_TABLES,
-    Plant,
     Spec,
+    applied_map,
     campaign,
     center,
+    check_diagonals,
     diagnosed_spindle,
+    follow_temperatures,
     spec,
-    until,
 )
-from volumetric.verify.iso230_6 import diagonal_ranges, improvement
 
 pytestmark = pytest.mark.slow
 
 PASSWORD_ENV = "EDNC_TEST_OPCUA_PASSWORD"
-DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
 
 
 @pytest.fixture(autouse=True)
@@ -64,14 +60,6 @@ async def nc(s: Spec, **runtime: Any) -> AsyncIterator[WindowCNC]:
         yield cnc
 
 
-async def _applied(plant: Plant, cnc: WindowCNC, name: str) -> ActiveMap:
-    await until(lambda: plant.current_applied(name))
-    store = cnc.runtime.controller.store
-    await until(lambda: store.version >= 1)
-    assert store.active is not None
-    return store.active
-
-
 @pytest.mark.parametrize("name", ["vmc-06", "5ax-04"])
 async def test_a_sinumerik_over_opcua_gets_its_map_and_compensates(
         tmp_path: Path, name: str) -> None:
@@ -83,21 +71,11 @@ async def test_a_sinumerik_over_opcua_gets_its_map_and_compensates(
         s = linked(base, cnc.server.port)
         await plant.register(s)
         assert await plant.fit_from_campaign(s.name) == 1
-        received = await _applied(plant, cnc, s.name)
+        received = await applied_map(plant, cnc.runtime.controller.store, s.name)
         st = await plant.status(s.name)
         assert st["connected"] is True and st["telemetry"]["link"] == "opcua", st
         assert [e.kind for e in cnc.runtime.controller.store.events] == ["applied"]
-    m = sim.machine
-    programs = [diagonal_test(m, d, points=20, runs=2) for d in DIAGONALS]
-    before = diagonal_ranges(run_campaign(sim, programs).measurements)
-    comp = map_compensation(m, received)
-    after = diagonal_ranges(run_campaign(sim, programs, compensation=comp).measurements)
-    gain = improvement(before, after)
-    print(f"\n{m.name} over OPC UA: ranges before "
-          f"{ {k: round(v, 1) for k, v in before.items()} } µm, after "
-          f"{ {k: round(v, 2) for k, v in after.items()} } µm")
-    assert max(before.values()) > 20.0
-    assert gain["overall"] >= 0.95, gain
+    check_diagonals(sim, received, "over OPC UA", increment_mm=None)
 
 
 async def test_thermal_records_follow_temperatures_over_opcua(tmp_path: Path) -> None:
@@ -108,27 +86,14 @@ async def test_thermal_records_follow_temperatures_over_opcua(tmp_path: Path) ->
         s = linked(THERMAL_TABLES, cnc.server.port)
         await plant.register(s)
         await plant.post_model(s.name, plain_json(model.to_json()))
-        active = await _applied(plant, cnc, s.name)
+        active = await applied_map(plant, cnc.runtime.controller.store, s.name)
         sensor = term.sensor.removeprefix("T_").removesuffix("_C")
         q = np.array([[400.0, 300.0, -250.0]])
         z = cnc.machine.axis_names.index("Z")
         ctl = cnc.runtime.controller
-        seen = []
-        for celsius in (20.0, 25.0, 30.0):
-            r = await plant.client.post(f"/api/machines/{s.name}/temperatures",
-                                        json={"readings": [{"sensor": sensor,
-                                                            "celsius": celsius}]})
-            assert r.status_code == 200, r.text
-            await until(lambda c=celsius: abs(
-                ctl.temperatures.values().get(f"T_{sensor}_C", -1) - c) < 1e-6)
-            def z_mm() -> float:
-                return float(ctl.store.active.lookup(q)[0][z])  # type: ignore[union-attr]
-
-            if seen:  # the next IPO cycles fold the new temperature in
-                await until(lambda: z_mm() != seen[-1])
-            else:
-                await asyncio.sleep(0.3)
-            seen.append(z_mm())
+        seen = await follow_temperatures(
+            plant, ctl, s.name, sensor,
+            lambda: float(ctl.store.active.lookup(q)[0][z]))  # type: ignore[union-attr]
         assert ctl.store.version == 1 and ctl.store.active is active
         # the correction moves by -coefficient per K along z, in mm
         np.testing.assert_allclose(np.diff(seen) * 1000.0, -term.coefficient * 5.0, atol=0.2)

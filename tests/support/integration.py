@@ -525,3 +525,34 @@ def check_diagonals(sim: SimulatedMachine, received: ActiveMap, label: str,
           f"{ {k: round(v, 2) for k, v in after.items()} } µm")
     assert max(before.values()) > 20.0
     assert gain["overall"] >= 0.95, gain
+
+
+async def applied_map(plant: Plant, store: Any, name: str) -> ActiveMap:
+    """The map a machine applies once the center shows its newest map applied
+    (``store``: the controller's map store)."""
+    await until(lambda: plant.current_applied(name))
+    await until(lambda: store.version >= 1)
+    active: ActiveMap | None = store.active
+    assert active is not None
+    return active
+
+
+async def follow_temperatures(plant: Plant, controller: Any, name: str, sensor: str,
+                              read: Callable[[], float]) -> list[float]:
+    """Post 20, 25 and 30 °C of ``sensor`` to the center for ``name``; after each, wait
+    until the controller holds it and its cycles folded it into what ``read`` gives (the
+    z correction at a point); the three values read."""
+    seen: list[float] = []
+    for celsius in (20.0, 25.0, 30.0):
+        r = await plant.client.post(f"/api/machines/{name}/temperatures",
+                                    json={"readings": [{"sensor": sensor,
+                                                        "celsius": celsius}]})
+        assert r.status_code == 200, r.text
+        await until(lambda c=celsius: abs(
+            controller.temperatures.values().get(f"T_{sensor}_C", -1) - c) < 1e-6)
+        if seen:  # the next cycles fold the new temperature in
+            await until(lambda: read() != seen[-1])
+        else:
+            await asyncio.sleep(0.3)
+        seen.append(read())
+    return seen
