@@ -179,6 +179,33 @@ def test_real_test_ch1_cut_at_70_percent_saved_model_is_no_worse_than_plain_leas
                                rtol=0, atol=1e-6)
 
 
+def test_real_test_ch2_cut_at_70_percent_saved_model_is_no_worse_than_plain_least_squares(
+        tmp_path: Path, real_data: Path) -> None:
+    """Issue 27, item 4, on ch2: no model of every sensor passed the gates against the
+    rigid base on the diagnosis's split of the first 70 % (the best at z 0.63), so the
+    static T_t11 drift, which passed, was saved and predicted the rest at 6.55 µm
+    against the plain least squares' 3.41. The static drift names the effect; what is
+    saved is the model of it the split prefers (lagged.named_thermal)."""
+    readings = channel(real_data, 2)
+    cut = float(readings.time_s.min() + 0.7 * np.ptp(readings.time_s))
+    train = readings.time_s < cut
+    write_measurements(tmp_path / "first.csv", readings.select(train))
+    write_measurements(tmp_path / "rest.csv", readings.select(~train))
+    (tmp_path / "m.json").write_text(json.dumps(FL))
+    d = json.loads(_run("diagnose", "--machine", str(tmp_path / "m.json"), "--data",
+                        str(tmp_path / "first.csv"), "--json", "--out",
+                        str(tmp_path / "model.json")))
+    assert d["split"] == "forward"
+    p = json.loads(_run("predict", "--machine", str(tmp_path / "m.json"), "--model",
+                        str(tmp_path / "model.json"), "--data", str(tmp_path / "rest.csv"),
+                        "--json"))
+    plain = plain_forward_rms(readings, train)
+    assert plain == pytest.approx(3.41, abs=0.01)
+    assert p["rms_um"] <= plain, (p["rms_um"], plain)
+    (term,) = MachineModel.from_json(json.loads((tmp_path / "model.json").read_text())).terms
+    assert isinstance(term, DynamicThermalTerm)  # a model of every sensor, not one sensor
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_a_lagged_spindle_cut_at_70_percent_is_predicted_to_the_noise(seed: int) -> None:
     machine = parse_machine(FL)

@@ -20,7 +20,6 @@ from volumetric.diagnose.gates import (
     TIE,
     Z_MIN,
     Scored,
-    passes,
     prefer_physical,
     score,
 )
@@ -29,6 +28,7 @@ from volumetric.diagnose.lagged import (
     SELECTED_TERMS,
     lagged_model,
     lagged_scored,
+    named_thermal,
 )
 from volumetric.diagnose.result import Diagnosis, DiagnosisError
 from volumetric.diagnose.rotary import with_harmonics
@@ -148,7 +148,7 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         details["blocks"] = block_table(sp.folds, judged, base_heldout, sp.fold_ids)
     # step 4: ranking and gates
     pick = prefer_physical(scored) if scored else None
-    best = pick if pick is not None and passes(pick) else None
+    best = named_thermal(pick, dyn, scored, sp.order_judge)
     if best is not None:
         static = best.candidate
         if "lagged" in static.extra:
