@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import asyncio
 import logging
+from collections.abc import Awaitable
+from typing import Any
 
 from pymodbus.client import AsyncModbusTcpClient
 from pymodbus.exceptions import ModbusException
@@ -92,6 +94,22 @@ class ModbusMemory:
             raise LinkError(f"window offset {offset} and size {size} must be even and > 0")
         return self.register + offset // 2
 
+    async def _request(self, what: str, first: int, count: int,
+                       call: Awaitable[Any]) -> Any:
+        """Await one request's answer; a failure or an exception answer is a LinkError
+        naming ``what`` (read or write) and the registers."""
+        span = f"{what} of registers {first}..{first + count - 1}"
+        try:
+            rr = await call
+        except (TimeoutError, ModbusException, OSError) as exc:
+            raise LinkError(f"Modbus/TCP {self.address}: {span} failed: {exc}") from None
+        self.requests += 1
+        if rr.isError():
+            code = getattr(rr, "exception_code", 0)
+            raise LinkError(f"Modbus/TCP {self.address}: {span}: exception {code} "
+                            f"({_EXCEPTIONS.get(code, '?')})")
+        return rr
+
     async def read(self, offset: int, size: int) -> bytes:
         first = self._register(offset, size)
         count = size // 2
@@ -100,18 +118,8 @@ class ModbusMemory:
             client = self._live()
             for k in range(0, count, MAX_READ_REGISTERS):
                 n = min(MAX_READ_REGISTERS, count - k)
-                try:
-                    rr = await client.read_holding_registers(first + k, count=n,
-                                                             device_id=self.unit_id)
-                except (TimeoutError, ModbusException, OSError) as exc:
-                    raise LinkError(f"Modbus/TCP {self.address}: read of registers "
-                                    f"{first + k}..{first + k + n - 1} failed: {exc}") from None
-                self.requests += 1
-                if rr.isError():
-                    code = getattr(rr, "exception_code", 0)
-                    raise LinkError(f"Modbus/TCP {self.address}: read of registers "
-                                    f"{first + k}..{first + k + n - 1}: exception {code} "
-                                    f"({_EXCEPTIONS.get(code, '?')})")
+                rr = await self._request("read", first + k, n, client.read_holding_registers(
+                    first + k, count=n, device_id=self.unit_id))
                 out.extend(rr.registers)
         return from_registers(out, self.byte_order)
 
@@ -123,17 +131,8 @@ class ModbusMemory:
         values = to_registers(data, self.byte_order)
         async with self._lock:
             client = self._live()
-            try:
-                rr = await client.write_registers(first, values, device_id=self.unit_id)
-            except (TimeoutError, ModbusException, OSError) as exc:
-                raise LinkError(f"Modbus/TCP {self.address}: write of registers {first}.."
-                                f"{first + len(values) - 1} failed: {exc}") from None
-            self.requests += 1
-            if rr.isError():
-                code = getattr(rr, "exception_code", 0)
-                raise LinkError(f"Modbus/TCP {self.address}: write of registers {first}.."
-                                f"{first + len(values) - 1}: exception {code} "
-                                f"({_EXCEPTIONS.get(code, '?')})")
+            await self._request("write", first, len(values), client.write_registers(
+                first, values, device_id=self.unit_id))
 
     async def close(self) -> None:
         client, self._client = self._client, None
