@@ -248,7 +248,7 @@ async def center(tmp: Path, *, heartbeat_s: float, telemetry_ms: int,
                  push: dict[str, Any] | None = None) -> AsyncIterator[Any]:
     from server.center import Center
     from server.db import Database
-    from server.link import LinkTiming
+    from server.links.ednc import LinkTiming
     from server.services import machine_services
     from server.settings import load_settings
     settings = load_settings(database_url=f"sqlite:///{tmp / 'bench.db'}",

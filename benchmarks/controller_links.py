@@ -7,7 +7,7 @@ temperature's way to the applied compensation. Run by hand:
 
 * ``delivery``: a Fanuc-style five-axis machine (the test fleet's 5ax-09) gets its
   factored map (built from its simulated campaign's fit at 1 µm) through
-  :class:`~server.controllers.session.ControllerSession` over Modbus/TCP, its PMC server
+  :class:`~server.links.window.session.ControllerSession` over Modbus/TCP, its PMC server
   waiting ``delay_ms`` per request (network and scan); the time from the first write to
   the PLC's verdict, against the same push with no delay, and the requests it took.
 * ``fleet``: ``ednc serve``'s services (SQLite) with N machines registered with a modbus
@@ -268,8 +268,8 @@ async def temperature(count: int, rate: float, seconds: float) -> None:
 
 async def delivery(delay_ms: float, repeats: int) -> None:
     from protocol import Controller, MapEncoding
-    from server.controllers.modbus import ModbusMemory
-    from server.controllers.session import ControllerSession
+    from server.links.modbus import ModbusMemory
+    from server.links.window.session import ControllerSession
     from server.mapcodec import encode, with_version
     from server.push.adapter import build_for
     from tests.support.integration import FANUC_5AX, campaign

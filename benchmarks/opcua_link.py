@@ -5,7 +5,7 @@
 The machines (WindowCNC over a SiemensNC, each with its own asyncua OPC UA server,
 machine_sim/opcua_server.py) run in ``--workers`` separate processes (one holds all 100:
 the servers share the standard address space), so the center side is measured alone:
-this process holds one :class:`~server.controllers.opcua.OpcuaMemory` (asyncua client,
+this process holds one :class:`~server.links.opcua.OpcuaMemory` (asyncua client,
 user with PlcWrite) per machine, in one event loop. Measured:
 
 * connect: all sessions opened at once (login included), wall time and this process's CPU;
@@ -55,7 +55,7 @@ from protocol.ctrlmem import (  # noqa: E402
     decode_status,
     plan_map_write,
 )
-from server.controllers.opcua import OpcuaMemory  # noqa: E402
+from server.links.opcua import OpcuaMemory  # noqa: E402
 from server.mapcodec import build_for, encode  # noqa: E402
 from volumetric.model.machine import Machine, parse_machine  # noqa: E402
 from volumetric.model.model import MachineModel  # noqa: E402

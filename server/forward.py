@@ -27,7 +27,7 @@ from typing import Final
 
 from protocol import TemperatureReading, Temperatures
 from protocol.limits import MAX_LABEL_BYTES, MAX_SENSORS
-from server.link.session import LinkClosed, MachineSession
+from server.links.ednc.session import LinkClosed, MachineSession
 
 log = logging.getLogger(__name__)
 

@@ -2,7 +2,7 @@
 
 Readings arrive by MQTT (:mod:`server.mqtt`), by REST (``POST
 /api/machines/{name}/temperatures``) and in Siemens-style machines' Telemetry
-(:mod:`server.link`). All of them pass the :class:`~server.temperatures.TemperatureBoard`,
+(:mod:`server.links.ednc`). All of them pass the :class:`~server.temperatures.TemperatureBoard`,
 on which :class:`TemperatureIntake` installs its screen, so one set of rules holds for
 every path. A reading is refused (counted in ``ednc_temperatures_refused{reason}``,
 kept in the intake's recent refusals, logged at most once per machine, sensor and reason
@@ -72,7 +72,7 @@ from server.db.temperatures import NewReading
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.forward import INTERVAL_S, TemperatureForwarder
-from server.link.session import MachineSession
+from server.links.ednc.session import MachineSession
 from server.metrics import Metrics
 from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE, Settings
 from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor

@@ -10,8 +10,8 @@ which ``ednc serve`` uses): inside it run, started in this order and stopped in 
    the sessions closed) and the :class:`~server.plant.LinkPublisher` (this node's live
    links in the database for every node's dashboard; its last write comes after the
    sessions closed),
-3. the :class:`~server.link.MachineServer` on ``EDNC_MACHINE_HOST:PORT``, then the
-   :class:`~server.controllers.service.ControllerLinks` (the center as client of the
+3. the :class:`~server.links.ednc.MachineServer` on ``EDNC_MACHINE_HOST:PORT``, then the
+   :class:`~server.links.window.service.ControllerLinks` (the center as client of the
    machines registered with a ``modbus`` or ``opcua`` link; their sessions share the
    machine server's session table),
 4. the :class:`~server.intake.TemperatureIntake` (checks, stores and forwards every
@@ -30,13 +30,13 @@ from dataclasses import dataclass
 from typing import Any
 
 from server.center import Center
-from server.controllers.service import ControllerLinks
 from server.feed import Feed
 from server.heap import HeapKeeper
 from server.intake import TemperatureIntake
 from server.leasing import LeaseKeeper
-from server.link import LinkTiming, MachineServer
-from server.link.server import MAX_HANDSHAKES
+from server.links.ednc import LinkTiming, MachineServer
+from server.links.ednc.server import MAX_HANDSHAKES
+from server.links.window.service import ControllerLinks
 from server.mqtt import MqttBridge
 from server.plant import LinkPublisher
 from server.push import PushScheduler

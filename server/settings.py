@@ -162,7 +162,7 @@ class Settings(BaseSettings):
     controller_reconcile_s: float = Field(
         default=2.0, gt=0.0, le=3600.0,
         description="How often the center reads the registrations again for machines "
-                    "with a modbus or opcua link (server/controllers/service.py), s.")
+                    "with a modbus or opcua link (server/links/window/service.py), s.")
     heartbeat_s: float = Field(default=HEARTBEAT_PERIOD_MS / 1000, gt=0.0, le=3600.0)
     node_id: str = Field(default_factory=_default_node_id)
     lease_ttl_s: float = Field(

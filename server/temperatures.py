@@ -1,7 +1,7 @@
 """The last temperature of every machine's sensors, from MQTT or from Telemetry.
 
 Fanuc-style machines publish their sensors on MQTT (the bridge in :mod:`server.mqtt`);
-Siemens-style machines report them in Telemetry (:mod:`server.link`). Both land here, keyed
+Siemens-style machines report them in Telemetry (:mod:`server.links.ednc`). Both land here, keyed
 by machine and by the model's column name: the sensor ``spindle`` of a topic or of
 Telemetry is the column ``T_spindle_C`` of a measurement CSV and of a thermal model term
 (formats.md §2). The push scheduler listens for changes.

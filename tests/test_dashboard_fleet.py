@@ -28,7 +28,7 @@ from machine_sim.link import SimulatedCNC
 from machine_sim.runtime import MachineRuntime
 from protocol.backoff import Backoff
 from server.center import Center
-from server.link import LinkTiming
+from server.links.ednc import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
 from tests.support.api import API_KEY, WRITE

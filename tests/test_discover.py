@@ -11,7 +11,7 @@ import pytest
 
 from machine_sim.modbus_server import PmcModbusServer
 from machine_sim.windowcnc import WindowCNC
-from server.controllers.discover import discover, hosts_of
+from server.links.discover import discover, hosts_of
 from tests.support.cli import ednc, one_line_error
 from tests.support.integration import spec
 

@@ -2,8 +2,8 @@
 
 A Fanuc-style simulated machine serves its memory window through the Modbus/TCP Server
 function's subset (machine_sim/modbus_server.py); the center's
-:class:`~server.controllers.session.ControllerSession` writes maps into it through
-:class:`~server.controllers.modbus.ModbusMemory`. Faults are injected at every write of a
+:class:`~server.links.window.session.ControllerSession` writes maps into it through
+:class:`~server.links.modbus.ModbusMemory`. Faults are injected at every write of a
 push (the center dying after it), with writes repeated and reordered, a second center
 writing at the same time, and the PLC restarting.
 """
@@ -27,9 +27,9 @@ from machine_sim.windowcnc import WindowCNC
 from protocol import Controller, MapEncoding, TemperatureReading, Temperatures
 from protocol.ctrlmem import STATUS_AT, STATUS_SIZE, Layout, decode_status, plan_map_write
 from protocol.maptables import decode_payload
-from server.controllers.memory import LinkError
-from server.controllers.modbus import ModbusMemory
-from server.controllers.session import ControllerSession
+from server.links.modbus import ModbusMemory
+from server.links.window.memory import LinkError
+from server.links.window.session import ControllerSession
 from server.mapcodec import encode, with_version
 from server.push.adapter import build_for
 from server.temperatures import column_of

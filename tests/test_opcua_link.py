@@ -2,7 +2,7 @@
 
 A Siemens-style simulated machine serves its window (PLC data block 900) and NC data
 through a SINUMERIK-shaped OPC UA server (machine_sim/opcua_server.py); the center reaches
-it through :class:`~server.controllers.opcua.OpcuaMemory`. Checked: the server's limits
+it through :class:`~server.links.opcua.OpcuaMemory`. Checked: the server's limits
 (login, rights per user, 10 sessions, 100 ms), a map written with
 :func:`protocol.ctrlmem.plan_map_write` applied exactly as the EDNC path applies it, and
 faults (the connection dropped after every write, a corrupted buffer).
@@ -31,9 +31,9 @@ from machine_sim.windowcnc import WindowCNC
 from protocol import Controller, MapEncoding
 from protocol.ctrlmem import STATUS_AT, STATUS_SIZE, Layout, decode_status, plan_map_write
 from protocol.maptables import decode_payload
-from server.controllers.memory import LinkError
-from server.controllers.opcua import OpcuaMemory
-from server.controllers.session import ControllerSession
+from server.links.opcua import OpcuaMemory
+from server.links.window.memory import LinkError
+from server.links.window.session import ControllerSession
 from server.mapcodec import encode, with_version
 from server.push.adapter import build_for
 from server.schemas.link import OpcuaLink
@@ -323,7 +323,7 @@ async def test_the_controller_session_pushes_over_opcua_built_from_the_link() ->
         link = OpcuaLink(kind="opcua", endpoint=f"opc.tcp://127.0.0.1:{cnc.server.port}",
                          user="ednc", password_ref="env:OPCUA_UNSET_PW")
         m = cnc.machine
-        # the center resolved the reference itself (server/controllers/service.py)
+        # the center resolved the reference itself (server/links/window/service.py)
         mem = OpcuaMemory.from_spec(link, password="plc-pw")
         s = ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names, mem,
                               link="opcua", chain=m.chain, poll_s=0.1)

@@ -26,8 +26,8 @@ from server.db import Database, make_engine
 from server.db import machines as machine_repo
 from server.db.secretbox import SecretBox
 from server.events import EventKind
-from server.link import LinkTiming
-from server.link.admission import HandshakeSlots, LoginThrottle, RefusalLog
+from server.links.ednc import LinkTiming
+from server.links.ednc.admission import HandshakeSlots, LoginThrottle, RefusalLog
 from tests.support.link import (
     DEADLINE_S,
     SECRET,

@@ -30,7 +30,7 @@ from server.db.temperatures import NewReading
 from server.events import EventKind
 from server.forward import TemperatureForwarder, sensor_name
 from server.intake import TemperatureIntake, description_columns, model_columns
-from server.link import LinkTiming
+from server.links.ednc import LinkTiming
 from server.services import machine_services
 from server.settings import load_settings
 from tests.support.api import API_KEY, WRITE, running

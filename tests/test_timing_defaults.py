@@ -4,7 +4,7 @@ set of numbers: the server once sent a 10 s heartbeat where the README says 5 s.
 from __future__ import annotations
 
 from protocol.limits import HEARTBEAT_PERIOD_MS, MISSED_HEARTBEATS
-from server.link.server import LinkTiming
+from server.links.ednc.server import LinkTiming
 from server.settings import Settings
 
 

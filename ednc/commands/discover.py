@@ -1,5 +1,5 @@
 """``ednc discover``: find Modbus/TCP, OPC UA and EDNC endpoints on a network and print
-what each is, with the ``link`` its registration would take (server/controllers/discover.py).
+what each is, with the ``link`` its registration would take (server/links/discover.py).
 """
 
 from __future__ import annotations
@@ -37,7 +37,7 @@ def register(app: typer.Typer) -> None:
         import logging
 
         from ednc.inputs import float_option, int_option
-        from server.controllers.discover import discover, hosts_of
+        from server.links.discover import discover, hosts_of
 
         # a refused connection is an answer here, not a warning
         logging.getLogger("pymodbus").setLevel(logging.CRITICAL)

@@ -49,7 +49,7 @@ from server.center import Center
 from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
-from server.link.session import LinkClosed, MachineSession
+from server.links.ednc.session import LinkClosed, MachineSession
 from server.mapcodec import carries_thermal
 from server.push import steps
 from server.push.adapter import build_for, thermal_sensors

@@ -35,7 +35,7 @@ T = TypeVar("T")
 
 
 def keyed_telemetry(x: float, temperature: float | None) -> dict[str, Any]:
-    """Telemetry as ``server.link.telemetry_fields`` keeps it (mm, °C)."""
+    """Telemetry as ``server.links.ednc.telemetry_fields`` keeps it (mm, °C)."""
     return {
         "timestamp_ms": int(dt.datetime.now(dt.UTC).timestamp() * 1000),
         "state": "compensating", "map_version": 1,

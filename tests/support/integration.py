@@ -46,7 +46,7 @@ from protocol.backoff import Backoff
 from protocol.codes import MessageType
 from server.app import create_app
 from server.center import Center
-from server.link import LinkTiming
+from server.links.ednc import LinkTiming
 from server.numeric import plain_json
 from server.services import MachineServices, machine_services
 from server.settings import load_settings

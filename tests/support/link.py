@@ -34,7 +34,7 @@ from server.db import events as event_repo
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.events import EventKind
-from server.link import LinkTiming
+from server.links.ednc import LinkTiming
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
 from volumetric.model.machine import parse_machine

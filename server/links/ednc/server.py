@@ -22,7 +22,7 @@ the machine's lease after authentication and before Welcome; a machine whose lea
 node holds is refused (DUPLICATE_SESSION, "machine 'm' is owned by node X") and tries its
 next center. A session whose lease is lost is closed; its end gives the lease back.
 
-Unauthenticated peers are bounded (:mod:`server.link.admission`): a connection from an
+Unauthenticated peers are bounded (:mod:`server.links.ednc.admission`): a connection from an
 address no machine is registered at is closed at accept; handshakes are limited per
 address and in total (``max_handshakes``), a newcomer taking the slot of the longest
 waiting one when all are taken; Hello must come within ``hello_s``; failed logins delay
@@ -79,7 +79,7 @@ from server.db.tables import MachineRow
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.leasing import LeaseKeeper
-from server.link.admission import (
+from server.links.ednc.admission import (
     AddressBook,
     HandshakeSlots,
     LoginThrottle,
@@ -87,7 +87,7 @@ from server.link.admission import (
     RefusalLog,
     digest,
 )
-from server.link.session import LinkClosed, MachineSession, peer_ip
+from server.links.ednc.session import LinkClosed, MachineSession, peer_ip
 from server.temperatures import TemperatureBoard, valid_sensor
 
 log = logging.getLogger(__name__)

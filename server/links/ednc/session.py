@@ -4,7 +4,7 @@ It owns the stream and the codec and nothing else: :meth:`MachineSession.receive
 until the codec yields a message, :meth:`send` writes one frame, :meth:`push_map` sends a
 map and waits for the machine's verdict, :meth:`abort` ends the session with an Error.
 What the messages mean (handshake, telemetry, heartbeats) is the server's business
-(:mod:`server.link.server`).
+(:mod:`server.links.ednc.server`).
 
 Bounds, so that one peer cannot hurt the others: a read takes at most ``READ_BYTES`` and
 the codec holds at most one incomplete frame (8220 bytes, protocol README §2); a peer that

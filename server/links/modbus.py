@@ -18,8 +18,7 @@ from pymodbus.client import AsyncModbusTcpClient
 from pymodbus.exceptions import ModbusException
 
 from protocol.ctrlmem import ByteOrder, from_registers, to_registers
-
-from .memory import LinkError
+from server.links.window.memory import LinkError
 
 __all__ = ["MAX_READ_REGISTERS", "MAX_WRITE_REGISTERS", "ModbusMemory"]
 

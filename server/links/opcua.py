@@ -1,6 +1,6 @@
 """The OPC UA link: a SINUMERIK's PLC data block as the center's memory window.
 
-:class:`OpcuaMemory` is the :class:`~server.controllers.memory.MemoryClient` of a machine
+:class:`OpcuaMemory` is the :class:`~server.links.window.memory.MemoryClient` of a machine
 registered with an ``opcua`` link (:class:`~server.schemas.link.OpcuaLink`): the center
 logs in to the controller's OPC UA server (asyncua's client) as a user with ``PlcWrite``
 and reads and writes bytes of the window the PLC program reads (protocol/README.md §13).
@@ -16,7 +16,7 @@ S7-1500's largest PDU; a bigger write is split into PDUs by the controller anywa
 would not be more atomic, and the header-last layout needs no atomicity beyond the
 two-byte switch word).
 
-Every failure raises :class:`~server.controllers.memory.LinkError` with a text that says
+Every failure raises :class:`~server.links.window.memory.LinkError` with a text that says
 what to fix (a missing password, a refused login, a user without ``PlcWrite``, no free
 session, bytes outside the data block). Reconnecting is the session's: :meth:`close`,
 then :meth:`connect` again.
@@ -40,9 +40,8 @@ from asyncua.client.client import Client
 from asyncua.crypto import security_policies
 from asyncua.ua.attribute_ids import AttributeIds
 
+from server.links.window.memory import LinkError
 from server.schemas.link import OpcuaLink
-
-from .memory import LinkError
 
 __all__ = ["SD_NUMBERS", "AxisReading", "OpcuaMemory", "read_password"]
 

@@ -1,11 +1,11 @@
 """The center's session with a controller reached through its own server.
 
-:class:`ControllerSession` stands where a :class:`~server.link.session.MachineSession`
+:class:`ControllerSession` stands where a :class:`~server.links.ednc.session.MachineSession`
 stands for a machine that runs the EDNC client: the push scheduler, the temperature
 forwarder and the registry use it the same way (``hello.map_formats``, ``push_map``,
 ``send(Temperatures)``, ``abort``). Underneath, every link is the same: bytes read and
 written in the controller's memory window (protocol/README.md §13) through a
-:class:`~server.controllers.memory.MemoryClient` (Modbus/TCP, OPC UA).
+:class:`~server.links.window.memory.MemoryClient` (Modbus/TCP, OPC UA).
 
 * :meth:`open` reads the PLC program's identity (its machine name must be this machine's)
   and status (the last switch it handled, so a restarted center resumes the sequence and
@@ -51,7 +51,7 @@ from protocol.ctrlmem import (
 from protocol.mapformat import MapFormatError
 from protocol.maptables import decode_payload
 from protocol.messages import Temperatures
-from server.link.session import LinkClosed, Verdict
+from server.links.ednc.session import LinkClosed, Verdict
 from server.temperatures import column_of
 
 from .memory import LinkError, MemoryClient

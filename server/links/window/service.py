@@ -39,11 +39,11 @@ from server.db.tables import AppliedRow, MachineRow
 from server.events import EventKind
 from server.feed import Feed
 from server.leasing import LeaseKeeper
+from server.links.modbus import ModbusMemory
+from server.links.window.memory import LinkError, MemoryClient
 from server.schemas.link import LinkSpec, ModbusLink, OpcuaLink
 from volumetric.model.machine import parse_machine
 
-from .memory import LinkError, MemoryClient
-from .modbus import ModbusMemory
 from .session import ControllerSession, LinkAck, reason_of
 
 __all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret"]
@@ -93,7 +93,7 @@ def memory_for(spec: ModbusLink | OpcuaLink, ip: str) -> MemoryClient:
     if isinstance(spec, ModbusLink):
         return ModbusMemory(spec.host or ip, spec.port, unit_id=spec.unit_id,
                             register=spec.start_register, byte_order=spec.byte_order)
-    from .opcua import OpcuaMemory  # asyncua is imported only where OPC UA is used
+    from server.links.opcua import OpcuaMemory  # asyncua is imported only where OPC UA is used
 
     memory: MemoryClient = OpcuaMemory.from_spec(spec, password=read_secret(spec.password_ref))
     return memory

@@ -1,9 +1,9 @@
 """What the center needs of a controller's memory: read and write bytes of a window.
 
 One small interface per link (python-can's ``BusABC`` is the model): a link module
-(:mod:`server.controllers.modbus`, :mod:`server.controllers.opcua`) translates byte reads
+(:mod:`server.links.modbus`, :mod:`server.links.opcua`) translates byte reads
 and writes of the window (protocol/README.md §13) into its protocol's requests, and the
-session (:mod:`server.controllers.session`) does the rest the same way for every link.
+session (:mod:`server.links.window.session`) does the rest the same way for every link.
 """
 
 from __future__ import annotations
