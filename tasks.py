@@ -5,7 +5,8 @@
     python3 tasks.py test   # create .venv, install the project, run ruff, mypy and pytest
 
 Extra arguments after ``test`` go to pytest; after ``demo`` to ``ednc demo``.
-The virtual environment is rebuilt only when ``pyproject.toml`` changes.
+The virtual environment is rebuilt only when ``pyproject.toml`` or ``constraints.txt``
+changes; ``constraints.txt`` pins the version of every package installed.
 """
 
 from __future__ import annotations
@@ -33,14 +34,18 @@ def ensure_env() -> None:
     if sys.version_info < (3, 11):  # noqa: UP036 - tasks.py runs under any python3
         sys.exit(f"Python 3.11 or newer is needed, this is {sys.version.split()[0]}")
     stamp = VENV / ".installed"
-    want = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()).hexdigest()
+    want = hashlib.sha256((ROOT / "pyproject.toml").read_bytes()
+                          + (ROOT / "constraints.txt").read_bytes()).hexdigest()
     if stamp.exists() and stamp.read_text() == want and (BIN / "ednc").exists():
         return
     if not (BIN / "python").exists():
         print(f"creating {VENV}", flush=True)
         venv.create(VENV, with_pip=True)
-    run(BIN / "python", "-m", "pip", "install", "--quiet", "--upgrade", "pip")
-    run(BIN / "python", "-m", "pip", "install", "--quiet", "-e", ".[dev]")
+    run(BIN / "python", "-m", "pip", "install", "--quiet", "--upgrade", "pip==26.3")
+    # constraints.txt pins every package to the versions the README's figures were
+    # measured with: a newer pymodbus or asyncua changes timings and behaviour
+    run(BIN / "python", "-m", "pip", "install", "--quiet", "-c", "constraints.txt",
+        "-e", ".[dev]")
     stamp.write_text(want)
 
 
