@@ -6,6 +6,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -14,10 +15,24 @@ import numpy as np
 from ednc.cli import UserError
 from volumetric.errors import ComponentErrorSpecError, MachineSpecError
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
-from volumetric.measure.plausible import rotary_mismatch
-from volumetric.model.machine import Machine, load_machine
+from volumetric.measure.plausible import measurement_warnings, rotary_mismatch
+from volumetric.model.machine import Machine, description_warnings, load_machine
 from volumetric.model.model import MachineModel
 from volumetric.model.modelcheck import check_model
+from volumetric.plausible.files import decode_text, wrong_file
+
+
+def warn(text: str) -> None:
+    """One warning line on stderr: plausible input that looks like a unit slip all the
+    same (:mod:`volumetric.plausible`); the command goes on."""
+    print(f"ednc: warning: {text.strip()}".replace("\n", " "), file=sys.stderr)
+
+
+def checked(value: float, problem: str | None) -> float:
+    """``value``, or a UserError with ``problem`` (a plausibility refusal)."""
+    if problem is not None:
+        raise UserError(problem)
+    return value
 
 
 def parse_number(text: str, where: str) -> float:
@@ -98,19 +113,28 @@ def read_machine(path: Path) -> Machine:
     """A machine description (formats.md §1), with ``pivots_mm`` wherever a table's rotary
     axis needs it (:func:`volumetric.model.machine.missing_pivots`)."""
     try:
-        return load_machine(path, require_pivots=True)
+        machine = load_machine(path, require_pivots=True)
     except MachineSpecError as exc:
         raise UserError(str(exc)) from None
+    for w in description_warnings(machine):
+        warn(f"{path}: {w}")
+    return machine
 
 
 def read_data(path: Path) -> Measurements:
     """A measurement CSV (formats.md §2)."""
     try:
-        return read_measurements(path)
-    except (MeasurementFormatError, UnicodeDecodeError) as exc:
+        m = read_measurements(path)
+    except MeasurementFormatError as exc:
         raise UserError(str(exc)) from exc
+    except UnicodeDecodeError as exc:
+        raise UserError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start}); save "
+                        "it as UTF-8") from exc
     except OSError as exc:
         raise UserError(f"cannot read {path}: {exc.strerror or exc}") from exc
+    for w in measurement_warnings(m, str(path)):
+        warn(w)
+    return m
 
 
 _STANDARD_AXES = ("X", "Y", "Z", "A", "B", "C")
@@ -162,13 +186,18 @@ class ReadingsTravel:
 def read_model(path: Path, machine: Machine | None = None) -> MachineModel:
     """What ``ednc fit`` (or ``diagnose --out``) wrote, checked against ``machine``."""
     try:
-        data = json.loads(path.read_text())
+        raw = path.read_bytes()
     except OSError as exc:
         raise UserError(f"{path}: cannot read ({exc.strerror or exc})") from None
+    other = wrong_file(raw[:4096], str(path), "model")
+    if other is not None:
+        raise UserError(other)
+    try:
+        data = json.loads(decode_text(raw, str(path)))
     except json.JSONDecodeError as exc:
         raise UserError(f"{path}: not JSON ({exc.msg} at line {exc.lineno})") from None
-    except UnicodeDecodeError:
-        raise UserError(f"{path}: not a text file") from None
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
     except RecursionError:
         raise UserError(f"{path}: nested too deeply to be a model") from None
     try:

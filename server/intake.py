@@ -10,7 +10,11 @@ every 10 minutes, and then also recorded as an ``error`` event when the value it
 bad: not finite, out of range, too fast) when
 
 * ``not_finite``: it is NaN or infinite;
-* ``out_of_range``: it is outside the plausible range (-20..100 °C by default);
+* ``out_of_range``: it is outside the plausible range (-20..100 °C by default, the limits
+  of :mod:`volumetric.plausible.temperatures` that every entry point shares), with the
+  likely unit when one explains it (293: kelvin);
+* ``bad_time``: its time stamp is before 2000 or more than a day ahead, with the likely
+  unit (milliseconds in a seconds field, :mod:`volumetric.plausible.times`);
 * ``unknown_machine``: no machine of that name is registered;
 * ``unknown_sensor``: the sensor is not one of the machine's: the temperature columns of
   its current model's terms, or those its description lists under ``"sensors"``
@@ -78,11 +82,14 @@ from server.settings import TEMPERATURE_JUMP, TEMPERATURE_MAX_RATE, Settings
 from server.temperatures import Source, TemperatureBoard, column_of, valid_sensor
 from volumetric.model.lag import first_order_lag, lag_step
 from volumetric.model.live import LiveLag, LiveNeeds, live_needs
+from volumetric.plausible.temperatures import TEMPERATURE, temperature_problem
+from volumetric.plausible.times import stamp_problem
 
 log = logging.getLogger(__name__)
 
-PLAUSIBLE_C: Final = (-20.0, 100.0)
-"""A machine tool's temperatures in a shop; outside is a sensor or unit fault."""
+PLAUSIBLE_C: Final = (TEMPERATURE.lo, TEMPERATURE.hi)
+"""A machine tool's temperatures in a shop; outside is a sensor or unit fault: the limits
+every entry point shares (:mod:`volumetric.plausible.temperatures`)."""
 
 MAX_RATE_K_PER_S: Final = TEMPERATURE_MAX_RATE
 """Default of ``EDNC_TEMPERATURE_MAX_RATE``, K/s (why: :mod:`server.settings`)."""
@@ -116,11 +123,11 @@ weighs below e^-5 = 0.7 %), at most 50,000 of them (two days at 4 s): one query 
 sensor, for all its time constants, when the center first sees it."""
 
 REASONS: Final = ("not_finite", "out_of_range", "unknown_machine", "unknown_sensor",
-                   "too_fast", "too_many_sensors")
+                   "too_fast", "too_many_sensors", "bad_time")
 """Every reason a reading is refused for (the ``reason`` label of the counter)."""
 
 EVENT_EVERY_S: Final = 600.0
-_EVENTED: Final = frozenset({"not_finite", "out_of_range", "too_fast"})
+_EVENTED: Final = frozenset({"not_finite", "out_of_range", "too_fast", "bad_time"})
 """Refusals that say a sensor is faulty get an event; a sensor or machine the center does
 not know (a plant publishing more than the models use) only the log and the counter."""
 RELOAD_EVERY_S: Final = 2.0
@@ -392,8 +399,17 @@ class TemperatureIntake:
             return self._refuse(machine, column, celsius, source, "not_finite",
                                 f"{celsius!r} is not a finite number").text
         if not lo <= celsius <= hi:
+            # the cause when one explains it: 293 is kelvin, 21500 m°C
+            cause = temperature_problem(celsius) if (lo, hi) == PLAUSIBLE_C else None
+            why = cause.split("; ", 1)[1] if cause and "; " in cause else ""
             return self._refuse(machine, column, celsius, source, "out_of_range",
-                                f"{celsius:g} °C is outside {lo:g}..{hi:g} °C").text
+                                f"{celsius:g} °C is outside {lo:g}..{hi:g} °C"
+                                + (f"; {why}" if why else "")).text
+        # a plant system's stamp in the wrong unit; a machine's own clock (Telemetry) is
+        # the machine's business, and a lag state is the center's
+        stamp = stamp_problem(taken) if source in ("mqtt", "rest") else None
+        if stamp is not None:
+            return self._refuse(machine, column, celsius, source, "bad_time", stamp).text
         known = self._known.get(machine)
         if known is None and source == "telemetry" and machine in self.forwarder.sessions:
             # a machine with a live session here is registered and authenticated: take its

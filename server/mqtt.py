@@ -48,12 +48,11 @@ from server.db import maps as map_repo
 from server.events import EventKind
 from server.feed import Feed, Notice
 from server.temperatures import TemperatureBoard, valid_sensor
+from volumetric.plausible.temperatures import temperature_problem
+from volumetric.plausible.times import stamp_problem
 
 log = logging.getLogger(__name__)
 
-MIN_C: Final = -60.0
-MAX_C: Final = 200.0
-"""Readings outside this are not a machine tool's temperatures: a unit or sensor fault."""
 
 READ_BYTES: Final = 65536
 """Bytes read from the broker's socket in one event-loop wake-up at most: about 900
@@ -263,8 +262,15 @@ def parse_temperature(payload: bytes) -> tuple[float, float | None]:
         celsius = float(value)
     except (TypeError, ValueError):
         raise PayloadError(f"celsius must be a number, got {str(value)[:40]!r}") from None
-    if not math.isfinite(celsius) or not MIN_C <= celsius <= MAX_C:
-        raise PayloadError(f"celsius {celsius} is outside {MIN_C:g}..{MAX_C:g} °C")
+    # the limits every entry point shares, with the likely unit (293: kelvin; a time in
+    # milliseconds): MQTT, REST and the CLI refuse alike, in the same words
+    problem = temperature_problem(celsius, "celsius")
+    if problem is not None:
+        raise PayloadError(problem)
+    if stamp is not None:
+        late = stamp_problem(stamp, "timestamp_ms" if "timestamp_ms" in text else "time")
+        if late is not None:
+            raise PayloadError(late)
     return celsius, stamp
 
 

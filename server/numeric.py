@@ -19,7 +19,7 @@ from volumetric.diagnose.diagnosis import DiagnosisError, diagnose
 from volumetric.errors import MachineSpecError
 from volumetric.identify.fit import FitError, fit
 from volumetric.measure.measurement import MeasurementFormatError, Measurements, read_measurements
-from volumetric.measure.plausible import rotary_mismatch
+from volumetric.measure.plausible import measurement_warnings, rotary_mismatch
 from volumetric.model.machine import missing_pivots, parse_machine
 from volumetric.model.model import FORMAT as MODEL_FORMAT
 from volumetric.model.modelcheck import check_model as check_model_content
@@ -36,6 +36,7 @@ __all__ = [
     "count_measurement_rows",
     "diagnose_sets",
     "fit_model",
+    "measurement_check",
     "verify_diagonals",
 ]
 
@@ -82,7 +83,16 @@ def _read(text: str, source: str) -> Measurements:
 
 def count_measurement_rows(text: str, source: str,
                            description: dict[str, Any] | None = None) -> int:
-    """Validate a measurement CSV (formats.md §2) and return its number of readings.
+    """Validate a measurement CSV (formats.md §2) and return its number of readings
+    (:func:`measurement_check` without the warnings)."""
+    return measurement_check(text, source, description)[0]
+
+
+def measurement_check(text: str, source: str, description: dict[str, Any] | None = None
+                      ) -> tuple[int, list[str]]:
+    """Validate a measurement CSV (formats.md §2); its number of readings, and what in
+    them looks like a unit slip all the same (readings of 0.01 "µm" that are mm:
+    :func:`volumetric.measure.plausible.measurement_warnings`).
 
     Parameters
     ----------
@@ -106,7 +116,7 @@ def count_measurement_rows(text: str, source: str,
         problem = rotary_mismatch(m.has_rotary, m.q[:, 3:], rotary)
         if problem is not None:
             raise MeasurementError(f"{source}: {problem}")
-    return len(m)
+    return len(m), measurement_warnings(m, source)
 
 
 def check_model(body: dict[str, Any], description: dict[str, Any]) -> None:

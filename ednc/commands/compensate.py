@@ -16,18 +16,21 @@ import typer
 from numpy.typing import NDArray
 
 from ednc.cli import UserError
-from ednc.inputs import dump_json, parse_number, read_machine, read_model
+from ednc.inputs import dump_json, parse_number, read_machine, read_model, warn
 from volumetric.compensate.solver import Compensation, CompensationError, Weights, compensate
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.components import GeometricErrors
 from volumetric.model.machine import Machine
 from volumetric.model.model import MachineModel
+from volumetric.plausible.temperatures import temperature_problem, temperature_warning
 
 F64 = NDArray[np.float64]
 
 
 def parse_temperatures(items: Sequence[str]) -> dict[str, float]:
-    """``["T_x_C=21.3", ...]`` → ``{"T_x_C": 21.3}``."""
+    """``["T_x_C=21.3", ...]`` → ``{"T_x_C": 21.3}``, each within the temperature limits
+    every entry point shares (:mod:`volumetric.plausible.temperatures`: 293 is refused as
+    kelvin, 72 warned about as °F)."""
     out: dict[str, float] = {}
     for item in items:
         name, sep, value = item.partition("=")
@@ -40,6 +43,12 @@ def parse_temperatures(items: Sequence[str]) -> dict[str, float]:
             raise UserError(f"--temperature {item!r}: {value!r} is not a number") from None
         if not math.isfinite(t):
             raise UserError(f"--temperature {item!r}: the temperature must be finite")
+        problem = temperature_problem(t, f"--temperature {name}")
+        if problem is not None:  # the limits every entry point shares
+            raise UserError(problem)
+        hot = temperature_warning([t], f"--temperature {name}")
+        if hot is not None:
+            warn(hot)
         if name in out:
             raise UserError(f"--temperature: {name} given twice")
         out[name] = t

@@ -355,13 +355,14 @@ def _effects(specs: list[str], sensors: tuple[str, ...]) -> Any:
 def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
                         truth: Path | None, seed: int) -> None:
     """The campaign mode (module docstring)."""
+    from ednc.inputs import warn
     from machine_sim.campaign import standard_campaign, write_campaign
     from machine_sim.instruments import SimulatedMachine
     from machine_sim.testprograms import RTestSetupError
     from machine_sim.thermal import default_thermal
     from machine_sim.truth import random_geometry
     from volumetric.errors import MachineSpecError
-    from volumetric.model.machine import load_machine
+    from volumetric.model.machine import description_warnings, load_machine, metres_problem
 
     if machine_path is None:
         raise UserError("--campaign needs --machine M.json")
@@ -369,6 +370,11 @@ def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
         m = load_machine(machine_path, require_pivots=True)
     except MachineSpecError as exc:
         raise UserError(str(exc)) from exc
+    metres = metres_problem(m)
+    if metres is not None:  # a campaign needs room on every axis: nothing to measure
+        raise UserError(f"{machine_path}: {metres}")
+    for w in description_warnings(m):
+        warn(f"{machine_path}: {w}")
     rng = np.random.default_rng(seed)
     effects = _effects(effect, default_thermal(m).names)
     try:
@@ -377,8 +383,8 @@ def write_campaign_file(out: Path, machine_path: Path | None, effect: list[str],
         raise UserError(str(exc)) from exc
     try:
         meas = standard_campaign(sim, rng)
-    except RTestSetupError as exc:
-        raise UserError(str(exc)) from exc
+    except (RTestSetupError, ValueError) as exc:  # e.g. a travel too short for a test
+        raise UserError(f"{machine_path}: no campaign on this machine: {exc}") from exc
     try:
         write_campaign(out, meas)
         if truth is not None:

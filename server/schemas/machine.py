@@ -29,12 +29,14 @@ from protocol.limits import MAX_NAME_BYTES
 from server.numeric import check_machine_description
 from server.schemas.common import check_json_object
 from server.schemas.link import LinkSpec
+from volumetric.plausible.lengths import LINEAR_POSITION, TOOL_LENGTH
 
-MAX_LENGTH_MM: Final = 100_000.0
-"""Largest travel end or tool length, mm (degrees for rotary travels): 100 m is beyond any
-machine tool, and keeps every grid coordinate of a map far inside what a Fanuc map's int32
-increments hold (±2.1e6 mm at 0.001 mm). A travel of [0, 1e308] passes as a float but
-no map can be built over it."""
+MAX_LENGTH_MM: Final = LINEAR_POSITION.hi
+"""Largest travel end, mm (degrees for rotary travels; the core refuses beyond ±36 000°):
+100 m is beyond any machine tool, and keeps every grid coordinate of a map far inside what
+a Fanuc map's int32 increments hold (±2.1e6 mm at 0.001 mm). A travel of [0, 1e308]
+passes as a float but no map can be built over it. The limits every entry point shares
+(:mod:`volumetric.plausible`)."""
 
 MAX_SECRET_BYTES: Final = 256
 """A secret's longest UTF-8 form: sealed (server/db/secretbox.py) it fits its column."""
@@ -53,7 +55,7 @@ Chain = Annotated[str, StringConstraints(min_length=1, max_length=64,
 TypeNumber = Annotated[int, Field(ge=0, le=99)]
 FiniteFloat = Annotated[float, Field(allow_inf_nan=False)]
 Length = Annotated[float, Field(allow_inf_nan=False, ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM)]
-ToolLength = Annotated[float, Field(allow_inf_nan=False, ge=0.0, le=MAX_LENGTH_MM,
+ToolLength = Annotated[float, Field(allow_inf_nan=False, ge=TOOL_LENGTH.lo, le=TOOL_LENGTH.hi,
                                     description="gauge line to tool tip, mm (>= 0)")]
 Secret = Annotated[
     SecretStr,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import datetime as dt
 
-from pydantic import BaseModel
+from pydantic import BaseModel, Field
 
 
 class MeasurementSetPublic(BaseModel):
@@ -15,3 +15,7 @@ class MeasurementSetPublic(BaseModel):
     row_count: int
     size_bytes: int
     created_at: dt.datetime
+    warnings: list[str] = Field(
+        default_factory=list, description="On upload: what in the accepted readings looks "
+        "like a unit slip all the same (readings of 0.01 µm that are mm, temperatures hot "
+        "enough to be °F); empty otherwise.")

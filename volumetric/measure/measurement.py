@@ -63,6 +63,8 @@ from volumetric.measure.readings import (
     Measurements,
     subsample,
 )
+from volumetric.plausible.columns import unit_column_problem
+from volumetric.plausible.files import dialect_problem, utf8_stream, wrong_file
 
 __all__ = [
     "OPTIONAL_ROTARY",
@@ -228,10 +230,21 @@ def _name(source: str | Path | TextIO) -> str:
     return label if isinstance(label, str) else "<stream>"
 
 
-def _binary(source: str | Path | TextIO) -> BinaryIO:
+def _binary(name: str, source: str | Path | TextIO) -> BinaryIO:
+    """The source as UTF-8 bytes (a UTF-16 file with its mark recoded on the fly)."""
     if isinstance(source, (str, Path)):
-        return Path(source).open("rb")
+        fh = Path(source).open("rb")  # noqa: SIM115 - returned open, closed by the caller
+        try:
+            return utf8_stream(fh, name)
+        except ValueError as exc:
+            fh.close()
+            raise MeasurementFormatError(name, str(exc).removeprefix(f"{name}: ")) from None
     return io.BytesIO(source.read().encode("utf-8"))
+
+
+WANTED_UNITS = {"x": "mm", "y": "mm", "z": "mm", "a": "deg", "b": "deg", "c": "deg",
+                "tool": "mm", "time": "s", "value": "um", "T": "C"}
+"""The format's columns that carry a unit, by stem (formats.md section 2)."""
 
 
 def _split_header(name: str, blocks: Iterator[TextBlock]) -> tuple[list[str], TextBlock]:
@@ -248,13 +261,28 @@ def _split_header(name: str, blocks: Iterator[TextBlock]) -> tuple[list[str], Te
         raise MeasurementFormatError(name, "blank line before the header", line=1)
     first, _, body = head.data.partition(b"\n")
     try:
-        header = [c.strip() for c in next(csv.reader([first.decode("utf-8")]))]
+        first_text = first.decode("utf-8")
+        header = [c.strip() for c in next(csv.reader([first_text]))]
+    except UnicodeDecodeError as exc:
+        raise MeasurementFormatError(name, f"not UTF-8 text (byte {exc.start} of the header: "
+                                     f"{first[exc.start:exc.start + 1]!r}); save it as "
+                                     "UTF-8", line=1) from None
     except csv.Error as exc:
         raise MeasurementFormatError(name, f"unreadable header: {exc}", line=1) from None
+    other = wrong_file(head.data[:4096], name, "measurements")
+    if other is not None:
+        raise MeasurementFormatError(name, other.removeprefix(f"{name}: "))
+    row = body.partition(b"\n")[0].decode("utf-8", errors="replace")
+    dialect = dialect_problem(first_text, row, name)
+    if dialect is not None:
+        raise MeasurementFormatError(name, dialect.removeprefix(f"{name}: "), line=1)
     return header, TextBlock(body, 2, head.last, head.consumed)
 
 
 def _check_header(name: str, header: list[str]) -> None:
+    slip = unit_column_problem(header, WANTED_UNITS)
+    if slip is not None:
+        raise MeasurementFormatError(name, slip, line=1)
     seen: set[str] = set()
     for k, col in enumerate(header, start=1):
         if not col:
@@ -280,7 +308,7 @@ def _parsed_blocks(name: str, source: str | Path | TextIO, progress: Progress | 
                    ) -> Iterator[tuple[Measurements, dict[str, RawText]]]:
     """The source's blocks, each parsed (pyarrow first, the careful parser when it cannot
     be sure) and validated: the readings and the extra columns' cells as written."""
-    with _binary(source) as fh:
+    with _binary(name, source) as fh:
         blocks = text_blocks(fh)
         header, first = _split_header(name, blocks)
         _check_header(name, header)
@@ -304,6 +332,13 @@ def _parse(name: str, header: list[str], numeric: frozenset[str], block: TextBlo
     """One block's columns and the line of each row (an array, or the first row's line when
     the rows are consecutive lines); None for a block without readings."""
     data = block.data
+    try:
+        data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        line = block.first_line + data[:exc.start].count(b"\n")
+        raise MeasurementFormatError(
+            name, f"not UTF-8 text ({data[exc.start:exc.start + 1]!r}, e.g. a '°' or 'µ' "
+            "saved as Latin-1 or Windows-1252); save the file as UTF-8", line=line) from None
     # trailing blank lines end a file harmlessly; the fast parser must not count them
     trimmed = data.rstrip() if block.last else data
     if blank.line is None and b'"' not in data and trimmed:

@@ -1,63 +1,61 @@
 """Plausible sizes of a measurement CSV's numbers (formats.md section 2), one rule per
-quantity, that every reader applies (the offline commands and the service's uploads).
+column, from the limits every entry point shares (:mod:`volumetric.plausible`), that every
+reader applies (the offline commands and the service's uploads).
 
 A number can be finite and still be nonsense: a reading of 1e9 µm (a metre) fits as a
-21,654,072 µm RMS, a reading of 1e300 µm overflows the normal equations into NaN. The
-limits are far beyond any machine tool's errors yet far below what breaks the arithmetic,
-so they refuse only a wrong unit, a wrong column or a corrupt file:
-
-=============== ================================ =========================================
-quantity        limit                            why
-=============== ================================ =========================================
-displacement    abs(value) <= 10 000 µm          a tool-tip error of 10 mm is a crash, not
-                                                 a geometric error
-angle           abs(value) <= 100 000 µrad       0.1 rad (5.7°) of tilt
-x_mm y_mm z_mm  abs <= 100 000 mm                100 m, beyond the largest gantry
-a/b/c_deg       abs <= 36 000°                   a hundred turns of a rotary table
-tool_mm         0 <= tool_mm <= 10 000 mm        a length from the gauge line, as in the
-                                                 machine description
-time_s          abs <= 3.2e9 s                   a century of campaign
-T_<sensor>_C    -100 °C <= T <= 300 °C           any shop floor, spindle or coolant
-=============== ================================ =========================================
+21,654,072 µm RMS, a reading of 1e300 µm overflows the normal equations into NaN, a
+temperature of 293 is kelvin. The limits refuse only a wrong unit, a wrong column or a
+corrupt file, and say which unit the numbers look like where one explains them; what
+real data could also look like (readings of 0.01 "µm" that are mm, a hall at 70 "°C"
+that is °F) is warned about instead (:func:`measurement_warnings`).
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["LIMITS", "Limit", "implausible", "rotary_mismatch"]
+from volumetric.plausible.angles import ANGLE, ROTARY_POSITION, angle_cause, angle_warning
+from volumetric.plausible.displacements import (
+    DISPLACEMENT,
+    displacement_cause,
+    displacement_warning,
+)
+from volumetric.plausible.lengths import LINEAR_POSITION, TOOL_LENGTH, length_cause
+from volumetric.plausible.limit import Limit
+from volumetric.plausible.temperatures import TEMPERATURE, temperature_problem, temperature_warning
+from volumetric.plausible.times import CAMPAIGN_TIME, campaign_time_warning
 
+if TYPE_CHECKING:
+    from volumetric.measure.readings import Measurements
 
-@dataclass(frozen=True)
-class Limit:
-    """The accepted closed range of a column, and its unit for the message."""
+__all__ = ["LIMITS", "Limit", "implausible", "measurement_warnings", "rotary_mismatch"]
 
-    lo: float
-    hi: float
-    unit: str
-    what: str
-
-    def text(self) -> str:
-        return f"{self.what} must lie within [{self.lo:g}, {self.hi:g}] {self.unit}"
-
-
-DISPLACEMENT_UM = 10_000.0
-ANGLE_URAD = 100_000.0
+DISPLACEMENT_UM = DISPLACEMENT.hi
+ANGLE_URAD = ANGLE.hi
 LIMITS: Mapping[str, Limit] = {
-    **{c: Limit(-100_000.0, 100_000.0, "mm", "a linear position") for c in
-       ("x_mm", "y_mm", "z_mm")},
-    **{c: Limit(-36_000.0, 36_000.0, "°", "a rotary position") for c in
-       ("a_deg", "b_deg", "c_deg")},
-    "tool_mm": Limit(0.0, 10_000.0, "mm", "a tool length"),
-    "time_s": Limit(-3.2e9, 3.2e9, "s", "a campaign time"),
+    **{c: LINEAR_POSITION for c in ("x_mm", "y_mm", "z_mm")},
+    **{c: ROTARY_POSITION for c in ("a_deg", "b_deg", "c_deg")},
+    "tool_mm": TOOL_LENGTH,
+    "time_s": CAMPAIGN_TIME,
 }
-TEMPERATURE = Limit(-100.0, 300.0, "°C", "a temperature")
-READING = {False: Limit(-DISPLACEMENT_UM, DISPLACEMENT_UM, "µm", "a displacement reading"),
-           True: Limit(-ANGLE_URAD, ANGLE_URAD, "µrad", "an angle reading")}
+READING = {False: Limit(DISPLACEMENT.lo, DISPLACEMENT.hi, "µm", "a displacement reading"),
+           True: Limit(ANGLE.lo, ANGLE.hi, "µrad", "an angle reading")}
+
+
+def _cause(col: str, values: NDArray[np.float64], angle: bool) -> str | None:
+    """The likely unit slip of a column's refused values, or None."""
+    if col == "value":
+        return angle_cause(values) if angle else displacement_cause(values)
+    if col in ("x_mm", "y_mm", "z_mm", "tool_mm"):
+        return length_cause(values[:1000].tolist())
+    if col.startswith("T_"):
+        problem = temperature_problem(float(values[0]))
+        return problem.split("; ", 1)[1] if problem and "; " in problem else None
+    return None
 
 
 def implausible(columns: Mapping[str, NDArray[np.float64]], is_angle: NDArray[np.bool_],
@@ -85,7 +83,7 @@ def implausible(columns: Mapping[str, NDArray[np.float64]], is_angle: NDArray[np
         v = columns[col]
         checks.append((col, (v < TEMPERATURE.lo) | (v > TEMPERATURE.hi), TEMPERATURE))
     value = columns["value"]
-    bound = np.where(is_angle, ANGLE_URAD, DISPLACEMENT_UM)
+    bound = np.where(is_angle, ANGLE_URAD, DISPLACEMENT_UM)  # symmetric limits
     checks.append(("value", np.abs(value) > bound, None))  # None: by the row's quantity
     first: tuple[int, str, str] | None = None
     for col, bad, fixed in checks:
@@ -93,9 +91,13 @@ def implausible(columns: Mapping[str, NDArray[np.float64]], is_angle: NDArray[np
         if rows.size and (first is None or int(rows[0]) < first[0]):
             i = int(rows[0])
             cell = float(columns[col][i])
-            limit = fixed if fixed is not None else READING[bool(is_angle[i])]
-            first = (i, col, f"{limit.text()} (got {cell:g}); check the unit and the "
-                             f"column ({rows.size} such rows in this block)")
+            angle = bool(is_angle[i])
+            limit = fixed if fixed is not None else READING[angle]
+            same = rows if fixed is not None else rows[is_angle[rows] == angle]
+            cause = _cause(col, columns[col][same], angle)
+            first = (i, col, f"{limit.text()} (got {cell:g}); "
+                             f"{cause or 'check the unit and the column'} ({rows.size} "
+                             "such rows in this block)")
     if first is None:
         return None
     i, col, message = first
@@ -129,3 +131,17 @@ def rotary_mismatch(has_rotary: tuple[bool, bool, bool], rotary_q: NDArray[np.fl
             return (f"column {column} moves axis {axis}, which the machine does not have; "
                     "check the description's chain")
     return None
+
+
+def measurement_warnings(m: Measurements, name: str) -> list[str]:
+    """What in plausible readings looks like a unit slip all the same (module docstring):
+    displacements or angles too small to be µm or µrad, temperature columns hot enough
+    to be °F, a campaign long enough to be milliseconds. One line each, naming ``name``."""
+    out = [
+        displacement_warning(m.value[~m.is_angle], f"{name}: displacement readings"),
+        angle_warning(m.value[m.is_angle], f"{name}: angle readings"),
+        campaign_time_warning(m.time_s, f"{name}: time_s"),
+    ]
+    out += [temperature_warning(m.temperatures[s], f"{name}: {c}")
+            for s, c in m.temperature_columns.items()]
+    return [w for w in out if w is not None]

@@ -33,6 +33,15 @@ from numpy.typing import NDArray
 
 from volumetric.errors import MachineSpecError
 from volumetric.model.typenumbers import chain_for_type_numbers
+from volumetric.plausible.angles import ROTARY_POSITION, rotary_travel_warning
+from volumetric.plausible.files import decode_text, wrong_file
+from volumetric.plausible.lengths import (
+    LINEAR_POSITION,
+    TOOL_LENGTH,
+    length_cause,
+    linear_travels_problem,
+    short_travel_warning,
+)
 
 Side = Literal["workpiece", "tool"]
 Kind = Literal["linear", "rotary"]
@@ -250,24 +259,50 @@ def _travel(
     limit, unit = ((MAX_ROTARY_TRAVEL_DEG, "°") if kind == "rotary" else
                    (MAX_LINEAR_TRAVEL_MM, " mm"))
     if max(abs(lo), abs(hi)) > limit:
+        cause = length_cause([lo, hi]) if kind == "linear" else None
         raise MachineSpecError(
             f"travel_mm.{key}: [{lo:g}, {hi:g}] reaches beyond ±{limit:g}{unit}, more than "
-            f"any {'rotary' if kind == 'rotary' else 'linear'} axis travels; check the unit "
-            f"(travel_mm is in mm, rotary axes in degrees)")
+            f"any {'rotary' if kind == 'rotary' else 'linear'} axis travels; "
+            + (cause or "check the unit (travel_mm is in mm, rotary axes in degrees)"))
     return (lo, hi)
 
 
-MAX_LINEAR_TRAVEL_MM = 100_000.0
+MAX_LINEAR_TRAVEL_MM = LINEAR_POSITION.hi
 """Largest |end| of a linear axis's travel, mm: 100 m, beyond the largest gantry. Past it a
 description is a unit slip (µm for mm), and the kinematics would work with positions whose
-squares overflow the arithmetic a map build does."""
-MAX_TOOL_LENGTH_MM = 10_000.0
+squares overflow the arithmetic a map build does (:mod:`volumetric.plausible.lengths`)."""
+MAX_TOOL_LENGTH_MM = TOOL_LENGTH.hi
 """Longest tool, mm (the measurement CSV's ``tool_mm`` has the same limit)."""
-MAX_ROTARY_TRAVEL_DEG = 36_000.0
+MAX_ROTARY_TRAVEL_DEG = ROTARY_POSITION.hi
 """Largest |end| of a rotary axis's travel, degrees: a hundred turns."""
+
+
+def description_warnings(machine: Machine) -> list[str]:
+    """What in an accepted description looks like a unit slip all the same: every linear
+    travel within 2 mm, or one under 10 mm (metres?), a rotary one within ±2π (radians?).
+    One line each. Warned, not refused: a spindle's thermal test that moves no axis is
+    described with travels of 1 mm (the FL data set of tests/data)."""
+    out = []
+    metres = metres_problem(machine)
+    if metres is not None:
+        return [f"machine {machine.name!r}: {metres}"]
+    for a in machine.axes:
+        lo, hi = a.travel
+        w = (rotary_travel_warning(a.key, lo, hi) if a.kind == "rotary" else
+             short_travel_warning(a.key, lo, hi))
+        if w is not None:
+            out.append(f"machine {machine.name!r}: {w}")
+    return out
 PIVOT_MARGIN_MM = 10.0
 """How far inside the linear travels a table's rotary axis must pass when its pivot is
 left at the default origin (the smallest R-test ball radius, machine_sim.testprograms)."""
+
+
+def metres_problem(machine: Machine) -> str | None:
+    """Why every linear travel of ``machine`` looks like metres, or None
+    (:func:`volumetric.plausible.lengths.linear_travels_problem`)."""
+    return linear_travels_problem({a.key: a.travel for a in machine.axes
+                                   if a.kind == "linear"})
 
 
 def missing_pivots(spec: Mapping[str, Any], machine: Machine) -> str | None:
@@ -474,12 +509,17 @@ def load_machine(path: str | Path, *, require_pivots: bool = False) -> Machine:
     """
     p = Path(path)
     try:
-        spec = json.loads(p.read_text())
+        data = p.read_bytes()
     except OSError as exc:
         raise MachineSpecError(f"{p}: cannot read ({exc.strerror or exc})") from None
-    except UnicodeDecodeError:
-        raise MachineSpecError(f"{p}: not a text file (UTF-8 JSON expected)") from None
-    except json.JSONDecodeError as exc:
+    other = wrong_file(data[:4096], str(p), "machine")
+    if other is not None:
+        raise MachineSpecError(other)
+    try:
+        spec = json.loads(decode_text(data, str(p)))
+    except ValueError as exc:
+        if not isinstance(exc, json.JSONDecodeError):
+            raise MachineSpecError(str(exc)) from None
         raise MachineSpecError(f"{p}: not JSON ({exc.msg} at line {exc.lineno})") from None
     except RecursionError:
         raise MachineSpecError(f"{p}: nested too deeply to be a machine description") from None

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import asyncio
+import logging
 import re
 from pathlib import PurePath
 from typing import Annotated, Any
@@ -15,9 +16,12 @@ from server.api.errors import NOT_FOUND, WRITE, unprocessable
 from server.db import Database, DuplicateError
 from server.db import measurements as measurement_repo
 from server.db.tables import MachineRow, MeasurementSetRow
-from server.numeric import MeasurementError, count_measurement_rows
+from server.numeric import MeasurementError, measurement_check
 from server.schemas.common import NAME_PATTERN
 from server.schemas.measurement import MeasurementSetPublic
+from volumetric.plausible.files import decode_text
+
+log = logging.getLogger(__name__)
 
 router = APIRouter(
     prefix="/machines/{name}/measurements", tags=["measurements"], responses=NOT_FOUND
@@ -83,10 +87,10 @@ def _decode(data: bytes, source: str) -> str:
     if len(data) > MAX_UPLOAD_BYTES:
         raise HTTPException(status.HTTP_413_CONTENT_TOO_LARGE,
                             f"upload larger than {MAX_UPLOAD_BYTES} bytes")
-    try:
-        text = data.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise _unprocessable(f"{source}: not UTF-8 text (byte {exc.start})") from None
+    try:  # UTF-8, or UTF-16 with its mark (as the offline reader takes it)
+        text = decode_text(data, source)
+    except ValueError as exc:
+        raise _unprocessable(str(exc)) from None
     if "\x00" in text:
         raise _unprocessable(f"{source}: contains NUL characters; is it a binary file?")
     return text
@@ -115,8 +119,8 @@ async def upload_measurements(
     source = filename or set_name or "upload.csv"
     text = _decode(data, source)
     try:
-        rows = await asyncio.to_thread(count_measurement_rows, text, source,
-                                       machine.description)
+        rows, warnings = await asyncio.to_thread(measurement_check, text, source,
+                                                 machine.description)
     except MeasurementError as exc:
         raise _unprocessable(str(exc)) from None
     name = set_name
@@ -130,7 +134,9 @@ async def upload_measurements(
                            csv_text=text, row_count=rows)
     except DuplicateError as exc:
         raise HTTPException(status.HTTP_409_CONFLICT, str(exc)) from None
-    return set_public(row, machine.name)
+    for w in warnings:
+        log.warning("measurements of %s: %s", machine.name, w)
+    return set_public(row, machine.name).model_copy(update={"warnings": warnings})
 
 
 @router.get("")
