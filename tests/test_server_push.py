@@ -5,6 +5,8 @@ uses gives a new version, rejections and silence are recorded."""
 from __future__ import annotations
 
 import asyncio
+import threading
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from machine_sim.lookup import GridMap
@@ -215,6 +217,37 @@ async def test_a_rejected_map_is_recorded_with_its_reason(tmp_path: Path) -> Non
         assert "APPLY_FAILED: PMC busy" in rejected[0].detail
         assert r.center.metrics.pushes.labels(outcome="rejected")._value.get() == 1
         raw.close()
+
+
+async def test_an_answer_just_before_the_machine_leaves_is_kept(tmp_path: Path) -> None:
+    # The race behind test_a_reconnecting_machine_gets_the_current_map_again's rare
+    # failures: the machine acks and closes at once; the push task queues the database
+    # write of the answer, the session's end cancels the task, and a write still queued
+    # behind busy worker threads (a loaded machine) was cancelled with it: a delivery the
+    # machine applied stayed unanswered. Here the one worker thread is held busy so that
+    # the write is queued when the session ends, every time.
+    loop = asyncio.get_running_loop()
+    loop.set_default_executor(ThreadPoolExecutor(max_workers=1))
+    gate = threading.Event()
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path) as r:
+        mid = await r.register(model=model_body())
+        raw, _, _, version = await raw_session(r.port)
+        held = loop.run_in_executor(None, gate.wait, DEADLINE_S)
+        raw.writer.write(raw.conn.send(MapAck(version)))
+        raw.close()
+        await until(lambda: not r.center.registry.get("vmc-01").connected)
+        gate.set()
+        await held
+
+        async def answered() -> bool:
+            rows = await r.db.run(map_repo.list_applied, mid)
+            return bool(rows) and (rows[0].acked or rows[0].reject_reason is not None)
+
+        async with asyncio.timeout(5.0):  # queued writes run at once when the gate opens
+            await until(answered)
+        rows = await r.db.run(map_repo.list_applied, mid)
+        assert [(d.map_version, d.acked) for d in rows] == [(1, True)]
+        assert (await r.events(EventKind.APPLIED))[0].detail == "map version 1 applied"
 
 
 async def test_no_verdict_in_time_closes_the_session(tmp_path: Path) -> None:

@@ -368,10 +368,14 @@ class PushScheduler:
     async def _record_answer(self, applied_id: int, name: str, kind: EventKind, *,
                              acked: bool, reason: str | None, detail: str) -> None:
         """Store the machine's answer; a machine deleted meanwhile (its delivery rows went
-        with it) is logged, not fatal: the next refresh closes its session."""
+        with it) is logged, not fatal: the next refresh closes its session.
+
+        Shielded: a machine that answers and closes at once ends its session, which
+        cancels this task; a write still queued behind busy worker threads would be
+        cancelled with it, and an answer the center received lost."""
         try:
-            await self.db.run(steps.record_answer, applied_id, name, kind, acked=acked,
-                              reason=reason, detail=detail)
+            await asyncio.shield(self.db.run(steps.record_answer, applied_id, name, kind,
+                                             acked=acked, reason=reason, detail=detail))
         except SQLAlchemyError as exc:
             log.warning("%s: answer to delivery %d not stored: %s", name, applied_id,
                         str(exc).splitlines()[0])
