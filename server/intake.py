@@ -383,6 +383,22 @@ class TemperatureIntake:
                                    "the board keeps no more distinct sensors")
         return refusal
 
+    def forget(self, machine: str) -> None:
+        """Forget everything held for ``machine`` (deleted or renamed): its readings on the
+        board, its lag states, its cached sensors, readings waiting for it and its recent
+        refusals, so that a new machine of the same name starts clean."""
+        self.board.forget(machine)
+        self._known.pop(machine, None)
+        self._reloaded.pop(machine, None)
+        self._deferred.pop(machine, None)
+        self._orphans.pop(machine, None)
+        for key in [k for k in self._lag_states if k[0] == machine]:
+            del self._lag_states[key]
+        kept = [r for r in self.refusals if r.machine != machine]
+        self.refusals.clear()
+        self.refusals.extend(kept)
+        self.forwarder.forget(machine)
+
     def forward(self, machine: str) -> None:
         """Send ``machine`` every forwardable reading the board holds, as soon as the
         forwarding interval allows (what happens by itself when it connects)."""
@@ -399,12 +415,11 @@ class TemperatureIntake:
             return self._refuse(machine, column, celsius, source, "not_finite",
                                 f"{celsius!r} is not a finite number").text
         if not lo <= celsius <= hi:
-            # the cause when one explains it: 293 is kelvin, 21500 m°C
-            cause = temperature_problem(celsius) if (lo, hi) == PLAUSIBLE_C else None
-            why = cause.split("; ", 1)[1] if cause and "; " in cause else ""
-            return self._refuse(machine, column, celsius, source, "out_of_range",
-                                f"{celsius:g} °C is outside {lo:g}..{hi:g} °C"
-                                + (f"; {why}" if why else "")).text
+            # the words of every entry point, with the cause when one explains it (293
+            # is kelvin, 21500 m°C); a center configured with other limits says those
+            text = (temperature_problem(celsius) if (lo, hi) == PLAUSIBLE_C else None) \
+                or f"{celsius:g} °C is outside {lo:g}..{hi:g} °C"
+            return self._refuse(machine, column, celsius, source, "out_of_range", text).text
         # a plant system's stamp in the wrong unit; a machine's own clock (Telemetry) is
         # the machine's business, and a lag state is the center's
         stamp = stamp_problem(taken) if source in ("mqtt", "rest") else None

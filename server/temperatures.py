@@ -139,6 +139,15 @@ class TemperatureBoard:
         per = self._readings.get(machine, {})
         return {c: per[c].celsius for c in wanted if c in per}
 
+    def forget(self, machine: str) -> int:
+        """Drop every reading of ``machine`` (deleted or renamed: a new machine of the same
+        name must not inherit its sensors). Returns how many went."""
+        per = self._readings.pop(machine, {})
+        self._count -= len(per)
+        for column in per:
+            self.notes.pop((machine, column), None)
+        return len(per)
+
     def mark_stale(self, *, source: Source | None = None) -> int:
         """Mark readings stale: all of ``source`` (its feed went away), or, without
         ``source``, those older than ``stale_after_s``. Returns how many changed."""

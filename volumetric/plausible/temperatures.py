@@ -48,7 +48,9 @@ def temperature_problem(value: float, where: str = "") -> str | None:
         return f"{where + ': ' if where else ''}{value!r} is not a finite temperature"
     cause = (looks_like(likely_unit([value], _SLIPS, _SHOP_C), "°C")
              if value > TEMPERATURE.hi else None)
-    return (f"{where + ': ' if where else ''}" + TEMPERATURE.refusal(value, cause))
+    return (f"{where + ': ' if where else ''}{value:g} °C is outside {TEMPERATURE.lo:g}.."
+            f"{TEMPERATURE.hi:g} °C, a machine tool's temperatures"
+            + (f"; {cause}" if cause else ""))
 
 
 def check_temperature(value: float, where: str = "") -> float:

@@ -10,6 +10,7 @@ from pydantic import ValidationError
 
 from server.api.deps import CenterDep, DatabaseDep, MachineDep, WriteAccess
 from server.api.errors import NOT_FOUND, WRITE
+from server.center import Center
 from server.db import DuplicateError
 from server.db import live_links as live_repo
 from server.db import machines as machine_repo
@@ -86,8 +87,18 @@ async def update_machine(
         raise HTTPException(status.HTTP_404_NOT_FOUND, f"no machine named {machine.name!r}")
     if row.name != machine.name:
         center.registry.forget(machine.name)
+        _forget_temperatures(center, machine.name)
         await center.db.run(live_repo.forget, machine.name)
     return machine_public(row)
+
+
+def _forget_temperatures(center: Center, name: str) -> None:
+    """A deleted or renamed machine's temperatures go with it: a new machine of that name
+    would otherwise show the old sensors (as stale) and have them forwarded."""
+    if center.intake is not None:
+        center.intake.forget(name)
+    elif center.temperatures is not None:
+        center.temperatures.forget(name)
 
 
 @router.delete("/{name}", status_code=status.HTTP_204_NO_CONTENT, dependencies=[WriteAccess],
@@ -96,5 +107,6 @@ async def delete_machine(center: CenterDep, machine: MachineDep) -> Response:
     """Remove a machine with its models, measurements, maps and reports (events stay)."""
     await center.db.run(machine_repo.delete_machine, machine.name)
     center.registry.forget(machine.name)
+    _forget_temperatures(center, machine.name)
     await center.db.run(live_repo.forget, machine.name)  # its plant-wide live link too
     return Response(status_code=status.HTTP_204_NO_CONTENT)
