@@ -25,7 +25,18 @@ BIN = VENV / "bin"
 
 def run(*cmd: str | os.PathLike[str]) -> None:
     print("+", " ".join(str(c) for c in cmd), flush=True)
-    code = subprocess.call([str(c) for c in cmd], cwd=ROOT)
+    proc = subprocess.Popen([str(c) for c in cmd], cwd=ROOT)
+    try:
+        code = proc.wait()
+    except KeyboardInterrupt:
+        # Ctrl-C reached the command too (one process group): let it stop in its own
+        # words, then end quietly with the shell's code for SIGINT, no traceback
+        try:
+            code = proc.wait(timeout=30)
+        except (KeyboardInterrupt, subprocess.TimeoutExpired):
+            proc.kill()
+            code = 130
+        sys.exit(code if code >= 0 else 130)
     if code != 0:
         sys.exit(code)
 

@@ -36,12 +36,20 @@ def call(method: str, api: str, path: str, key: str | None, *,
         r = httpx.request(method, url, json=body, headers=headers, timeout=30.0)
     except httpx.InvalidURL as exc:
         raise UserError(f"--api {api!r}: not a URL ({exc})") from None
+    except httpx.ConnectError:
+        raise Unreachable(f"nothing is listening at {api}: is 'ednc serve' running there "
+                          "(it says its HTTP address in its first line; give it with "
+                          "--api)?") from None
     except httpx.HTTPError as exc:
         raise Unreachable(f"cannot reach the center at {api}: {exc or type(exc).__name__}; "
                         "is 'ednc serve' running there (give its URL with --api)?") from None
     if r.status_code in (401, 403):
-        raise UserError(f"the center at {api} refused the API key ({r.status_code}); give "
-                        "the key of its EDNC_API_KEY with --api-key (or EDNC_API_KEY)")
+        what = ("no API key was given" if not key else
+                "it refused the API key")
+        raise UserError(f"the center at {api} answered {r.status_code}: {what}; give the "
+                        "key of its EDNC_API_KEY with --api-key (or EDNC_API_KEY). If you "
+                        "started a center yourself, check that it is the one at that "
+                        "address (another center, e.g. a running demo, may hold the port)")
     return r
 
 

@@ -12,8 +12,22 @@ import pkgutil
 import sys
 
 import typer
+from typer.core import TyperOption
 
 from ednc import commands
+
+_type_label = TyperOption.display_type_rich
+
+
+def _flag_label(self: TyperOption, ctx: typer.Context) -> str | None:
+    """No type after a flag in the help: ``--json <bool>`` read as "give a value", and
+    ``--json true`` then fails (a flag takes none)."""
+    if self.is_flag:
+        return None
+    return _type_label(self, ctx)
+
+
+TyperOption.display_type_rich = _flag_label  # type: ignore[method-assign,assignment]
 
 app = typer.Typer(
     name="ednc",

@@ -261,6 +261,11 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
             console.print(f"dashboard: [bold]{base}/[/]   REST API: {base}/docs")
             if exit_after:
                 return
+            # the demo's key is made for this run: say it, so that a machine can be
+            # registered into the running demo from another terminal
+            console.print(f"API key of this demo: {api_key}\nregister a machine into it: "
+                          f"ednc machine register --machine M.json --secret SECRET "
+                          f"--api {base} --api-key {api_key}", soft_wrap=True)
             console.print("running until Ctrl-C")
             await asyncio.Event().wait()
     if tmp is not None:

@@ -26,7 +26,9 @@ seeds motion and temperatures. A machine whose address is a loopback one (127.x.
 connects from that address, so that several simulated machines on one host are told
 apart by address as real ones are. Generated fleets (:func:`generated_fleet`) are vertical
 machining centres ``sim-001``, ``sim-002``, ... alternating Fanuc and Siemens (or all of
-one kind), at 127.0.1.1, 127.0.1.2, ..., all with the one given secret.
+one kind), at 127.0.1.1, 127.0.1.2, ..., all with the one given secret; over a modbus
+link ``sim-pmc-001``, ... at 127.1.1.1, ..., over opcua ``sim-nc-001``, ... at 127.2.1.1,
+..., so that fleets of different links run against one center side by side.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ import yaml
 from protocol.auth import MIN_SECRET_BYTES
 from volumetric.errors import MachineSpecError
 from volumetric.model.machine import Machine, load_machine, parse_machine
+from volumetric.plausible.files import decode_text
 
 from .link import Backoff, MqttTarget, SimulatedCNC
 from .windowcnc import ControllerServer, WindowCNC
@@ -133,6 +136,10 @@ def load_fleet(path: str | Path) -> tuple[list[FleetEntry], dict[str, Any]]:
         try:
             if isinstance(spec, str):
                 m = load_machine(p.parent / spec)
+                # the description the file holds, link included (it says how the center
+                # reaches the machine: without it an OPC UA machine would log in the
+                # EDNC way, be refused, and nothing would say why)
+                spec = _description_file(p.parent / spec)
             elif isinstance(spec, Mapping):
                 m = parse_machine(spec)
             else:
@@ -160,12 +167,29 @@ def load_fleet(path: str | Path) -> tuple[list[FleetEntry], dict[str, Any]]:
     return entries, settings
 
 
-def loopback_address(i: int) -> str:
-    """The ``i``-th distinct loopback address, 127.0.1.1, 127.0.1.2, ... (64,000 of them):
-    generated machines each connect from their own, as real CNCs have their own."""
+def _description_file(path: Path) -> Mapping[str, Any]:
+    """The JSON object of a description file :func:`load_machine` has read."""
+    data = json.loads(decode_text(path.read_bytes(), str(path)))
+    if not isinstance(data, Mapping):  # pragma: no cover - load_machine refused it
+        raise FleetSpecError(f"{path}: expected a JSON object")
+    return data
+
+
+LINK_PREFIX = {"ednc": "sim", "modbus": "sim-pmc", "opcua": "sim-nc"}
+"""Names of generated machines by link: ``sim-001``, ``sim-pmc-001``, ``sim-nc-001``, so
+that fleets of different links registered at one center do not collide."""
+LINK_BLOCK = {"ednc": 0, "modbus": 1, "opcua": 2}
+"""The second octet of their loopback addresses (the center knows a machine by its
+address too): 127.0.x.y, 127.1.x.y, 127.2.x.y."""
+
+
+def loopback_address(i: int, block: int = 0) -> str:
+    """The ``i``-th distinct loopback address of ``block``, 127.block.1.1, 127.block.1.2,
+    ... (64,000 of them): generated machines each connect from (or serve at) their own,
+    as real CNCs have their own."""
     if not 0 <= i < 250 * 256:
         raise FleetSpecError(f"no distinct loopback address for machine {i}")
-    return f"127.0.{1 + i // 250}.{1 + i % 250}"
+    return f"127.{block}.{1 + i // 250}.{1 + i % 250}"
 
 
 def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0,
@@ -190,8 +214,8 @@ def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int
     out = []
     for i in range(n):
         kind = controller if controller != "mixed" else ("fanuc", "siemens")[i % 2]
-        m = parse_machine({"name": f"sim-{i + 1:03d}", "controller": kind,
-                           "ip": loopback_address(i),
+        m = parse_machine({"name": f"{LINK_PREFIX[link]}-{i + 1:03d}", "controller": kind,
+                           "ip": loopback_address(i, LINK_BLOCK[link]),
                            "chain": "w X Y b Z t",
                            "travel_mm": {"x": [0, 600], "y": [0, 400], "z": [-400, 0]},
                            "tool_length_mm": 100.0})

@@ -26,10 +26,10 @@ def _start(*args: str, env: dict[str, str] | None = None) -> subprocess.Popen[st
                             env={**os.environ, "COLUMNS": "200", **(env or {})})
 
 
-def _found(port_option: str, port: int) -> list[dict[str, object]]:
+def _found(port_option: str, port: int, subnet: str) -> list[dict[str, object]]:
     others = [o for o in ("--modbus-port", "--opcua-port", "--ednc-port") if o != port_option]
     for _ in range(200):
-        r = ednc("discover", "--subnet", "127.0.1.0/30", port_option, str(port),
+        r = ednc("discover", "--subnet", subnet, port_option, str(port),
                  *[x for o in others for x in (o, "0")], "--json", "--timeout-ms", "300")
         assert r.returncode == 0, r.stderr
         found: list[dict[str, object]] = json.loads(r.stdout)
@@ -42,18 +42,21 @@ def _found(port_option: str, port: int) -> list[dict[str, object]]:
 @pytest.mark.parametrize("link", ["modbus", "opcua"])
 def test_sim_serves_windows_that_discover_finds(link: str) -> None:
     port = _free_port()
+    block = {"modbus": 1, "opcua": 2}[link]  # each link its own names and addresses
     env = {"EDNC_OPCUA_PASSWORD": "sim-link-test-pw"}
     proc = _start("--link", link, "--machines", "2", "--secret", "abcdefghijklmnopqrst",
                   "--port", str(port), "--duration", "60", env=env)
     try:
-        found = _found("--modbus-port" if link == "modbus" else "--opcua-port", port)
+        found = _found("--modbus-port" if link == "modbus" else "--opcua-port", port,
+                       f"127.{block}.1.0/30")
     finally:
         proc.terminate()
         out, err = proc.communicate(timeout=30)
-    assert [f["host"] for f in found] == ["127.0.1.1", "127.0.1.2"], (found, err[-2000:])
+    assert [f["host"] for f in found] == [f"127.{block}.1.1", f"127.{block}.1.2"], (
+        found, err[-2000:])
     assert all(f["kind"] == link for f in found)
     if link == "modbus":  # the identity names the machine, read through 03h
-        assert [f["machine"] for f in found] == ["sim-001", "sim-002"]
+        assert [f["machine"] for f in found] == ["sim-pmc-001", "sim-pmc-002"]
     else:  # an OPC UA server shows no data without login
         assert all(f["link"]["endpoint"] == f"opc.tcp://{f['host']}:{port}"  # type: ignore[index]
                    for f in found)

@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import sys
 from typing import Annotated, Any, TextIO
 
@@ -56,13 +55,15 @@ def register(app: typer.Typer) -> None:
         from ednc.demo import run_numeric_demo
 
         console = demo_console()
-        console.rule("EDNC control center demo: measure, identify, diagnose, map")
-        prepared = run_numeric_demo(console, warm=offline)
-        if offline:
-            return
-        from ednc.live import _reachable, run_live
+        try:
+            console.rule("EDNC control center demo: measure, identify, diagnose, map")
+            prepared = run_numeric_demo(console, warm=offline)
+            if offline:
+                return
+            from ednc.live import _reachable, run_live
 
-        if _reachable("127.0.0.1", port):
-            raise UserError(f"port {port} is taken: pass --port with a free one")
-        with contextlib.suppress(KeyboardInterrupt):
+            if _reachable("127.0.0.1", port):
+                raise UserError(f"port {port} is taken: pass --port with a free one")
             asyncio.run(run_live(console, prepared, http_port=port, exit_after=exit_after))
+        except KeyboardInterrupt:  # Ctrl-C, the README's way to stop it: no traceback
+            print("ednc demo: stopped (Ctrl-C)", file=sys.stderr)

@@ -20,6 +20,9 @@ from volumetric.compensate.iso230_1 import iso230_1_export
 from volumetric.compensate.native import model_geometry
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.machine import Machine
+from volumetric.plausible.lengths import TOOL_LENGTH
+from volumetric.plausible.limit import Implausible
+from volumetric.plausible.sizes import check_output_size
 
 HELP_FORMAT = (
     "cec: Siemens CEC tables ($AN_CEC, K3 sag compensation) as an MPF part program (or "
@@ -136,9 +139,23 @@ def register(app: typer.Typer) -> None:
             raise UserError(f"--tolerance-um must be > 0 and < 1000, got {tolerance_um}")
         if step is not None and not 0 < step <= 1e4:
             raise UserError(f"--step must be > 0 mm, got {step}")
-        if tool_length is not None and not 0 <= tool_length <= 2000:
-            raise UserError(f"--tool-length must be 0..2000 mm, got {tool_length}")
+        if tool_length is not None and not TOOL_LENGTH.holds(tool_length):
+            raise UserError(f"--tool-length: {TOOL_LENGTH.refusal(tool_length)}")
         machine = read_machine(machine_path)
+        if fmt == "cec" and machine.controller == "fanuc":
+            # a controller's native format for another controller: nothing loads it
+            raise UserError(f"machine {machine.name!r} has a fanuc controller; CEC tables "
+                            "($AN_CEC) are SINUMERIK's own and a Fanuc control cannot load "
+                            "them: use --format iso230-1 for a table, or 'ednc map' for its "
+                            "ladder (or correct 'controller' if the machine is a SINUMERIK)")
+        if fmt == "iso230-1" and step is not None:
+            rows = sum((a.travel[1] - a.travel[0]) / step + 2 for a in machine.axes
+                       if a.kind == "linear")
+            try:  # before any work: a step in µm given as mm is 1000 times the rows
+                check_output_size(rows * 7 * 16.0, f"--out {out}", "give a larger --step "
+                                  "(mm)")
+            except Implausible as exc:
+                raise UserError(str(exc)) from None
         if len(machine.branches) > 1:
             raise UserError(f"machine {machine.name!r} has {len(machine.branches)} "
                             "spindles; native exports cover one tool tip")

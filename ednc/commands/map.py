@@ -208,8 +208,9 @@ def register(app: typer.Typer) -> None:
                  "the map is written and the JSON says over_tolerance (a warning on "
                  "stderr).")] = False,
     ) -> None:
-        """Build the error map (corrections on a grid chosen to meet the tolerance) and
-        write it in the binary map format the machines receive."""
+        """Build the error map the machine's controller evaluates (by default the smallest
+        kind that meets the tolerance: --kind) and write it in the binary map format the
+        machines receive."""
         float_option(tolerance_um, "--tolerance-um", 0.0, 1000.0, lo_open=True, unit=" µm")
         float_option(increment, "--increment", 0.0, 1.0, lo_open=True, unit=" mm per count")
         float_option(limit_mm, "--limit-mm", 0.0, 100.0, lo_open=True, unit=" mm")

@@ -26,6 +26,28 @@ def ports_line(settings: Any) -> str:
             f"{make_url(settings.database_url).render_as_string(hide_password=True)}")
 
 
+def taken(host: str, port: int) -> str | None:
+    """Why ``host:port`` cannot be listened on now (taken, no such address), or None.
+    Checked before anything starts: uvicorn would find out only after the lifespan (13 s
+    later, the first line having announced the port)."""
+    import socket
+
+    if port == 0:
+        return None
+    try:
+        infos = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)
+    except OSError as exc:
+        return f"{host}: {exc.strerror or exc}"
+    family, _, _, _, address = infos[0]
+    with socket.socket(family, socket.SOCK_STREAM) as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)  # as uvicorn binds
+        try:
+            s.bind(address)
+        except OSError as exc:
+            return exc.strerror or str(exc)
+    return None
+
+
 def register(app: typer.Typer) -> None:
     @app.command()
     def serve(
@@ -60,6 +82,16 @@ def register(app: typer.Typer) -> None:
                 read_machines_file(settings.machines_file)
             except MachinesFileError as exc:
                 raise UserError(str(exc)) from None
+        for what, env, h, p in (("HTTP", "EDNC_HTTP_PORT", settings.http_host,
+                                 settings.http_port),
+                                ("machines TCP", "EDNC_MACHINE_PORT", settings.machine_host,
+                                 settings.machine_port)):
+            problem = taken(h, p)
+            if problem is not None:
+                raise UserError(f"cannot serve {what} on {h}:{p}: {problem} (another "
+                                "program listens there: a running demo or another 'ednc "
+                                f"serve'?); give a free port ({env}"
+                                + (" or --port" if what == "HTTP" else "") + ")")
         # Open the database (and create its tables) before serving, so that a wrong URL
         # or a stopped PostgreSQL is one clear line rather than a failed lifespan.
         db = Database(make_engine(settings.database_url))

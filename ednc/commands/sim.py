@@ -44,7 +44,8 @@ def register(app: typer.Typer) -> None:
             "--center", help="HOST:PORT of the center's machine port; several centers of "
                              "one plant as HOST:PORT,HOST:PORT (tried in turn).")] = None,
         machines: Annotated[int, typer.Option(
-            "--machines", help="Generate this many machines (sim-001, ...).")] = 0,
+            "--machines", help="Generate this many machines (sim-001, ...; sim-pmc-001 "
+                               "over --link modbus, sim-nc-001 over opcua).")] = 0,
         fleet: Annotated[Path | None, typer.Option(
             "--fleet", help="Fleet file (JSON/YAML) with machines and secrets.")] = None,
         secret: Annotated[str | None, typer.Option(

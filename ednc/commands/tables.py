@@ -20,6 +20,9 @@ from volumetric.measure.tables import (
     read_table_files,
     write_files,
 )
+from volumetric.plausible.counts import MAX_TABLE_POINTS, check_count
+from volumetric.plausible.limit import Implausible
+from volumetric.plausible.sizes import check_output_size
 
 
 def register(app: typer.Typer) -> None:
@@ -43,10 +46,21 @@ def register(app: typer.Typer) -> None:
         so that 'ednc tables import' gives the model back whole.
         A term the files cannot carry exactly is refused by name and nothing is written.
         """
-        m = read_machine(machine)
-        mm = read_model(model, m)
         if points < 2:
             raise UserError(f"--points {points}: a table needs at least 2 positions")
+        try:  # before any work: an extra zero is a typo, not a table
+            check_count(points, "--points", 2, MAX_TABLE_POINTS,
+                        " (positions per axis; a 1 µm step over 100 mm)")
+        except Implausible as exc:
+            raise UserError(str(exc)) from None
+        m = read_machine(machine)
+        try:
+            # one row per position and axis: the position and 6 errors, ~22 bytes a cell
+            check_output_size(len(m.axes) * points * 7 * 22.0, f"--out {out}",
+                              "ask for fewer --points")
+        except Implausible as exc:
+            raise UserError(str(exc)) from None
+        mm = read_model(model, m)
         try:
             files = export_model(m, mm, points=points)
         except ComponentErrorSpecError as exc:
