@@ -61,5 +61,14 @@ def detail(r: httpx.Response) -> str:
         return r.text.strip().replace("\n", " ")[:300]
     d = body.get("detail", body) if isinstance(body, dict) else body
     if isinstance(d, list):
-        return "; ".join(str(x.get("msg", x)) if isinstance(x, dict) else str(x) for x in d)
+        return "; ".join(_item(x) for x in d)
     return str(d).replace("\n", " ")[:300]
+
+
+def _item(x: Any) -> str:
+    """One validation error as ``field: message`` (the field the request's body names)."""
+    if not isinstance(x, dict):
+        return str(x)
+    loc = [str(p) for p in x.get("loc", []) if p != "body"]
+    msg = str(x.get("msg", x)).removeprefix("Value error, ")
+    return f"{'.'.join(loc)}: {msg}" if loc else msg

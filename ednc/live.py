@@ -259,13 +259,13 @@ async def run_live(console: Console, prepared: list[Prepared], *, http_port: int
                 await _follow_heat(console, hot[0], hot[1], warm_s=20.0 if exit_after else 60.0)
             console.rule()
             console.print(f"dashboard: [bold]{base}/[/]   REST API: {base}/docs")
-            if exit_after:
-                return
             # the demo's key is made for this run: say it, so that a machine can be
             # registered into the running demo from another terminal
             console.print(f"API key of this demo: {api_key}\nregister a machine into it: "
                           f"ednc machine register --machine M.json --secret SECRET "
-                          f"--api {base} --api-key {api_key}", soft_wrap=True)
+                          f"--api {base} --api-key {api_key}", soft_wrap=True, markup=False)
+            if exit_after:
+                return
             console.print("running until Ctrl-C")
             await asyncio.Event().wait()
     if tmp is not None:

@@ -52,3 +52,8 @@ def test_the_demo_runs_the_whole_loop_and_says_where_the_dashboard_is() -> None:
     left = max(abs(float(r[4])) for r in rows)
     assert drift >= 5.0 and left <= 0.2 * drift, rows
     assert f"dashboard: http://127.0.0.1:{port}/" in text
+    # the run's own API key, and how to register a machine into the running demo
+    key = re.search(r"API key of this demo: ([0-9a-f]{32})", text)
+    assert key is not None, text[-2000:]
+    assert (f"ednc machine register --machine M.json --secret SECRET --api "
+            f"http://127.0.0.1:{port} --api-key {key.group(1)}") in text
