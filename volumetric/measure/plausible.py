@@ -52,9 +52,6 @@ def _cause(col: str, values: NDArray[np.float64], angle: bool) -> str | None:
         return angle_cause(values) if angle else displacement_cause(values)
     if col in ("x_mm", "y_mm", "z_mm", "tool_mm"):
         return length_cause(values[:1000].tolist())
-    if col.startswith("T_"):
-        problem = temperature_problem(float(values[0]))
-        return problem.split("; ", 1)[1] if problem and "; " in problem else None
     return None
 
 
@@ -92,6 +89,10 @@ def implausible(columns: Mapping[str, NDArray[np.float64]], is_angle: NDArray[np
             i = int(rows[0])
             cell = float(columns[col][i])
             angle = bool(is_angle[i])
+            if col in temperature_columns:  # in the words of every entry point
+                first = (i, col, f"{temperature_problem(cell)} ({rows.size} such rows in "
+                                 "this block)")
+                continue
             limit = fixed if fixed is not None else READING[angle]
             same = rows if fixed is not None else rows[is_angle[rows] == angle]
             cause = _cause(col, columns[col][same], angle)

@@ -28,6 +28,7 @@ import csv
 import io
 import json
 import math
+import re
 from collections.abc import Iterable, Mapping
 from pathlib import Path
 from typing import Any
@@ -51,6 +52,8 @@ from volumetric.model.model import (
     Term,
     ThermalTerm,
 )
+from volumetric.plausible.columns import unit_column_problem
+from volumetric.plausible.files import decode_text, wrong_file
 
 UNITS = {"um": "µm", "urad": "µrad"}
 
@@ -82,6 +85,22 @@ def _split_unit(column: str, source: str) -> str:
             f"{source}: column {column!r}: {name} is in {UNITS[want]} ({name}_{want}), "
             f"not {UNITS[unit]}")
     return name
+
+
+_ISO_NAME = re.compile(r"^E[XYZABC](?:[XYZABC]|0[XYZABC])[0-9]*$")
+
+
+def _wanted_units(header: list[str]) -> dict[str, str]:
+    """The unit each column of a table header should carry, by its stem: an axis
+    position mm (degrees for a rotary axis), an ISO 230-1 error µm or µrad."""
+    wanted = {k: "mm" for k in ("x", "y", "z")} | {k: "deg" for k in ("a", "b", "c")}
+    for col in header:
+        stem = col.strip().rpartition("_")[0]
+        if _ISO_NAME.match(stem):
+            wanted[stem] = unit_of(stem)
+        elif stem[:1] in "xyz" and stem[1:].isdigit():
+            wanted[stem] = "mm"
+    return wanted
 
 
 def export_tables(
@@ -166,6 +185,9 @@ def _read_block(source: str, block: list[tuple[int, list[str]]],
                     f"not {r[2].strip()!r}")
             locs[name] = _number(r[1].strip(), f"{source}:{line} column value")
         return
+    slip = unit_column_problem(header, _wanted_units(header))
+    if slip is not None:  # x_in, EAX_arcsec: the unit the numbers alone cannot tell
+        raise ComponentErrorSpecError(f"{source}: {slip}")
     axis = by_column.get(header[0])
     if axis is None:
         raise ComponentErrorSpecError(
@@ -246,11 +268,16 @@ def read_table_files(paths: Iterable[Path]) -> list[tuple[str, str]]:
             raise ComponentErrorSpecError(f"{p}: a directory without tables (*.csv)")
         for q in inside:
             try:
-                out.append((str(q), q.read_text(encoding="utf-8")))
+                raw = q.read_bytes()
             except OSError as exc:
                 raise ComponentErrorSpecError(f"{q}: cannot read ({exc.strerror})") from None
-            except UnicodeDecodeError:
-                raise ComponentErrorSpecError(f"{q}: not a text file (UTF-8)") from None
+            other = wrong_file(raw[:4096], str(q), "tables") if q.name != TERMS_FILE else None
+            if other is not None:  # a CEC program, a Fanuc file, a map, a model ...
+                raise ComponentErrorSpecError(other)
+            try:
+                out.append((str(q), decode_text(raw, str(q))))
+            except ValueError as exc:
+                raise ComponentErrorSpecError(str(exc)) from None
     return out
 
 

@@ -31,7 +31,10 @@ def _utf16(head: bytes) -> bool:
 
 
 def _nul_text(head: bytes) -> bool:
-    """Text of two-byte units without a mark: NUL at every other byte of ASCII."""
+    """Text of two-byte units without a mark: NUL at every other byte of ASCII (not a
+    map payload, which has NULs of its own and is named as what it is)."""
+    if head.startswith(b"EDMP"):
+        return False
     sample = head[:200]
     return len(sample) >= 4 and (sample[1::2].count(0) > 0.9 * len(sample[1::2]) or
                                  sample[0::2].count(0) > 0.9 * len(sample[0::2]))
