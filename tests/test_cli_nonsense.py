@@ -216,7 +216,7 @@ def test_the_rest_commands_refuse_in_one_line(work: Path, tmp_path: Path) -> Non
     assert "empty-model.json" in line and "format" in line
     line = one_line_error(ednc("model", "upload", "--machine", "vmc", "--model",
                                f"{work}/model.json", "--api", "http://127.0.0.1:9"))
-    assert "cannot reach the center at http://127.0.0.1:9" in line
+    assert "nothing is listening at http://127.0.0.1:9" in line
     line = one_line_error(ednc("machine", "register", "--machine", f"{work}/huge.json",
                                "--secret", "0123456789abcdef", "--api", "http://127.0.0.1:9"))
     assert "travel_mm.x" in line

@@ -20,6 +20,9 @@ import numpy as np
 from volumetric.errors import ComponentErrorSpecError
 from volumetric.model.machine import Machine
 from volumetric.model.model import FORMAT, MachineModel
+from volumetric.plausible.angles import ANGLE
+from volumetric.plausible.displacements import DISPLACEMENT
+from volumetric.plausible.limit import Limit
 
 __all__ = ["ModelContentError", "check_model"]
 
@@ -83,9 +86,10 @@ def check_model(data: Any, machine: Machine | None = None) -> MachineModel:
             raise ModelContentError(f"terms[{i}] ({kind}): machine {machine.name!r} has no "
                                     f"axis {axis!r} (its axes are {' '.join(sorted(keys))})")
     for name, value in model.geometry.locations.items():
-        if not (math.isfinite(value) and abs(value) <= MAX_ERROR):
+        limit = limit_of(name)
+        if not (math.isfinite(value) and abs(value) <= limit.hi):
             raise ModelContentError(f"locations.{name} = {value:g}: a location error is "
-                                    f"within ±{MAX_ERROR:g} µm or µrad")
+                                    f"within ±{limit.hi:g} {limit.unit}")
     if machine is not None:
         try:
             model.geometry.check(machine)
@@ -98,10 +102,17 @@ def check_model(data: Any, machine: Machine | None = None) -> MachineModel:
 MAX_TERM_VALUE = 1e9
 """Largest |number| of a term's size fields: past it arithmetic on it overflows or the
 model is a unit slip."""
-MAX_ERROR = 100_000.0
-"""Largest |error| a model may give anywhere on its machine's travel, µm or µrad: 0.1 m or
-0.1 rad. Far beyond any machine tool, far below what turns the kinematics' sines and
-squares into NaN (a location of 1e300 µrad did)."""
+MAX_ERROR = ANGLE.hi
+"""Largest |error| a model may give anywhere on its machine's travel: 10 mm of a
+displacement (µm), 0.1 rad of an angle (µrad), the limits every entry point shares
+(:mod:`volumetric.plausible`; :func:`limit_of`). Far beyond any machine tool, far below
+what turns the kinematics' sines and squares into NaN (a location of 1e300 µrad did)."""
+
+
+def limit_of(name: str) -> Limit:
+    """The limit of an ISO 230-1 error by its name: ``E<direction>...`` is a displacement
+    (µm) for a direction X, Y or Z, an angle (µrad) for A, B or C."""
+    return DISPLACEMENT if name[1:2] in ("X", "Y", "Z") else ANGLE
 
 
 def _check_sizes(model: MachineModel, machine: Machine) -> None:
@@ -114,7 +125,9 @@ def _check_sizes(model: MachineModel, machine: Machine) -> None:
             lo, hi = travel.get(axis, (0.0, 1.0))
             values = np.asarray(component(np.linspace(lo, hi, 65)), dtype=np.float64)
             worst = float(np.max(np.abs(values))) if values.size else 0.0
-            if not (math.isfinite(worst) and worst <= MAX_ERROR):
+            limit = limit_of(name)
+            if not (math.isfinite(worst) and worst <= limit.hi):
                 raise ModelContentError(
-                    f"components.{name} reaches {worst:g} µm or µrad on the travel "
-                    f"[{lo:g}, {hi:g}]; a component error is within ±{MAX_ERROR:g}")
+                    f"components.{name} reaches {worst:g} {limit.unit} on the travel "
+                    f"[{lo:g}, {hi:g}]; a component error is within ±{limit.hi:g} "
+                    f"{limit.unit}; check the unit")
