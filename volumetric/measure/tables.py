@@ -438,7 +438,8 @@ def export_terms(machine: Machine, model: MachineModel) -> str:
         # the rest of the model, so that an import gives it back whole: the fit's
         # tool-tip offsets (the readings' zero, which `ednc predict` adds) and its other
         # statistics, and the exact component functions the CSV tables sample
-        "offsets_um": _finite(dict(model.info.get("offsets_um", {}) or {})),
+        "offsets_um": _finite(dict(offsets) if isinstance(
+            offsets := model.info.get("offsets_um"), Mapping) else {}),
         "info": _finite(dict(model.info)),
         "geometry": model.geometry.to_json(),
         "geometry_note": (
