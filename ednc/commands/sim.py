@@ -105,14 +105,20 @@ def register(app: typer.Typer) -> None:
         ] = None,
     ) -> None:
         """Run simulated machines against a center, or write a simulated campaign."""
-        from ednc.inputs import check_output, float_option, int_option
+        from ednc.inputs import check_output, float_option, int_option, warn
+        from volumetric.plausible.counts import MAX_GENERATED_MACHINES
+        from volumetric.plausible.times import duration_warning
 
         int_option(seed, "--seed", 0, 2**63 - 1)
-        int_option(machines, "--machines", 0, 100_000)
+        int_option(machines, "--machines", 0, MAX_GENERATED_MACHINES,
+                   " (each needs a loopback address of its own)")
         if cycle_ms is not None:
             float_option(cycle_ms, "--cycle-ms", 0.0, 60_000.0, lo_open=True, unit=" ms")
         if duration is not None:
             float_option(duration, "--duration", 0.0, 1e9, lo_open=True, unit=" s")
+            long = duration_warning(duration, "--duration", 60.0)
+            if long is not None:  # 60000 meant as ms is 17 h of machines
+                warn(long)
         if controller not in ("mixed", "fanuc", "siemens"):
             raise UserError(f"--controller {controller!r}: expected mixed, fanuc or siemens")
         if link not in ("ednc", "modbus", "opcua"):
