@@ -193,7 +193,7 @@ def center(tmp_path: Path) -> tuple[str, str]:
                             stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     base = f"http://127.0.0.1:{port}"
     try:
-        deadline = time.monotonic() + 60.0  # waiting for start-up, not measuring it
+        deadline = time.monotonic() + 180.0  # waiting for start-up, not measuring it
         while True:
             try:
                 httpx.get(f"{base}/api/status", timeout=1.0)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 from server.center import Center
 from server.db import measurements as measurement_repo
-from tests.support.api import API_KEY, CSV_HEADER, WRITE, backlash_csv
+from tests.support.api import CSV_HEADER, WRITE, backlash_csv
 from tests.support.link import DEADLINE_S, SECRET, description
 from tests.test_temperatures_intake import _app, client_of
 
@@ -82,7 +82,3 @@ async def test_uploads_read_utf16_and_refuse_a_spreadsheet_locale(tmp_path: Path
         assert isinstance(center, Center)
         sets = await center.db.run(measurement_repo.list_measurement_sets, 1)
         assert sorted(s.name for s in sets) == ["mm", "u16"]  # the refused one left nothing
-
-
-def test_api_key_of_the_tests_is_what_the_app_uses() -> None:
-    assert WRITE == {"X-API-Key": API_KEY}
