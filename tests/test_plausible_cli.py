@@ -246,7 +246,10 @@ def test_ctrl_c_on_the_demo_ends_without_a_traceback() -> None:
     proc = subprocess.Popen([sys.executable, str(ROOT / "tasks.py"), "demo", "--offline"],
                             cwd=ROOT, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             text=True, start_new_session=True,
-                            env={**os.environ, "COLUMNS": "120"})
+                            env={**os.environ, "COLUMNS": "120"},
+                            # a shell's background job starts with SIGINT ignored (and
+                            # its children inherit that): a terminal's does not
+                            preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     assert proc.stdout is not None
     for line in proc.stdout:  # the demo is running once it prints its first rule
         if "EDNC control center demo" in line:
