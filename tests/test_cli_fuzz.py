@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import json
 import shutil
-import string
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -31,17 +30,13 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from ednc.cli import UserError, _load_commands, app, error_line
+from tests.support.fuzz import CASES, JSON, NUMBERS, TEXT, mutate, readings_csv
 
 pytestmark = pytest.mark.slow
 
 VMC = {"name": "vmc", "controller": "siemens", "chain": "w X Y b Z t",
        "tool_length_mm": 100.0,
        "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]}}
-HEADER = ["test", "run", "time_s", "x_mm", "y_mm", "z_mm", "dir_x", "dir_y", "dir_z",
-          "tool_mm", "quantity", "ux", "uy", "uz", "value"]
-GOOD_ROW = ["X-positioning", "1", "0", "100", "300", "-250", "1", "0", "0", "100",
-            "displacement", "1", "0", "0", "1.5"]
-CASES = {"csv": 1100, "json": 1300, "options": 2000, "files": 800}
 """The CLI's share of the >= 10,000 cases; tests/test_entry_fuzz.py has the rest (REST,
 MQTT, fleet files), in about the time this file alone took before."""
 
@@ -94,72 +89,6 @@ def files(tmp_path_factory: pytest.TempPathFactory) -> dict[str, Path]:
     (d / "points.csv").write_text("x,y,z\n400,300,-250\n")
     return {"dir": d, "machine": d / "vmc.json", "model": d / "model.json",
             "map": d / "map.bin", "points": d / "points.csv", "data": d / "c.csv"}
-
-
-# -- strategies
-
-NUMBERS = st.one_of(
-    st.integers(-10**6, 10**6).map(str),
-    st.floats(allow_nan=True, allow_infinity=True).map(repr),
-    st.sampled_from(["1e300", "-1e300", "1e9", "nan", "inf", "-inf", "0", "-0", "1e-320",
-                     "0x10", "1_000", " 3 ", "+1", ".", "-", "1e", "２"]),
-)
-TEXT = st.text(alphabet=string.printable + "µ°é\u200b\x00", max_size=12)
-CELL = st.one_of(NUMBERS, TEXT, st.sampled_from(["", '"', '""', "displacement", "angle",
-                                                 "X-positioning", "-1", "1"]))
-
-
-@st.composite
-def readings_csv(draw: st.DrawFn) -> str:
-    """A small CSV: the format's header (sometimes shuffled, cut or with extra columns)
-    and rows of good cells with some replaced by garbage."""
-    header = list(HEADER)
-    if draw(st.booleans()):
-        header = draw(st.permutations(header))
-    if draw(st.integers(0, 9)) == 0:
-        header = header[:draw(st.integers(0, len(header)))]
-    header += draw(st.lists(st.sampled_from(["a_deg", "c_deg", "T_s_C", "spindle", "x_mm",
-                                             "extra", ""]), max_size=2))
-    rows = []
-    for _ in range(draw(st.integers(0, 6))):
-        row = [dict(zip(HEADER, GOOD_ROW, strict=True)).get(h, "20") for h in header]
-        for _ in range(draw(st.integers(0, 3))):
-            if row:
-                row[draw(st.integers(0, len(row) - 1))] = draw(CELL)
-        if draw(st.integers(0, 9)) == 0:
-            row = row[:draw(st.integers(0, len(row)))]
-        rows.append(row)
-    sep = draw(st.sampled_from([",", ",", ",", ";", "\t"]))
-    lines = [sep.join(header)] + [sep.join(r) for r in rows]
-    end = draw(st.sampled_from(["\n", "\r\n", "\n\n", ""]))
-    return "\n".join(lines) + end
-
-
-JSON = st.recursive(
-    st.one_of(st.none(), st.booleans(), st.integers(-10**12, 10**12),
-              st.floats(allow_nan=False, allow_infinity=False), TEXT),
-    lambda inner: st.one_of(st.lists(inner, max_size=4),
-                            st.dictionaries(TEXT, inner, max_size=4)),
-    max_leaves=12)
-
-
-def mutate(base: Any, draw: Callable[[Any], Any]) -> Any:
-    """``base`` with one entry, somewhere in its tree, replaced, removed or added."""
-    if isinstance(base, dict) and base and draw(st.integers(0, 3)):
-        key = draw(st.sampled_from(sorted(base)))
-        out = dict(base)
-        action = draw(st.integers(0, 2))
-        if action == 0:
-            out.pop(key)
-        elif action == 1:
-            out[key] = mutate(base[key], draw)
-        else:
-            out[draw(TEXT)] = draw(JSON)
-        return out
-    if isinstance(base, list) and base and draw(st.booleans()):
-        i = draw(st.integers(0, len(base) - 1))
-        return [mutate(v, draw) if k == i else v for k, v in enumerate(base)]
-    return draw(st.one_of(JSON, st.sampled_from([1e300, -1e9, 0, -1, "", [], {}])))
 
 
 # -- the tests

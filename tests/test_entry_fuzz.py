@@ -46,8 +46,8 @@ from server.mqtt import MqttBridge
 from server.services import MachineServices, machine_services
 from server.settings import load_settings
 from tests.support.api import API_KEY, WRITE, backlash_csv
+from tests.support.fuzz import JSON, NUMBERS, TEXT, mutate, readings_csv
 from tests.support.link import SECRET, description
-from tests.test_cli_fuzz import JSON, NUMBERS, TEXT, mutate, readings_csv
 
 pytestmark = pytest.mark.slow
 
@@ -339,6 +339,6 @@ def test_garbage_fleet_files(tmp_path_factory: pytest.TempPathFactory,
 
 
 def test_the_cases_add_up_with_the_cli_fuzz() -> None:
-    from tests.test_cli_fuzz import CASES as CLI
+    from tests.support.fuzz import CASES as CLI
 
     assert sum(CASES.values()) + sum(CLI.values()) >= 10_000

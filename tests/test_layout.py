@@ -35,8 +35,9 @@ FORBIDDEN = {
 }
 
 # Stages of volumetric/ in the order the data flows; equal numbers may not import each
-# other either (verify and diagnose are two views of one identified model).
-STAGES = {"errors": -1, "model": 0, "measure": 1, "identify": 2, "verify": 3,
+# other either (verify and diagnose are two views of one identified model). plausible holds
+# the limits every stage checks its inputs against, so it comes first.
+STAGES = {"errors": -1, "plausible": -2, "model": 0, "measure": 1, "identify": 2, "verify": 3,
           "diagnose": 3, "compensate": 4}
 
 # Known, reported, owned elsewhere: (importing module, imported module).

@@ -10,8 +10,8 @@ from pathlib import Path
 from server.center import Center
 from server.db import measurements as measurement_repo
 from tests.support.api import CSV_HEADER, WRITE, backlash_csv
+from tests.support.intake import _app, client_of
 from tests.support.link import DEADLINE_S, SECRET, description
-from tests.test_temperatures_intake import _app, client_of
 
 READINGS = "/api/machines/vmc-01/temperatures"
 

@@ -11,17 +11,13 @@ import datetime as dt
 import json
 import math
 import uuid
-from collections.abc import AsyncIterator
-from contextlib import AbstractAsyncContextManager, asynccontextmanager
 from pathlib import Path
 from typing import Any
 
-import httpx
 import numpy as np
 import pytest
 
 from protocol import Temperatures
-from server.app import create_app
 from server.center import Center
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
@@ -30,10 +26,9 @@ from server.db.temperatures import NewReading
 from server.events import EventKind
 from server.forward import TemperatureForwarder, sensor_name
 from server.intake import TemperatureIntake, description_columns, model_columns
-from server.links.ednc import LinkTiming
-from server.services import machine_services
 from server.settings import load_settings
 from tests.support.api import API_KEY, WRITE, running
+from tests.support.intake import _app, client_of
 from tests.support.link import (
     DEADLINE_S,
     SECRET,
@@ -238,24 +233,6 @@ async def test_published_temperature_reaches_the_machine_without_a_map_build(
         assert any(f.reason == "too_fast" for f in r.services.intake.refusals)
         maps = await r.db.run(map_repo.list_map_versions, mid)
         assert len(maps) == 1  # the first map only: no rebuild for any temperature
-
-
-def _app(tmp_path: Path, database_url: str) -> Any:
-    settings = load_settings(database_url=database_url, api_key=API_KEY,
-                             machine_host="127.0.0.1", machine_port=0)
-
-    def services(center: Center) -> AbstractAsyncContextManager[object]:
-        return machine_services(center, timing=LinkTiming(heartbeat_s=1.0))
-
-    return create_app(settings, services=[services])
-
-
-@asynccontextmanager
-async def client_of(app: Any) -> AsyncIterator[httpx.AsyncClient]:
-    async with app.router.lifespan_context(app):
-        transport = httpx.ASGITransport(app=app)
-        async with httpx.AsyncClient(transport=transport, base_url="http://test") as client:
-            yield client
 
 
 async def test_rest_post_and_get(tmp_path: Path, database_url: str) -> None:
