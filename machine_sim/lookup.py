@@ -374,9 +374,18 @@ class FactoredLadder:
         acc[:, :len(self.grid)] *= self.inc
         return acc
 
-    def counts(self, q: F64) -> I64:
-        """What the ladder writes, counts (N, D), for a positive approach."""
-        return ladder.factored_counts(self.program, self._counts_in(q), self.c0, self.c1)
+    def counts(self, q: F64, negative: NDArray[np.bool_] | None = None) -> I64:
+        """What the ladder writes, counts (N, D): for a positive approach, or with the
+        reversal of the axes ``negative`` (N, D) added before the final clamp (§6.5
+        step 6)."""
+        return ladder.factored_counts(self.program, self._counts_in(q), self.c0, self.c1,
+                                      negative)
+
+    def lookup_directed(self, q: F64, negative: NDArray[np.bool_]) -> F64:
+        """Applied corrections at positions q (N, D) with the axes ``negative`` (N, D)
+        approaching negatively, mm or degrees (whole increments)."""
+        out: F64 = self.counts(q, negative).astype(np.float64) * self.inc
+        return out
 
     def lookup(self, q: F64) -> F64:
         """Applied corrections for a positive approach at positions q (N, D) → (N, D),

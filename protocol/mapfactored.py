@@ -46,6 +46,7 @@ linear axis l per count of rotary axis r.
 
 from __future__ import annotations
 
+import math
 import re
 import struct
 from dataclasses import dataclass
@@ -101,6 +102,22 @@ def round_half_up(x: Fraction) -> int:
     """The tie rule of every map kind (protocol/README.md §6): the integer nearest ``x``,
     halves rounded up (towards +infinity), ``floor(x + 1/2)``."""
     return (x + Fraction(1, 2)).__floor__()
+
+
+def milli_celsius(celsius: float) -> int:
+    """A reading in °C as int32 m°C (protocol/README.md §6, "Temperatures"):
+    ``round_half_up(celsius · 1000)`` of the **exact** value the f64 stands for, not of
+    the product rounded to a double (20.0005 °C is stored as 20.000499999…, so 20000).
+
+    Raises
+    ------
+    ValueError
+        ``celsius`` is not finite.
+    """
+    c = float(celsius)
+    if not math.isfinite(c):
+        raise ValueError(f"temperature {celsius!r} °C is not finite")
+    return round_half_up(Fraction(c) * 1000)
 
 
 def _int(what: str, v: object, lo: int, hi: int) -> None:
@@ -493,6 +510,7 @@ __all__ = [
     "TermTable",
     "decode_factored",
     "encode_factored",
+    "milli_celsius",
     "payload_size",
     "round_half_up",
     "thermal_fixed",
