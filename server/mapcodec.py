@@ -150,7 +150,8 @@ def _records(terms: tuple[ThermalTerm, ...]) -> tuple[ThermalRecord, ...]:
     """The wire records of the model's thermal terms (all map kinds)."""
     return tuple(ThermalRecord(wire_sensor(th.sensor), th.axis.upper(),
                                _THERMAL_KINDS[th.kind], float(th.coefficient),
-                               float(th.t_ref_C), float(th.q_min))
+                               float(th.t_ref_C),
+                               float(th.q_min) if th.kind != "thermal_drift" else 0.0)
                  for th in terms)
 
 
