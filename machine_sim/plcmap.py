@@ -206,14 +206,15 @@ class PlcMapProgram:
         """The status state word (§13.1): a Fanuc-style ladder keeps exactly these bits
         in its R status byte; otherwise they come from the controller's state."""
         c = self.controller
-        r_status = getattr(c, "status", None)
-        if isinstance(r_status, int):
-            return r_status & 0x3F
         state = State(0)
-        if c.store.active is not None:
+        if c.store.active is not None:  # as of this scan's swap, not the ladder's last
             state |= State.MAP_IN_USE
         if c.releasing:
             state |= State.RELEASING
+        r_status = getattr(c, "status", None)
+        if isinstance(r_status, int):
+            keep = State.RAMPING | State.ALARM | State.CLAMPED | State.EXPIRED
+            return int(state | (State(r_status & 0x3F) & keep))
         label = getattr(c, "state", "")
         if label == "ramping":
             state |= State.RAMPING
