@@ -1,0 +1,159 @@
+"""A SINUMERIK with nothing of ours in its PLC (issue 31, item 4): the center writes the
+NC's temperature compensation setting data SD43900/43910/43920 itself over OPC UA, from
+the model's drift and expansion terms, and the geometry goes in as CEC tables.
+
+Unit: the setting data from thermal terms (against the terms' own definition, not the
+code under test), their limits; the write planner's rate and change rules. Integration
+(at the end): the demo's drifting machine warmed up with only SD4390x and CEC."""
+
+from __future__ import annotations
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from server.links.sdwrites import (
+    SD_ABS_VALUE,
+    SD_REF_POSITION,
+    SD_SLOPE,
+    SdWrite,
+    SdWritePlanner,
+)
+from volumetric.compensate.tempcomp import (
+    AxisTempComp,
+    TempCompLimits,
+    temp_comp_setting_data,
+)
+from volumetric.model.model import ThermalTerm
+
+TERMS = (ThermalTerm("thermal_drift", "z", "T_spindle_C", -2.5, 20.0),
+         ThermalTerm("thermal_expansion", "x", "T_x_screw_C", 11.5, 20.0, 0.0),
+         ThermalTerm("thermal_expansion", "x", "T_bed_C", -4.0, 21.0, -100.0),
+         ThermalTerm("thermal_drift", "x", "T_spindle_C", -0.4, 20.0),
+         ThermalTerm("thermal_expansion", "y", "T_column_C", 8.0, 19.0, 50.0))
+TEMPS = {"T_spindle_C": 31.0, "T_x_screw_C": 27.5, "T_bed_C": 22.5, "T_column_C": 23.0}
+
+
+def error_um(axis: str, q: float, temps: dict[str, float]) -> float:
+    """The terms' positioning error of ``axis`` at ``q``, µm, from ThermalTerm's
+    definition (drift k·ΔT, expansion α·ΔT·(q - q_min)·1e-3)."""
+    total = 0.0
+    for t in TERMS:
+        if t.axis.upper() != axis or t.sensor not in temps:
+            continue
+        dt = temps[t.sensor] - t.t_ref_C
+        total += t.coefficient * dt * ((q - t.q_min) * 1e-3 if t.kind ==
+                                       "thermal_expansion" else 1.0)
+    return total
+
+
+# -- the setting data
+
+
+@pytest.mark.parametrize("axis", ["X", "Y", "Z"])
+def test_setting_data_cancel_the_terms_along_the_axis(axis: str) -> None:
+    got = temp_comp_setting_data(TERMS, TEMPS, ["x", "y", "z"])
+    assert not got.waiting
+    d = got.axes[axis]
+    assert d.clamped == ()
+    for q in np.linspace(-300.0, 800.0, 23):
+        # the NC's law offset + slope (q - ref), mm, cancels the error, µm
+        assert d.correction_mm(q) * 1e3 == pytest.approx(-error_um(axis, q, TEMPS), abs=1e-9)
+
+
+def test_setting_data_reference_is_the_first_expansion_reference() -> None:
+    d = temp_comp_setting_data(TERMS, TEMPS, ["X", "Y", "Z"]).axes
+    assert d["X"].ref_mm == 0.0 and d["Y"].ref_mm == 50.0
+    assert d["Z"].slope == 0.0 and d["Z"].offset_mm == pytest.approx(2.5 * 11.0e-3)
+
+
+def test_axis_without_terms_gets_zeros_and_no_temperature_leaves_the_axis_out() -> None:
+    temps = {k: v for k, v in TEMPS.items() if k != "T_bed_C"}
+    got = temp_comp_setting_data(TERMS, temps, ["X", "Y", "Z", "A"])
+    assert got.axes["A"] == AxisTempComp()
+    assert "X" not in got.axes and got.waiting == {"X": ("T_bed_C",)}
+    nan = temp_comp_setting_data(TERMS, {**TEMPS, "T_spindle_C": math.nan}, ["X", "Y", "Z"])
+    assert set(nan.waiting) == {"X", "Z"} and set(nan.axes) == {"Y"}
+
+
+def test_term_on_an_axis_the_nc_lacks_is_refused() -> None:
+    with pytest.raises(ValueError, match="does not have"):
+        temp_comp_setting_data(TERMS, TEMPS, ["X", "Y"])
+
+
+def test_setting_data_are_clamped_to_the_limits_and_say_so() -> None:
+    hot = {**TEMPS, "T_spindle_C": 220.0}  # 200 K: 0.5 mm of drift on z
+    lim = TempCompLimits(max_offset_mm=0.1, max_slope=5e-5)
+    got = temp_comp_setting_data(TERMS, hot, ["X", "Y", "Z"], lim).axes
+    assert got["Z"].offset_mm == pytest.approx(0.1) and got["Z"].clamped == ("offset",)
+    assert abs(got["X"].slope) == pytest.approx(5e-5) and "slope" in got["X"].clamped
+    for d in got.values():
+        assert abs(d.offset_mm) <= lim.max_offset_mm and abs(d.slope) <= lim.max_slope
+    with pytest.raises(ValueError):
+        TempCompLimits(max_offset_mm=0.0)
+
+
+# -- the planner
+
+
+def _d(offset: float, slope: float = 0.0, ref: float = 0.0) -> AxisTempComp:
+    return AxisTempComp(offset, slope, ref)
+
+
+def test_planner_writes_only_changes_and_all_of_an_axis_in_one_write() -> None:
+    p = SdWritePlanner(["X", "Z"])
+    p.want({"X": _d(0.01, 1e-5, 0.0), "Z": _d(0.0)})
+    first = p.due(0.0)
+    assert {w.axis for w in first} == {"X", "Z"}
+    x = next(w for w in first if w.axis == "X")
+    assert dict(x.values) == {SD_ABS_VALUE: 0.01, SD_SLOPE: 1e-5, SD_REF_POSITION: 0.0}
+    for w in first:
+        p.sent(w, 0.01)
+    p.want({"X": _d(0.01 + 5e-6, 1e-5, 0.0), "Z": _d(0.0)})  # below SD43900's resolution
+    assert p.due(1.0) == [] and p.next_due_s() is None
+    p.want({"X": _d(0.012, 1e-5, 0.0)})
+    assert p.due(1.0) == [SdWrite("X", ((SD_ABS_VALUE, 0.012),))]
+
+
+def test_planner_holds_an_axis_100_ms_after_its_last_write_and_sends_the_newest() -> None:
+    p = SdWritePlanner(["Z"])
+    writes: list[tuple[float, SdWrite]] = []
+    t = 0.0
+    for k in range(40):  # a new value every 10 ms
+        t = 0.01 * k
+        p.want({"Z": _d(0.001 * (k + 1))})
+        for w in p.due(t):
+            writes.append((t, w))
+            p.sent(w, t + 0.003)  # answered 3 ms later: the interval runs from there
+    times = [w[0] for w in writes]
+    assert len(writes) >= 3
+    assert all(b - a >= 0.1 + 0.003 - 1e-12 for a, b in itertools.pairwise(times))
+    assert p.next_due_s() == pytest.approx(times[-1] + 0.103)
+    for w in p.due(p.next_due_s() or 0.0):
+        writes.append((0.0, w))
+    assert dict(writes[-1][1].values)[SD_ABS_VALUE] == pytest.approx(0.040)  # the newest
+
+
+def test_planner_no_second_write_while_one_is_in_flight_and_a_failed_one_is_resent() -> None:
+    p = SdWritePlanner(["X"])
+    p.want({"X": _d(0.02)})
+    (w,) = p.due(0.0)
+    p.want({"X": _d(0.03)})
+    assert p.due(5.0) == []  # in flight: never two writes of one axis at once
+    p.failed(w, 5.0)
+    assert p.due(5.05) == []  # the interval holds after a failure too
+    (again,) = p.due(5.15)
+    assert dict(again.values) == {SD_ABS_VALUE: 0.03, SD_SLOPE: 0.0, SD_REF_POSITION: 0.0}
+
+
+def test_planner_reads_back_what_the_nc_holds_and_clamps_and_refuses_nan() -> None:
+    p = SdWritePlanner(["X"], limits=TempCompLimits(max_offset_mm=0.05, max_slope=1e-4))
+    p.held("X", {SD_ABS_VALUE: 0.05, SD_SLOPE: 1e-4, SD_REF_POSITION: 0.0})
+    p.want({"X": _d(0.3, 1.0, 0.0)})  # beyond both limits: clamped to what is held
+    assert p.due(0.0) == []
+    with pytest.raises(ValueError, match="finite"):
+        p.want({"X": _d(math.inf)})
+    with pytest.raises(ValueError, match="not written"):
+        p.want({"Y": _d(0.0)})
