@@ -8,12 +8,26 @@ code under test), their limits; the write planner's rate and change rules. Integ
 
 from __future__ import annotations
 
+import asyncio
 import itertools
+import json
 import math
+import subprocess
+import sys
+from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from ednc.fleet import demo_fleet
+from machine_sim.campaign import Compensation, run_campaign, standard_campaign
+from machine_sim.instruments import SimulatedMachine
+from machine_sim.opcua_server import OpcuaUser
+from machine_sim.program import Dwell, Program, SpindleOn
+from machine_sim.sinumerik_native import NativeSinumerik, NativeSinumerikNC, SdWriteRecord
+from machine_sim.testprograms import diagonal_test
+from machine_sim.truth import random_geometry
 from server.links.sdwrites import (
     SD_ABS_VALUE,
     SD_REF_POSITION,
@@ -21,12 +35,17 @@ from server.links.sdwrites import (
     SdWrite,
     SdWritePlanner,
 )
+from server.links.sinumerik_sd import SdFollower, SdSession
 from volumetric.compensate.tempcomp import (
     AxisTempComp,
     TempCompLimits,
     temp_comp_setting_data,
 )
-from volumetric.model.model import ThermalTerm
+from volumetric.diagnose.diagnosis import diagnose
+from volumetric.model.machine import Machine, parse_machine
+from volumetric.model.model import MachineModel, ThermalTerm
+
+EDNC = Path(sys.executable).parent / "ednc"
 
 TERMS = (ThermalTerm("thermal_drift", "z", "T_spindle_C", -2.5, 20.0),
          ThermalTerm("thermal_expansion", "x", "T_x_screw_C", 11.5, 20.0, 0.0),
@@ -157,3 +176,128 @@ def test_planner_reads_back_what_the_nc_holds_and_clamps_and_refuses_nan() -> No
         p.want({"X": _d(math.inf)})
     with pytest.raises(ValueError, match="not written"):
         p.want({"Y": _d(0.0)})
+
+
+# -- integration: the demo's drifting machine, warmed up, with only SD4390x and CEC
+
+SEA_WRITER = frozenset({"SinuReadAll", "SeaWrite"})
+DIAGONALS = ("diag-PPP", "diag-NPP", "diag-PNP", "diag-PPN")
+
+
+@dataclass(frozen=True)
+class Drifting:
+    """The demo's machine with a hidden spindle growth, measured and diagnosed."""
+
+    machine: Machine
+    sim: SimulatedMachine
+    model: MachineModel
+    cec_text: str
+
+
+@pytest.fixture(scope="module")
+def drifting(tmp_path_factory: pytest.TempPathFactory) -> Drifting:
+    fm = next(f for f in demo_fleet() if f.effects.drift)  # vmc-01, -2.5 µm/K on z
+    m = parse_machine(fm.description)
+    rng = np.random.default_rng(fm.seed)
+    sim = SimulatedMachine(m, random_geometry(m, rng, scale=fm.scale), fm.effects,
+                           seed=fm.seed)
+    model = diagnose(m, standard_campaign(sim, rng)).model
+    assert [t.kind for t in model.terms if isinstance(t, ThermalTerm)] == ["thermal_drift"]
+    # the geometry as the operator loads it: the file `ednc export --format cec` writes
+    d = tmp_path_factory.mktemp("cec")
+    (d / "machine.json").write_text(json.dumps(fm.description))
+    (d / "model.json").write_text(json.dumps(model.to_json()))
+    out = d / "EDNC_CEC.MPF"
+    subprocess.run([str(EDNC), "export", "--machine", str(d / "machine.json"), "--model",
+                    str(d / "model.json"), "--format", "cec", "--out", str(out)],
+                   check=True, capture_output=True, timeout=120)
+    return Drifting(m, sim, model, out.read_text())
+
+
+def _z_shift_um(sim: SimulatedMachine, programs: list[Program], comp: Compensation) -> float:
+    """The compensated tool tip's mean z shift over the diagonals, µm (the demo's
+    measure: the constant offset of the readings, least squares)."""
+    after = run_campaign(sim, programs, compensation=comp).measurements
+    offset, *_ = np.linalg.lstsq(after.u, after.value, rcond=None)
+    return float(offset[2])
+
+
+async def _settled(nc: NativeSinumerikNC, want: dict[str, AxisTempComp]) -> None:
+    async with asyncio.timeout(10.0):
+        while not all(abs(nc.read_sd(SD_ABS_VALUE, a) - d.offset_mm) <= 1e-5
+                      and abs(nc.read_sd(SD_SLOPE, a) - d.slope) <= 1e-9
+                      for a, d in want.items()):
+            await asyncio.sleep(0.02)
+
+
+@pytest.mark.slow
+async def test_drifting_machine_warmed_up_with_only_sd4390x_and_cec(
+        drifting: Drifting) -> None:
+    m, sim, model = drifting.machine, drifting.sim, drifting.model
+    limits = TempCompLimits()  # the simulated NC's: 0.5 mm, MD32760 = 0.01
+    async with NativeSinumerik(m, {"ednc": OpcuaUser("pw", SEA_WRITER)}) as cnc:
+        nc = cnc.nc
+        nc.load_cec(drifting.cec_text)
+        session = SdSession(cnc.endpoint, "ednc", "pw", m.axis_names)
+        programs: list[Program] = [diagonal_test(m, g, points=10, runs=1) for g in DIAGONALS]
+
+        def cec_only(q: np.ndarray, direction: np.ndarray) -> np.ndarray:
+            assert nc.cec is not None
+            return nc.cec.compensation_mm(q, direction)
+
+        def what_the_nc_applies(q: np.ndarray, direction: np.ndarray) -> np.ndarray:
+            return nc.compensation_mm(q, direction)
+
+        without: list[float] = []
+        with_sd: list[float] = []
+        last: dict[str, float] = {}
+        async with SdFollower(m.name, session, model.terms) as follower:
+            for k in range(7):  # 0..60 min at 9000 rpm, as the demo
+                heat: list[Program] = [[SpindleOn(9000.0), Dwell(600.0 * k)]] if k else []
+                warm = [*heat, *programs]
+                probe = run_campaign(sim, warm).measurements
+                temps = {col: float(probe.temperatures[s].mean())
+                         for s, col in probe.temperature_columns.items()}
+                # a sensor stream faster than the 100 ms the NC may be written at: a
+                # reading every 20 ms on the way to this step's temperature
+                for i in range(1, 11):
+                    follower.set_temperatures({c: last.get(c, v) + (v - last.get(c, v)) * i / 10
+                                               for c, v in temps.items()})
+                    await asyncio.sleep(0.02)
+                last = temps
+                want = temp_comp_setting_data(model.terms, temps, m.axis_names, limits).axes
+                await _settled(nc, want)
+                without.append(await asyncio.to_thread(_z_shift_um, sim, warm, cec_only))
+                with_sd.append(await asyncio.to_thread(_z_shift_um, sim, warm,
+                                                       what_the_nc_applies))
+            assert follower.last_error is None and follower.connected
+    drift = np.abs(np.array(without) - without[0])
+    left = np.abs(np.array(with_sd) - with_sd[0])
+    print(f"z drift of the tool tip over the warm-up, µm: CEC only "
+          f"{np.round(np.array(without) - without[0], 2)}, CEC + SD4390x "
+          f"{np.round(np.array(with_sd) - with_sd[0], 2)}")
+    assert drift.max() > 10.0  # the machine drifts: the test can fail
+    assert 1.0 - left.max() / drift.max() >= 0.90
+    # every write as the NC received it: taken, within limits, >= 100 ms apart per axis
+    log = nc.sd_log
+    assert log and all(r.accepted for r in log)
+    for r in log:
+        if r.number == SD_ABS_VALUE:
+            assert abs(r.value) <= limits.max_offset_mm
+        if r.number == SD_SLOPE:
+            assert abs(r.value) <= limits.max_slope
+    for axis in {r.axis for r in log}:
+        requests: list[list[SdWriteRecord]] = []
+        for r in (r for r in log if r.axis == axis):
+            if requests and r.time_s - requests[-1][-1].time_s < 0.005:
+                requests[-1].append(r)  # one Write request arrives in one loop step
+            else:
+                requests.append([r])
+        for req in requests:  # two requests close together would repeat a datum
+            assert len({r.number for r in req}) == len(req)
+        starts = [req[0].time_s for req in requests]
+        gaps = np.diff(starts)
+        print(f"axis {axis}: {len(requests)} writes, {len(log)} data, closest "
+              f"{gaps.min() if gaps.size else float('nan'):.3f} s apart")
+        assert gaps.size == 0 or gaps.min() >= 0.1, (axis, gaps.min())
+    assert len(log) < 7 * 10 * 3  # fewer writes than readings: the rate held them back
