@@ -25,6 +25,7 @@ from machine_sim.campaign import Compensation, run_campaign, standard_campaign
 from machine_sim.instruments import SimulatedMachine
 from machine_sim.opcua_server import OpcuaUser
 from machine_sim.program import Dwell, Program, SpindleOn
+from machine_sim.siemens import MD_TEMP_COMP_TYPE, SiemensAlarm
 from machine_sim.sinumerik_native import NativeSinumerik, NativeSinumerikNC, SdWriteRecord
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
@@ -36,6 +37,10 @@ from server.links.sdwrites import (
     SdWritePlanner,
 )
 from server.links.sinumerik_sd import SdFollower, SdSession
+from tests.support import cec_eval
+from volumetric.compensate.cec import cec_export
+from volumetric.compensate.cec_check import tool_tip
+from volumetric.compensate.cec_text import CecFile, cec_text
 from volumetric.compensate.tempcomp import (
     AxisTempComp,
     TempCompLimits,
@@ -176,6 +181,121 @@ def test_planner_reads_back_what_the_nc_holds_and_clamps_and_refuses_nan() -> No
         p.want({"X": _d(math.inf)})
     with pytest.raises(ValueError, match="not written"):
         p.want({"Y": _d(0.0)})
+
+
+# -- the simulated NC
+
+M5 = {"name": "5ax", "controller": "siemens", "ip": "10.0.0.8", "chain": "w C A X b Y Z t",
+      "tool_length_mm": 100.0, "pivots_mm": {"A": [400, 300, -250], "C": [400, 300, -250]},
+      "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0], "a": [-110, 110],
+                    "c": [-180, 180]}}
+
+
+def _cec_file(m: Machine, seed: int, **kw: object) -> str:
+    geo = random_geometry(m, np.random.default_rng(seed))
+    e = cec_export(m, geo, tool_mm=100.0, **kw)  # type: ignore[arg-type]
+    return cec_text(e, tool_tip(m, geo, e, n=200), machine_name=m.name, model_note="test",
+                    f=CecFile("ini"))
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_the_ncs_cec_reading_is_the_manuals(seed: int) -> None:
+    """The NC's tables equal the test suite's evaluator written from K3 alone
+    (tests/support/cec_eval.py), products and direction tables included."""
+    m = parse_machine(M5)
+    text = _cec_file(m, seed, backlash_um={"X": 6.0})
+    nc = NativeSinumerikNC(m.name, m.axis_names)
+    nc.load_cec(text)
+    rng = np.random.default_rng(seed + 10)
+    q = np.column_stack([rng.uniform(a.travel[0] - 20, a.travel[1] + 20, 2000)
+                         for a in m.axes])  # beyond the ends too: the end values hold
+    d = rng.choice([-1, 1], size=q.shape)
+    tables = cec_eval.parse(text)
+    assert any(t.mult for t in tables.values()) and any(t.direction for t in tables.values())
+    want = cec_eval.compensation(tables, {f"{a}1": j for j, a in enumerate(m.axis_names)},
+                                 q, d.astype(float))
+    got = nc.compensation_mm(q, d)  # SD4390x all zero
+    assert np.abs(want).max() > 1e-3
+    assert np.abs(got - want).max() < 1e-12
+
+
+def test_the_nc_refuses_a_file_it_cannot_load_and_keeps_its_tables() -> None:
+    m = parse_machine(M5)
+    text = _cec_file(m, 0)
+    nc = NativeSinumerikNC(m.name, m.axis_names)
+    nc.load_cec(text)
+    before = nc.cec
+    for bad in (text.replace("M17", "M99"), text.replace("(X1)", "(U1)", 1),
+                text.replace("$AN_CEC_STEP", "$AN_CEC_STAP", 1)):
+        with pytest.raises(ValueError):
+            nc.load_cec(bad)
+        assert nc.cec is before
+
+
+def test_the_nc_applies_sd4390x_as_md32750_enables_them_at_md32760s_rate() -> None:
+    nc = NativeSinumerikNC("m", ["X", "Z"])
+    nc.write_sd(SD_ABS_VALUE, "x", 0.02)
+    nc.write_sd(SD_SLOPE, "x", 1e-4)
+    nc.write_sd(SD_REF_POSITION, "x", 100.0)
+    q = np.array([[300.0, -50.0], [0.0, -10.0]])
+    assert np.allclose(nc.compensation_mm(q)[:, 0], 0.02 + 1e-4 * (q[:, 0] - 100.0))
+    # the applied value follows at MD32760 · MD32000 per IPO cycle (6.7 µm at 4 ms)
+    step = nc.max_step_mm()[0]
+    first = nc.ipo_cycle(0.0, q[0])[0]
+    assert first == pytest.approx(step)
+    for k in range(1, 20):
+        nc.ipo_cycle(0.004 * k, q[0])
+    assert nc.applied[0] == pytest.approx(0.02 + 1e-4 * 200.0)
+    nc.write_md(MD_TEMP_COMP_TYPE, "x", 1)  # offset only: the slope no longer acts
+    assert np.allclose(nc.compensation_mm(q)[:, 0], 0.02)
+    with pytest.raises(SiemensAlarm, match="bit 1 off"):
+        nc.write_sd(SD_SLOPE, "x", 2e-4)
+    nc.write_md(MD_TEMP_COMP_TYPE, "z", 0)
+    with pytest.raises(SiemensAlarm, match="bit 0 off"):
+        nc.write_sd(SD_ABS_VALUE, "z", 0.01)
+    with pytest.raises(SiemensAlarm, match="MD32760"):
+        nc.write_sd(SD_SLOPE, "z", 1.0)  # bit 1 is off too, but steeper first
+    with pytest.raises(SiemensAlarm, match="outside"):
+        nc.write_sd(SD_ABS_VALUE, "x", 0.6)
+    assert [r.accepted for r in nc.sd_log] == [True] * 3 + [False] * 4
+
+
+async def test_over_opc_ua_refusals_say_what_to_fix_and_the_rest_is_written() -> None:
+    """A user without SeaWrite writes nothing and is told so; an axis whose MD32750
+    does not enable the slope is reported while the other axes are written; an
+    expansion term arrives as slope and reference and cancels along the axis."""
+    m = parse_machine({"name": "vmc", "controller": "siemens", "ip": "127.0.0.1",
+                       "chain": "w X Y b Z t", "tool_length_mm": 100.0,
+                       "travel_mm": {"x": [0, 800], "y": [0, 500], "z": [-500, 0]}})
+    users = {"reader": OpcuaUser("r", frozenset({"SinuReadAll"})),
+             "ednc": OpcuaUser("pw", SEA_WRITER)}
+    async with NativeSinumerik(m, users) as cnc:
+        nc = cnc.nc
+        reader = SdFollower(m.name, SdSession(cnc.endpoint, "reader", "r", m.axis_names),
+                            TERMS)
+        async with reader:
+            reader.set_temperatures(TEMPS)
+            async with asyncio.timeout(10):
+                while reader.last_error is None:
+                    await asyncio.sleep(0.02)
+        assert "SeaWrite" in reader.last_error
+        assert not [r for r in nc.sd_log if r.accepted]
+        nc.write_md(MD_TEMP_COMP_TYPE, "y", 1)  # y: offset only
+        follower = SdFollower(m.name, SdSession(cnc.endpoint, "ednc", "pw", m.axis_names),
+                              TERMS)
+        async with follower:
+            follower.set_temperatures(TEMPS)
+            want = temp_comp_setting_data(TERMS, TEMPS, m.axis_names).axes
+            async with asyncio.timeout(10):
+                while not (nc.read_sd(SD_SLOPE, "X") == pytest.approx(want["X"].slope)
+                           and follower.last_error is not None):
+                    await asyncio.sleep(0.02)
+        assert "axis Y" in follower.last_error and "MD32750" in follower.last_error
+        assert nc.read_sd(SD_REF_POSITION, "X") == want["X"].ref_mm
+        assert nc.read_sd(SD_ABS_VALUE, "Z") == pytest.approx(want["Z"].offset_mm)
+        for x in (0.0, 250.0, 800.0):
+            got = nc.compensation_mm(np.array([[x, 0.0, 0.0]]))[0, 0]
+            assert got * 1e3 == pytest.approx(-error_um("X", x, TEMPS), abs=1e-6)
 
 
 # -- integration: the demo's drifting machine, warmed up, with only SD4390x and CEC
