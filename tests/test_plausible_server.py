@@ -82,3 +82,22 @@ async def test_uploads_read_utf16_and_refuse_a_spreadsheet_locale(tmp_path: Path
         assert isinstance(center, Center)
         sets = await center.db.run(measurement_repo.list_measurement_sets, 1)
         assert sorted(s.name for s in sets) == ["mm", "u16"]  # the refused one left nothing
+
+
+async def test_rest_machine_descriptions_say_their_warnings(tmp_path: Path) -> None:
+    # travels of 0.5 m written as 0.5: accepted (a spindle test moves no axis) but warned,
+    # in the answer, as the CLI prints it on stderr
+    app = _app(tmp_path, f"sqlite:///{tmp_path / 'c.db'}")
+    metres = {"x": [0, 0.5], "y": [0, 0.3], "z": [-0.3, 0]}
+    async with asyncio.timeout(DEADLINE_S), client_of(app) as client:
+        desc = {**description("vmc-01", "fanuc", "10.0.0.21"), "travel_mm": metres}
+        r = await client.post("/api/machines", json={**desc, "secret": SECRET}, headers=WRITE)
+        assert r.status_code == 201, r.text
+        assert any("metres" in w for w in r.json()["warnings"]), r.json()
+        r = await client.patch("/api/machines/vmc-01", headers=WRITE,
+                               json={"travel_mm": description()["travel_mm"]})
+        assert r.status_code == 200, r.text
+        assert r.json()["warnings"] == []
+        r = await client.patch("/api/machines/vmc-01", headers=WRITE,
+                               json={"travel_mm": metres})
+        assert any("metres" in w for w in r.json()["warnings"]), r.json()
