@@ -9,6 +9,7 @@ code under test), their limits; the write planner's rate and change rules. Integ
 from __future__ import annotations
 
 import asyncio
+import datetime as dt
 import itertools
 import json
 import math
@@ -38,6 +39,7 @@ from server.links.sdwrites import (
 )
 from server.links.sinumerik_sd import SdFollower, SdSession
 from tests.support import cec_eval
+from tests.support.integration import center
 from volumetric.compensate.cec import cec_export
 from volumetric.compensate.cec_check import tool_tip
 from volumetric.compensate.cec_text import CecFile, cec_text
@@ -47,6 +49,7 @@ from volumetric.compensate.tempcomp import (
     temp_comp_setting_data,
 )
 from volumetric.diagnose.diagnosis import diagnose
+from volumetric.model.components import GeometricErrors
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import MachineModel, ThermalTerm
 
@@ -421,3 +424,56 @@ async def test_drifting_machine_warmed_up_with_only_sd4390x_and_cec(
               f"{gaps.min() if gaps.size else float('nan'):.3f} s apart")
         assert gaps.size == 0 or gaps.min() >= 0.1, (axis, gaps.min())
     assert len(log) < 7 * 10 * 3  # fewer writes than readings: the rate held them back
+
+
+# -- the center's service: registration, model and temperatures through the REST API
+
+PASSWORD_ENV = "EDNC_TEST_SINUMERIK_SD_PASSWORD"
+
+
+def _drift_model(name: str, um_per_K: float) -> dict[str, object]:
+    term = ThermalTerm("thermal_drift", "z", "T_spindle_C", um_per_K, 20.0)
+    return MachineModel(name, GeometricErrors({}, {}), (term,), {}).to_json()
+
+
+async def test_ednc_serve_follows_model_and_temperatures_into_sd43900(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """A machine registered with a ``sinumerik_sd`` link: ``ednc serve``'s services write
+    its NC's SD43900 from the stored model and every temperature posted, and follow a new
+    model at once; no map is pushed to it."""
+    monkeypatch.setenv(PASSWORD_ENV, "pw")
+    desc = {"name": "vmc-sd", "controller": "siemens", "ip": "127.0.0.1",
+            "chain": "w X Y b Z t", "tool_length_mm": 100.0,
+            "travel_mm": {"x": [0, 800], "y": [0, 500], "z": [-500, 0]}}
+    m = parse_machine(desc)
+    async with NativeSinumerik(m, {"ednc": OpcuaUser("pw", SEA_WRITER)}) as cnc, \
+            center(f"sqlite:///{tmp_path / 'ednc.db'}") as plant:
+        nc = cnc.nc
+        link = {"kind": "sinumerik_sd", "endpoint": cnc.endpoint, "user": "ednc",
+                "password_ref": f"env:{PASSWORD_ENV}"}
+        r = await plant.client.post("/api/machines", json={**desc, "link": link,
+                                                          "secret": "s" * 24})
+        assert r.status_code == 201, r.text
+        await plant.post_model("vmc-sd", _drift_model("vmc-sd", -2.5))
+        now = dt.datetime.now(dt.UTC)
+
+        async def post(celsius: float, minutes_ago: float) -> None:
+            at = (now - dt.timedelta(minutes=minutes_ago)).isoformat()
+            r = await plant.client.post("/api/machines/vmc-sd/temperatures", json={
+                "readings": [{"sensor": "T_spindle_C", "celsius": celsius, "time": at}]})
+            assert r.status_code == 200, r.text
+
+        async def sd_z(want_mm: float) -> None:
+            async with asyncio.timeout(20):
+                while abs(nc.read_sd(SD_ABS_VALUE, "Z") - want_mm) > 1e-9:
+                    await asyncio.sleep(0.05)
+
+        await post(31.0, 20.0)
+        await sd_z(2.5 * 11.0e-3)  # the drift -2.5 µm/K · 11 K cancelled: +27.5 µm
+        await post(32.0, 10.0)
+        await sd_z(2.5 * 12.0e-3)
+        await plant.post_model("vmc-sd", _drift_model("vmc-sd", -4.0))
+        await sd_z(4.0 * 12.0e-3)
+        assert await plant.maps("vmc-sd") == []  # nothing of ours in its PLC: no map
+    assert all(r.accepted for r in nc.sd_log)
+    assert {r.axis for r in nc.sd_log} == {"Z"}
