@@ -52,6 +52,7 @@ from volumetric.diagnose.diagnosis import diagnose
 from volumetric.model.components import GeometricErrors
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import MachineModel, ThermalTerm
+from volumetric.verify.iso230_6 import diagonal_ranges
 
 EDNC = Path(sys.executable).parent / "ednc"
 
@@ -337,12 +338,14 @@ def drifting(tmp_path_factory: pytest.TempPathFactory) -> Drifting:
     return Drifting(m, sim, model, out.read_text())
 
 
-def _z_shift_um(sim: SimulatedMachine, programs: list[Program], comp: Compensation) -> float:
-    """The compensated tool tip's mean z shift over the diagonals, µm (the demo's
-    measure: the constant offset of the readings, least squares)."""
+def _z_shift_um(sim: SimulatedMachine, programs: list[Program], comp: Compensation | None
+                ) -> tuple[float, float]:
+    """The compensated tool tip's mean z shift over the diagonals (the demo's measure: the
+    constant offset of the readings, least squares) and the worst ISO 230-6 diagonal
+    range, µm."""
     after = run_campaign(sim, programs, compensation=comp).measurements
     offset, *_ = np.linalg.lstsq(after.u, after.value, rcond=None)
-    return float(offset[2])
+    return float(offset[2]), max(diagonal_ranges(after).values())
 
 
 async def _settled(nc: NativeSinumerikNC, want: dict[str, AxisTempComp]) -> None:
@@ -373,6 +376,7 @@ async def test_drifting_machine_warmed_up_with_only_sd4390x_and_cec(
 
         without: list[float] = []
         with_sd: list[float] = []
+        ranges: list[tuple[float, float]] = []  # worst diagonal: bare, CEC + SD4390x
         last: dict[str, float] = {}
         async with SdFollower(m.name, session, model.terms) as follower:
             for k in range(7):  # 0..60 min at 9000 rpm, as the demo
@@ -390,17 +394,25 @@ async def test_drifting_machine_warmed_up_with_only_sd4390x_and_cec(
                 last = temps
                 want = temp_comp_setting_data(model.terms, temps, m.axis_names, limits).axes
                 await _settled(nc, want)
-                without.append(await asyncio.to_thread(_z_shift_um, sim, warm, cec_only))
-                with_sd.append(await asyncio.to_thread(_z_shift_um, sim, warm,
-                                                       what_the_nc_applies))
+                without.append((await asyncio.to_thread(_z_shift_um, sim, warm,
+                                                        cec_only))[0])
+                z, compensated = await asyncio.to_thread(_z_shift_um, sim, warm,
+                                                         what_the_nc_applies)
+                with_sd.append(z)
+                ranges.append(((await asyncio.to_thread(_z_shift_um, sim, warm, None))[1],
+                               compensated))
             assert follower.last_error is None and follower.connected
     drift = np.abs(np.array(without) - without[0])
     left = np.abs(np.array(with_sd) - with_sd[0])
     print(f"z drift of the tool tip over the warm-up, µm: CEC only "
           f"{np.round(np.array(without) - without[0], 2)}, CEC + SD4390x "
           f"{np.round(np.array(with_sd) - with_sd[0], 2)}")
+    print(f"worst ISO 230-6 diagonal range, µm (bare -> CEC + SD4390x): "
+          f"{[(round(a, 2), round(b, 2)) for a, b in ranges]}")
     assert drift.max() > 10.0  # the machine drifts: the test can fail
     assert 1.0 - left.max() / drift.max() >= 0.90
+    # and the CEC tables carry the geometry: the diagonals improve cold and hot alike
+    assert all(b <= 0.1 * a for a, b in ranges)
     # every write as the NC received it: taken, within limits, >= 100 ms apart per axis
     log = nc.sd_log
     assert log and all(r.accepted for r in log)
