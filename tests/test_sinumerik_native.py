@@ -174,6 +174,9 @@ def test_planner_no_second_write_while_one_is_in_flight_and_a_failed_one_is_rese
     assert p.due(5.05) == []  # the interval holds after a failure too
     (again,) = p.due(5.15)
     assert dict(again.values) == {SD_ABS_VALUE: 0.03, SD_SLOPE: 0.0, SD_REF_POSITION: 0.0}
+    p.failed(again, 6.0, hold_s=10.0)  # refused by the NC: not again for 10 s
+    assert p.due(15.0) == [] and p.next_due_s() == pytest.approx(16.1)
+    assert len(p.due(16.2)) == 1
 
 
 def test_planner_reads_back_what_the_nc_holds_and_clamps_and_refuses_nan() -> None:
@@ -487,5 +490,21 @@ async def test_ednc_serve_follows_model_and_temperatures_into_sd43900(
         await plant.post_model("vmc-sd", _drift_model("vmc-sd", -4.0))
         await sd_z(4.0 * 12.0e-3)
         assert await plant.maps("vmc-sd") == []  # nothing of ours in its PLC: no map
-    assert all(r.accepted for r in nc.sd_log)
+        st = await plant.status("vmc-sd")  # what the NC holds, for the status and dashboard
+        assert st["connected"] and st["telemetry"]["link"] == "sinumerik_sd"
+        assert st["telemetry"]["axes"]["Z"]["sd43900"] == pytest.approx(0.048)
+        # MD32750 of z changed on the machine to slope only: the offset is refused, said once
+        nc.write_md(MD_TEMP_COMP_TYPE, "z", 2)
+        await post(33.0, 0.0)
+        async with asyncio.timeout(20):
+            while not [e for e in await plant.events(machine="vmc-sd")
+                       if e["kind"] == "error"]:
+                await asyncio.sleep(0.1)
+        errors = [e["detail"] for e in await plant.events(machine="vmc-sd")
+                  if e["kind"] == "error"]
+        assert len(errors) == 1 and "MD32750" in errors[0] and "axis Z" in errors[0]
+        assert nc.read_sd(SD_ABS_VALUE, "Z") == pytest.approx(0.048)  # kept, not zeroed
+    refused = [r for r in nc.sd_log if not r.accepted]
+    assert refused and all(r.number == SD_ABS_VALUE for r in refused)
+    assert len(refused) == 1  # held 10 s after a refusal, not retried every 100 ms
     assert {r.axis for r in nc.sd_log} == {"Z"}

@@ -25,7 +25,8 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-from collections.abc import Callable
+import time
+from collections.abc import Callable, Mapping
 from types import TracebackType
 from typing import TYPE_CHECKING, Any
 
@@ -64,6 +65,35 @@ def native_link(description: dict[str, Any]) -> SinumerikSdLink | None:
     except ValidationError:
         return None
     return spec if isinstance(spec, SinumerikSdLink) else None
+
+
+class _Events:
+    """A follower's news into the registry (status, dashboard) and the event log."""
+
+    def __init__(self, links: NativeSdLinks, name: str, endpoint: str) -> None:
+        self.links = links
+        self.name = name
+        self.endpoint = endpoint
+
+    def connected(self) -> None:
+        address = self.endpoint.removeprefix("opc.tcp://").split("/", 1)[0]
+        self.links.center.registry.connected(self.name, address)
+        self.links.record(EventKind.CONNECTED, self.name,
+                          f"sinumerik_sd link to {self.endpoint}")
+
+    def lost(self, why: str) -> None:
+        self.links.center.registry.disconnected(self.name)
+        self.links.record(EventKind.DISCONNECTED, self.name, why)
+
+    def held(self, data: Mapping[str, Mapping[int, float]]) -> None:
+        self.links.center.registry.seen(self.name, {
+            "timestamp_ms": int(time.time() * 1000), "state": "compensating",
+            "link": "sinumerik_sd", "map_version": None,
+            "axes": {a: {f"sd{n}": v for n, v in sorted(d.items())} for a, d in data.items()},
+            "temperatures": {}})
+
+    def refused(self, text: str) -> None:
+        self.links.record(EventKind.ERROR, self.name, f"setting data refused: {text}")
 
 
 def _registrations(session: Session) -> list[tuple[int, str, dict[str, Any], Any]]:
@@ -115,6 +145,7 @@ class NativeSdLinks:
         self._unsubscribe: Any = None
         self.commit_listeners = commit_listeners
         self._reloads: set[asyncio.Task[None]] = set()
+        self._records: set[asyncio.Task[None]] = set()
 
     async def __aenter__(self) -> NativeSdLinks:
         if not self.enabled:
@@ -133,12 +164,20 @@ class NativeSdLinks:
                 await self._task
         for t in list(self._reloads):
             t.cancel()
+        if self._records:
+            await asyncio.wait(list(self._records), timeout=5.0)
         for name in list(self.followers):
             await self._stop(name)
         if self.commit_listeners is not None and self._on_commit in self.commit_listeners:
             self.commit_listeners.remove(self._on_commit)
         if self._unsubscribe is not None:
             self._unsubscribe()
+
+    def record(self, kind: EventKind, name: str, text: str) -> None:
+        """Store an event in the background (followers report from sync callbacks)."""
+        task = asyncio.create_task(self.feed.record(kind, name, text))
+        self._records.add(task)
+        task.add_done_callback(self._records.discard)
 
     # -- inputs
 
@@ -205,7 +244,8 @@ class NativeSdLinks:
         terms = await self.center.db.run(_terms, machine_id)
         follower = SdFollower(name, session, terms,
                               limits=TempCompLimits(spec.max_offset_mm, spec.max_slope),
-                              min_interval_s=spec.min_interval_ms / 1000.0)
+                              min_interval_s=spec.min_interval_ms / 1000.0,
+                              events=_Events(self, name, spec.endpoint))
         sensors = {t.sensor for t in terms}
         follower.set_temperatures(self.temperatures.columns(name, sensors))
         await follower.__aenter__()
@@ -223,3 +263,5 @@ class NativeSdLinks:
                 del self._ids[machine_id]
         if follower is not None:
             await follower.__aexit__(None, None, None)
+            if follower.connected:
+                self.center.registry.disconnected(name)

@@ -20,7 +20,9 @@ send now. The rules:
    TempCompLimits` are clamped (the computation clamps already; this is the last guard
    before the wire) and non-finite values are refused.
 5. **A failed write is written again**: :meth:`SdWritePlanner.failed` forgets what the NC
-   was assumed to hold for that axis; the interval still applies.
+   was assumed to hold for that axis; the interval still applies, lengthened by a hold
+   for a write the NC refused (it will likely refuse it again until someone changes its
+   machine data).
 """
 
 from __future__ import annotations
@@ -139,9 +141,10 @@ class SdWritePlanner:
         self._in_flight.discard(write.axis)
         self._last_s[write.axis] = now_s
 
-    def failed(self, write: SdWrite, now_s: float) -> None:
-        """``write`` did not reach the NC (or was refused): write it again when due."""
-        self.sent(write, now_s)
+    def failed(self, write: SdWrite, now_s: float, hold_s: float = 0.0) -> None:
+        """``write`` did not reach the NC (or was refused): write it again when due, and
+        not before ``hold_s`` more (a refusal is not retried ten times a second)."""
+        self.sent(write, now_s + max(0.0, hold_s))
         for n, _ in write.values:
             self._held[write.axis].pop(n, None)
 

@@ -34,7 +34,7 @@ import time
 from collections.abc import Awaitable, Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import TracebackType
-from typing import Any, Final
+from typing import Any, Final, Protocol
 
 from asyncua import ua
 from asyncua.client.client import Client
@@ -51,7 +51,7 @@ from server.links.sdwrites import (
 from server.links.window.memory import LinkError
 from volumetric.compensate.tempcomp import TempCompLimits, temp_comp_setting_data
 
-__all__ = ["SdFollower", "SdSession", "WriteOutcome"]
+__all__ = ["FollowerEvents", "SdFollower", "SdSession", "WriteOutcome"]
 
 log = logging.getLogger(__name__)
 
@@ -69,6 +69,20 @@ _WHY: Final = {
 def _status_name(e: BaseException) -> str | None:
     code = getattr(e, "code", None)
     return ua.StatusCode(ua.UInt32(code)).name if isinstance(code, int) else None
+
+
+class FollowerEvents(Protocol):
+    """What a :class:`SdFollower` tells its owner (the service: registry, event log)."""
+
+    def connected(self) -> None: ...
+
+    def lost(self, why: str) -> None: ...
+
+    def held(self, data: Mapping[str, Mapping[int, float]]) -> None:
+        """What the NC holds now per axis and datum (after a read or a write)."""
+
+    def refused(self, text: str) -> None:
+        """A write the NC refused (said once per distinct text)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -244,13 +258,20 @@ class SdFollower:
     backoff : Backoff, optional
     clock : callable
         Seconds, monotonic (the planner's time).
+    events : FollowerEvents, optional
+    refused_hold_s : float
+        A write the NC refused is tried again after this, s (its machine data may change).
     """
 
     def __init__(self, name: str, session: SdSession, terms: Iterable[object] = (), *,
                  limits: TempCompLimits | None = None, min_interval_s: float = 0.1,
                  backoff: Backoff | None = None,
-                 clock: Callable[[], float] = time.monotonic) -> None:
+                 clock: Callable[[], float] = time.monotonic,
+                 events: FollowerEvents | None = None,
+                 refused_hold_s: float = 10.0) -> None:
         self.name = name
+        self.events = events
+        self.refused_hold_s = float(refused_hold_s)
         self.session = session
         self.limits = limits or TempCompLimits()
         self.planner = SdWritePlanner(session.axes, limits=self.limits,
@@ -268,6 +289,8 @@ class SdFollower:
         self.waiting: dict[str, tuple[str, ...]] = {}
         """Axes held at what the NC has, with the temperatures they lack."""
         self.connected = False
+        self.nc_holds: dict[str, dict[int, float]] = {}
+        """What the NC holds per axis and datum: read at connect, updated by writes."""
 
     # -- inputs
 
@@ -304,14 +327,21 @@ class SdFollower:
         while True:
             try:
                 await self.session.connect()
-                for axis, values in (await self.session.read()).items():
+                held = await self.session.read()
+                for axis, values in held.items():
                     self.planner.held(axis, values)
                 self.connected, attempt = True, 0
+                self.nc_holds = held
+                if self.events is not None:
+                    self.events.connected()
+                    self.events.held(held)
                 await self._follow()
             except LinkError as exc:
-                self.connected = False
                 if str(exc) != self.last_error:
                     log.warning("%s: native SINUMERIK link: %s", self.name, exc)
+                if self.events is not None and (self.connected or str(exc) != self.last_error):
+                    self.events.lost(str(exc))
+                self.connected = False
                 self.last_error = str(exc)
                 await self.session.close()
                 await asyncio.sleep(self.backoff.delay(attempt, self._rng))
@@ -346,11 +376,17 @@ class SdFollower:
                 for o in outcomes:
                     if o.error is None:
                         self.planner.sent(o.write, now)
-                    else:
-                        self.planner.failed(o.write, now)
-                        self.last_error = o.error
+                        self.nc_holds.setdefault(o.write.axis, {}).update(o.write.values)
+                        continue
+                    self.planner.failed(o.write, now, self.refused_hold_s)
+                    if o.error != self.last_error:
                         log.warning("%s: %s", self.name, o.error)
+                        if self.events is not None:
+                            self.events.refused(o.error)
+                    self.last_error = o.error
                 self.writes = [*self.writes[-999:], *outcomes]
+                if self.events is not None:
+                    self.events.held(self.nc_holds)
             nxt = self.planner.next_due_s()
             timeout = None if nxt is None else max(0.0, nxt - self.clock())
             with contextlib.suppress(TimeoutError):
