@@ -298,6 +298,18 @@ async def test_over_opc_ua_refusals_say_what_to_fix_and_the_rest_is_written() ->
                            and follower.last_error is not None):
                     await asyncio.sleep(0.02)
         assert "axis Y" in follower.last_error and "MD32750" in follower.last_error
+        # an operator overwrites z's offset at the machine: the read-back restores it
+        restorer = SdFollower(m.name, SdSession(cnc.endpoint, "ednc", "pw", m.axis_names),
+                              TERMS, verify_s=0.3)
+        async with restorer:
+            restorer.set_temperatures(TEMPS)
+            async with asyncio.timeout(10):
+                while not restorer.connected:
+                    await asyncio.sleep(0.02)
+            nc.write_sd(SD_ABS_VALUE, "Z", 0.0)
+            async with asyncio.timeout(10):
+                while nc.read_sd(SD_ABS_VALUE, "Z") != pytest.approx(want["Z"].offset_mm):
+                    await asyncio.sleep(0.02)
         assert nc.read_sd(SD_REF_POSITION, "X") == want["X"].ref_mm
         assert nc.read_sd(SD_ABS_VALUE, "Z") == pytest.approx(want["Z"].offset_mm)
         for x in (0.0, 250.0, 800.0):

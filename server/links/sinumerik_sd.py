@@ -17,7 +17,9 @@ and when (:class:`~server.links.sdwrites.SdWritePlanner`: only changes, at most 
 * :class:`SdFollower`: keeps one machine's setting data current (an async context
   manager): it connects (jittered, capped backoff after a failure), reads what the NC
   holds (so only differences are written), then writes whenever the temperatures or the
-  model's terms change, and says what it did (:attr:`SdFollower.writes`, the last error).
+  model's terms change, reads the data back every ``verify_s`` (a value changed at the
+  machine is written again; a dead session is found), and says what it did
+  (:attr:`SdFollower.writes`, the last error, :class:`FollowerEvents`).
 
 Failures raise or report :class:`~server.links.window.memory.LinkError` with a text that
 says what to fix (a user without ``SeaWrite``, a datum MD32750 does not enable, a value
@@ -261,6 +263,8 @@ class SdFollower:
     events : FollowerEvents, optional
     refused_hold_s : float
         A write the NC refused is tried again after this, s (its machine data may change).
+    verify_s : float
+        What the NC holds is read back this often, s, and written again where it differs.
     """
 
     def __init__(self, name: str, session: SdSession, terms: Iterable[object] = (), *,
@@ -268,10 +272,12 @@ class SdFollower:
                  backoff: Backoff | None = None,
                  clock: Callable[[], float] = time.monotonic,
                  events: FollowerEvents | None = None,
-                 refused_hold_s: float = 10.0) -> None:
+                 refused_hold_s: float = 10.0, verify_s: float = 10.0) -> None:
         self.name = name
         self.events = events
         self.refused_hold_s = float(refused_hold_s)
+        self.verify_s = float(verify_s)
+        self._verified_s = float("-inf")
         self.session = session
         self.limits = limits or TempCompLimits()
         self.planner = SdWritePlanner(session.axes, limits=self.limits,
@@ -328,6 +334,7 @@ class SdFollower:
             try:
                 await self.session.connect()
                 held = await self.session.read()
+                self._verified_s = self.clock()
                 for axis, values in held.items():
                     self.planner.held(axis, values)
                 self.connected, attempt = True, 0
@@ -387,8 +394,22 @@ class SdFollower:
                 self.writes = [*self.writes[-999:], *outcomes]
                 if self.events is not None:
                     self.events.held(self.nc_holds)
+            now = self.clock()
+            if now - self._verified_s >= self.verify_s:
+                # read back what the NC holds: a value changed at the machine (an operator,
+                # a restored archive) is written again, and a dead session shows here
+                held = await self.session.read()
+                self._verified_s = self.clock()
+                for axis, values in held.items():
+                    self.planner.held(axis, values)
+                self.nc_holds = held
+                if self.events is not None:
+                    self.events.held(held)
+                continue
+            wake_at = [self._verified_s + self.verify_s]
             nxt = self.planner.next_due_s()
-            timeout = None if nxt is None else max(0.0, nxt - self.clock())
+            if nxt is not None:
+                wake_at.append(nxt)
             with contextlib.suppress(TimeoutError):
-                async with asyncio.timeout(timeout):
+                async with asyncio.timeout(max(0.0, min(wake_at) - now)):
                     await self._wake.wait()
