@@ -34,10 +34,12 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 from volumetric.model.model import ThermalTerm
 
-__all__ = ["AxisTempComp", "TempCompLimits", "TempCompResult", "temp_comp_setting_data"]
+__all__ = ["ActingTerm", "AxisTempComp", "TempCompLimits", "TempCompResult",
+           "cancelling_setting_data", "temp_comp_setting_data"]
 
 
 @dataclass(frozen=True)
@@ -111,6 +113,53 @@ def _clamp(value: float, limit: float) -> tuple[float, bool]:
     return math.copysign(limit, value), True
 
 
+class ActingTerm(NamedTuple):
+    """One drift or expansion at its temperature, whatever it was read from (a model's
+    term, a map's thermal record).
+
+    Attributes
+    ----------
+    axis : str
+        Upper-case axis name.
+    drift : bool
+        True: a drift (µm/K); False: an expansion (µm/(m·K)) about ``q_min``.
+    coefficient : float
+    dt_K : float
+        Temperature minus the term's reference, K.
+    q_min : float
+        Expansion reference position, mm.
+    """
+
+    axis: str
+    drift: bool
+    coefficient: float
+    dt_K: float
+    q_min: float = 0.0
+
+
+def cancelling_setting_data(axes: Sequence[str], acting: Iterable[ActingTerm]
+                            ) -> dict[str, tuple[float, float, float]]:
+    """(SD43900 mm, SD43910 mm/mm, SD43920 mm) per axis that cancel ``acting`` (module
+    docstring: offsets add, slopes about other references fold into the first), by
+    upper-case axis, zeros where nothing acts; no limits applied. The one rule for every
+    source of thermal terms."""
+    names = [a.upper() for a in axes]
+    offset = dict.fromkeys(names, 0.0)
+    slope = dict.fromkeys(names, 0.0)
+    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    for a in acting:
+        if a.drift:
+            offset[a.axis] -= a.coefficient * a.dt_K * 1e-3  # µm -> mm, cancelling the error
+            continue
+        s = -a.coefficient * a.dt_K * 1e-6  # µm/(m·K) · K -> mm/mm, cancelling the error
+        r = ref[a.axis]
+        if r is None:
+            ref[a.axis] = r = a.q_min
+        slope[a.axis] += s
+        offset[a.axis] += s * (r - a.q_min)  # a slope about another reference (docstring)
+    return {n: (offset[n], slope[n], ref[n] or 0.0) for n in names}
+
+
 def temp_comp_setting_data(terms: Iterable[object], temperatures: Mapping[str, float],
                            axes: Sequence[str], limits: TempCompLimits | None = None
                            ) -> TempCompResult:
@@ -139,37 +188,27 @@ def temp_comp_setting_data(terms: Iterable[object], temperatures: Mapping[str, f
     """
     lim = limits or TempCompLimits()
     names = [a.upper() for a in axes]
-    offset = dict.fromkeys(names, 0.0)
-    slope = dict.fromkeys(names, 0.0)
-    ref: dict[str, float | None] = dict.fromkeys(names, None)
+    acting: list[ActingTerm] = []
     missing: dict[str, list[str]] = {}
     for t in terms:
         if not isinstance(t, ThermalTerm):
             continue
         axis = t.axis.upper()
-        if axis not in offset:
+        if axis not in names:
             raise ValueError(f"{t.kind} term on axis {t.axis!r}, which the NC does not have "
                              f"({' '.join(names)})")
         celsius = temperatures.get(t.sensor)
         if celsius is None or not math.isfinite(celsius):
             missing.setdefault(axis, []).append(t.sensor)
             continue
-        dt_K = float(celsius) - t.t_ref_C
-        if t.kind == "thermal_drift":
-            offset[axis] -= t.coefficient * dt_K * 1e-3  # µm -> mm, cancelling the error
-            continue
-        s = -t.coefficient * dt_K * 1e-6  # µm/(m·K) · K -> mm/mm, cancelling the error
-        r = ref[axis]
-        if r is None:
-            ref[axis] = r = t.q_min
-        slope[axis] += s
-        offset[axis] += s * (r - t.q_min)  # a slope about another reference (docstring)
+        acting.append(ActingTerm(axis, t.kind == "thermal_drift", t.coefficient,
+                                 float(celsius) - t.t_ref_C, t.q_min))
     out: dict[str, AxisTempComp] = {}
-    for a in names:
+    for a, (offset, slope, ref) in cancelling_setting_data(names, acting).items():
         if a in missing:
             continue
-        o, o_cut = _clamp(offset[a], lim.max_offset_mm)
-        s, s_cut = _clamp(slope[a], lim.max_slope)
+        o, o_cut = _clamp(offset, lim.max_offset_mm)
+        s, s_cut = _clamp(slope, lim.max_slope)
         cut = tuple(n for n, c in (("offset", o_cut), ("slope", s_cut)) if c)
-        out[a] = AxisTempComp(o, s, ref[a] or 0.0, cut)
+        out[a] = AxisTempComp(o, s, ref, cut)
     return TempCompResult(out, {a: tuple(dict.fromkeys(v)) for a, v in missing.items()})
