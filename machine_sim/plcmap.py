@@ -193,10 +193,11 @@ class PlcMapProgram:
         old = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         c = self.controller
         state = self._state_bits()
+        # counts as the position registers hold them, halves up (§6)
         pos = old.positions if positions is None else tuple(
-            int(v) for v in np.rint(positions / self.increment_mm))
+            int(v) for v in np.floor(positions / self.increment_mm + 0.5))
         app = old.applied if applied_mm is None else tuple(
-            int(v) for v in np.rint(applied_mm / self.increment_mm))
+            int(v) for v in np.floor(applied_mm / self.increment_mm + 0.5))
         st = Status(self.heartbeat, self._handled_seq,
                     old.ack_code if ack_code is None else ack_code, active, state,
                     c.store.version, self._temp_ack, pos, app, self._temp_refused)

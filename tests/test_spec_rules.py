@@ -16,6 +16,7 @@ implementation written from the README alone (``tests/support/factored_fromspec.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import random
@@ -184,7 +185,7 @@ def test_the_lreal_method_is_exact_where_doubles_are_not() -> None:
         exact = (Fraction(c) * 1000 + Fraction(1, 2)).__floor__()
         assert _lreal_mc(c) == exact == milli_celsius(c)
         naive_off += math.floor(c * 1000.0 + 0.5) != exact
-    assert naive_off > 1000  # about one in nine (README §6)
+    assert naive_off > 1000  # 7,101 of the 20,000 here
 
 
 # --- decode rules ------------------------------------------------------------------
@@ -242,6 +243,15 @@ def test_decode_rules_of_a_grid_map() -> None:
         decode_payload(bytes(twice))
     with pytest.raises(ValueError, match="q_min 0"):
         ThermalRecord("spindle", "Z", 1, -2.5, 20.0, 5.0)
+    # the ranges of section 6 after the loader's conversion (int32 grids)
+    far = dataclasses.replace(p, grid=(GridAxis("X", 2_000_000.0, 1.0, 2),))
+    with pytest.raises(MapFormatError, match="offset 72: start 2000000000"):
+        decode_payload(encode_map(far))
+    hot = dataclasses.replace(p, thermal=(ThermalRecord("x", "X", 2, 100.0, 20.0, 0.0),))
+    with pytest.raises(MapFormatError, match=r"thermal record 0 at offset \d+: .*expansion"):
+        decode_payload(encode_map(hot))
+    ok = dataclasses.replace(p, thermal=(ThermalRecord("x", "X", 2, 11.5, 20.0, 0.0),))
+    assert decode_payload(encode_map(ok)) == ok
 
 
 # --- axes matched by name ----------------------------------------------------------
