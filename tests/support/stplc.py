@@ -1,0 +1,47 @@
+"""Shared helpers of the Structured Text PLC tests: deliver a map into a window as the
+center does (protocol/README.md §13.2) and read the status."""
+
+from __future__ import annotations
+
+import struct
+from collections.abc import MutableSequence, Sequence
+
+from protocol.ctrlmem import (
+    STATUS_AT,
+    STATUS_SIZE,
+    Layout,
+    Status,
+    Write,
+    decode_status,
+    plan_map_write,
+)
+
+__all__ = ["status", "write_all", "write_map", "write_temperatures"]
+
+
+def write_all(window: MutableSequence[int] | memoryview | bytearray,
+              writes: Sequence[Write]) -> None:
+    """Apply the center's writes to the window, in order."""
+    for w in writes:
+        window[w.offset:w.offset + len(w.data)] = w.data
+
+
+def write_map(window: memoryview | bytearray, layout: Layout, buffer: int, payload: bytes,
+              version: int, seq: int) -> None:
+    """Steps 2-5 of §13.2 in one go: clear the header, the payload, the header, the
+    switch word."""
+    write_all(window, plan_map_write(layout, buffer, payload, version, seq))
+
+
+def write_temperatures(window: memoryview | bytearray, slots_mC: Sequence[int], seq: int,
+                       map_version: int = 0) -> None:
+    """The temperature slots (m°C; -2^31 for nothing to say), the slots' map version
+    and the sequence, in the order the center writes them (§13.1)."""
+    values = list(slots_mC) + [-(1 << 31)] * (32 - len(slots_mC))
+    window[256:384] = struct.pack("<32i", *values)
+    window[388:392] = struct.pack("<I", map_version)
+    window[384:386] = struct.pack("<H", seq)
+
+
+def status(window: memoryview | bytearray) -> Status:
+    return decode_status(bytes(window[STATUS_AT:STATUS_AT + STATUS_SIZE]))
