@@ -23,6 +23,7 @@ import tempfile
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 __all__ = ["ROOT", "StBuildError", "StProgram", "StVar", "build_program", "iec2c"]
 
@@ -139,7 +140,7 @@ class StProgram:
             os.unlink(name)
         self._lib.plc_init.restype = None
         self._lib.plc_scan.restype = None
-        self._vars: dict[str, ctypes.Array[ctypes._SimpleCData]] = {}  # type: ignore[type-arg]
+        self._vars: dict[str, Any] = {}
         for v in variables:
             f = getattr(self._lib, f"plc_var_{v.name.upper()}")
             f.restype = ctypes.c_void_p
@@ -155,6 +156,7 @@ class StProgram:
         self._lib.plc_scan()
         self.scans += 1
 
-    def var(self, name: str) -> ctypes.Array[ctypes._SimpleCData]:  # type: ignore[type-arg]
-        """The variable ``name`` as a ctypes array over the program's memory."""
+    def var(self, name: str) -> Any:
+        """The variable ``name`` as a ctypes array over the program's memory (items are
+        Python ints)."""
         return self._vars[name]

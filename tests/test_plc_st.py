@@ -15,7 +15,7 @@ import pytest
 
 from machine_sim.iec import StProgram, StVar, build_program
 from machine_sim.stplc import StPlc
-from protocol import decode_payload
+from protocol.mapfactored import decode_factored
 from tests.support.stplc import status, write_map, write_temperatures
 
 VECTORS = Path(__file__).parent / "vectors"
@@ -82,7 +82,7 @@ def _vector(name: str) -> dict[str, Any]:
 def loaded(data: bytes, readings_mC: dict[str, int] | None = None) -> StPlc:
     """A PLC with the factored map ``data`` applied through its window, no channel limit
     but the map's, the readings written to its temperature slots."""
-    p = decode_payload(data)
+    p = decode_factored(data)
     plc = StPlc(p.machine, [a.name for a in p.axes], channel_limit=(1 << 30) - 1,
                 max_step=1 << 30)
     plc.scan([0] * len(plc.axes))
@@ -116,7 +116,7 @@ def test_without_readings_the_records_add_nothing() -> None:
     body = _vector("factored_5axis")
     data = (VECTORS / body["map"]).read_bytes()
     plc = loaded(data)
-    ladder = FactoredLadder(decode_payload(data))  # type: ignore[arg-type]
+    ladder = FactoredLadder(decode_factored(data))
     rng = np.random.default_rng(3)
     for p in rng.choice(body["points"], 20):
         q = np.array([p["q"][a] for a in body["axes"]])
