@@ -102,11 +102,11 @@ def ensure_matiec() -> Path:
 
 
 def main(argv: list[str]) -> None:
-    if not argv or argv[0] not in {"demo", "test", "matiec"}:
-        sys.exit(__doc__)
-    if argv[0] == "matiec":
+    if argv[:1] == ["matiec"]:
         print(ensure_matiec())
         return
+    if not argv or argv[0] not in {"demo", "test"}:
+        sys.exit(__doc__)
     ensure_env()
     if argv[0] == "demo":
         run(BIN / "ednc", "demo", *argv[1:])
