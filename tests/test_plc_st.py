@@ -14,9 +14,8 @@ import numpy as np
 import pytest
 
 from machine_sim.iec import StProgram, StVar, build_program
-from machine_sim.stplc import StPlc
 from protocol.mapfactored import decode_factored
-from tests.support.stplc import status, write_map, write_temperatures
+from tests.support.stplc import loaded
 
 VECTORS = Path(__file__).parent / "vectors"
 
@@ -77,25 +76,6 @@ def test_for_loops_run_as_iec_61131_3_says(tmp_path: Path, a: int, b: int, s: in
 def _vector(name: str) -> dict[str, Any]:
     body: dict[str, Any] = json.loads((VECTORS / f"{name}.json").read_text())
     return body
-
-
-def loaded(data: bytes, readings_mC: dict[str, int] | None = None) -> StPlc:
-    """A PLC with the factored map ``data`` applied through its window, no channel limit
-    but the map's, the readings written to its temperature slots."""
-    p = decode_factored(data)
-    plc = StPlc(p.machine, [a.name for a in p.axes], channel_limit=(1 << 30) - 1,
-                max_step=1 << 30)
-    plc.scan([0] * len(plc.axes))
-    write_map(plc.window, plc.layout, 1, data, p.version, 1)
-    plc.scan([0] * len(plc.axes))
-    st = status(plc.window)
-    assert (st.ack_seq, st.ack_code, st.active, st.applied_version) == (1, 0, 1, p.version)
-    if readings_mC:
-        sensors = list(dict.fromkeys(r.sensor for r in p.thermal))
-        write_temperatures(plc.window, [readings_mC[s] for s in sensors], 1, p.version)
-        plc.scan([0] * len(plc.axes))
-        assert status(plc.window).temp_ack == 1
-    return plc
 
 
 def test_the_program_gives_the_factored_vectors() -> None:

@@ -6,6 +6,7 @@ from __future__ import annotations
 import struct
 from collections.abc import MutableSequence, Sequence
 
+from machine_sim.stplc import StPlc
 from protocol.ctrlmem import (
     STATUS_AT,
     STATUS_SIZE,
@@ -15,8 +16,9 @@ from protocol.ctrlmem import (
     decode_status,
     plan_map_write,
 )
+from protocol.mapfactored import decode_factored
 
-__all__ = ["status", "write_all", "write_map", "write_temperatures"]
+__all__ = ["loaded", "status", "write_all", "write_map", "write_temperatures"]
 
 
 def write_all(window: MutableSequence[int] | memoryview | bytearray,
@@ -45,3 +47,23 @@ def write_temperatures(window: memoryview | bytearray, slots_mC: Sequence[int], 
 
 def status(window: memoryview | bytearray) -> Status:
     return decode_status(bytes(window[STATUS_AT:STATUS_AT + STATUS_SIZE]))
+
+
+def loaded(data: bytes, readings_mC: dict[str, int] | None = None) -> StPlc:
+    """A compiled PLC with the factored map ``data`` applied through its window, no
+    channel limit but the map's and no step limit, the readings (m°C by sensor) written
+    to its temperature slots."""
+    p = decode_factored(data)
+    plc = StPlc(p.machine, [a.name for a in p.axes], channel_limit=(1 << 30) - 1,
+                max_step=1 << 30)
+    plc.scan([0] * len(plc.axes))
+    write_map(plc.window, plc.layout, 1, data, p.version, 1)
+    plc.scan([0] * len(plc.axes))
+    st = status(plc.window)
+    assert (st.ack_seq, st.ack_code, st.active, st.applied_version) == (1, 0, 1, p.version)
+    if readings_mC:
+        sensors = list(dict.fromkeys(r.sensor for r in p.thermal))
+        write_temperatures(plc.window, [readings_mC[s] for s in sensors], 1, p.version)
+        plc.scan([0] * len(plc.axes))
+        assert status(plc.window).temp_ack == 1
+    return plc
