@@ -12,18 +12,23 @@ compiled program's.
 
 from __future__ import annotations
 
+import asyncio
 import ctypes
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
+from types import TracebackType
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
 from protocol.ctrlmem import Layout
+from volumetric.model.machine import Machine
 
 from .iec import ROOT, StProgram, StVar, build_program
+from .runtime import MachineRuntime
 
-__all__ = ["ST_SOURCES", "ST_VARIABLES", "WINDOW_CAPACITY", "StPlc", "st_library"]
+__all__ = ["ST_SOURCES", "ST_VARIABLES", "WINDOW_CAPACITY", "StPlc", "StWindowCNC", "st_library"]
 
 PLC_DIR = ROOT / "plc"
 ST_SOURCES = tuple(PLC_DIR / f for f in (
@@ -50,7 +55,8 @@ ST_VARIABLES = (
     StVar("state", ctypes.c_uint16),
 )
 
-FACTORED = 0x10
+FACTORED = 0x11
+"""INT32_INCREMENTS | FACTORED: factored maps, whose values are int32 counts."""
 
 
 def st_library() -> Path:
@@ -156,3 +162,64 @@ class StPlc:
         self.scan(before, 0)
         self.scan(q_counts, 0)
         return self.target
+
+
+class StWindowCNC:
+    """A simulated machine whose PLC is the compiled program: the controller's server
+    (Modbus/TCP for a Fanuc PMC, :class:`machine_sim.modbus_server.PmcModbusServer`)
+    serves the program's own window variable, and every cycle the program scans at the
+    machine's commanded positions (counts of 0.001 mm / 0.001°). An async context
+    manager, like :class:`machine_sim.windowcnc.WindowCNC`.
+
+    Parameters
+    ----------
+    machine : Machine
+    server_factory : callable
+        Builds the controller's server from this machine (it reads ``window``).
+    seed : int
+        Seed of the simulated motion.
+    cycle_s : float
+        PLC scan period, s.
+    channel_limit, max_step : int
+        The program's settings (counts; counts per scan).
+    """
+
+    def __init__(self, machine: Machine, server_factory: Callable[[StWindowCNC], Any], *,
+                 seed: int = 0, cycle_s: float = 0.008, channel_limit: int = 500,
+                 max_step: int = 5) -> None:
+        self.machine = machine
+        self.runtime = MachineRuntime(machine, seed=seed)  # its motion
+        self.plc = StPlc(machine.name, machine.axis_names, channel_limit=channel_limit,
+                         max_step=max_step)
+        self.layout = self.plc.layout
+        self.window = self.plc.window
+        self.cycle_s = float(cycle_s)
+        self.server = server_factory(self)
+        self._t0 = 0.0
+        self._task: asyncio.Task[None] | None = None
+
+    async def __aenter__(self) -> StWindowCNC:
+        self._t0 = asyncio.get_running_loop().time()
+        self.cycle()  # the first scan writes the identity before anyone reads it
+        await self.server.start()
+        self._task = asyncio.create_task(self._loop(), name=f"{self.machine.name}:st-plc")
+        return self
+
+    async def __aexit__(self, exc_type: type[BaseException] | None,
+                        exc: BaseException | None, tb: TracebackType | None) -> None:
+        if self._task is not None:
+            self._task.cancel()
+            await asyncio.gather(self._task, return_exceptions=True)
+        await self.server.stop()
+
+    def cycle(self) -> None:
+        """One scan at the machine's commanded positions now."""
+        now = asyncio.get_running_loop().time() - self._t0
+        positions, _ = self.runtime.motion.at(now)
+        counts = np.rint(np.asarray(positions, dtype=float) * 1000.0).astype(np.int64)
+        self.plc.scan(counts, round(self.cycle_s * 1000))
+
+    async def _loop(self) -> None:
+        while True:
+            self.cycle()
+            await asyncio.sleep(self.cycle_s)
