@@ -129,11 +129,13 @@ class FaultRelay:
         if self._server is not None:
             self._server.close()
             self._server = None
-        self.cut()
+        self.cut()  # each connection's reader sees the end and cleans up
         tasks = list(self._tasks)
-        for t in tasks:
-            t.cancel()
-        await asyncio.gather(*tasks, return_exceptions=True)
+        if tasks:
+            _, late = await asyncio.wait(tasks, timeout=1.0)
+            for t in late:  # e.g. still connecting upstream
+                t.cancel()
+            await asyncio.gather(*late, return_exceptions=True)
 
     def cut(self) -> None:
         """Close every connection relayed now (the listener stays)."""
