@@ -381,6 +381,7 @@ async def run(fault_s: float, clear_s: float, keep_log: Path | None) -> None:
                 base_url=base, headers={"X-API-Key": API_KEY}, timeout=10.0))
             api = Api(client)
             cpu0 = cpu_s(proc.pid)
+
             async def enrol(c: Case | BusyTry, k: int) -> None:
                 link = c.link if isinstance(c, Case) else {}
                 await api.register(description(c.name, k, c.relay.port, **link))
