@@ -142,6 +142,11 @@ SERVER_URI: Final = "urn:ednc:sim:sinumerik:server"
 """The simulated controllers' ApplicationUri (in their certificate's subjectAltName)."""
 SIM_PKI_ENV: Final = "EDNC_SIM_PKI_DIR"
 SECURITY_MODES: Final = ("None", "Sign", "SignAndEncrypt")
+PLC_WRITE_LIMIT: Final = {"s7-300": 240, "s7-1500": 960}
+"""PLC bytes one Write request may carry, by the PLC's class: the data of one PDU (an
+S7-300-class PLC, the 840D sl's, 240 bytes; an S7-1500, SINUMERIK ONE's, 960). The
+simulated server refuses more (``BadRequestTooLarge``) rather than splitting it into PDUs
+the PLC program could read between."""
 _POLICY: Final = {"None": ua.SecurityPolicyType.NoSecurity,
                   "Sign": ua.SecurityPolicyType.Basic256Sha256_Sign,
                   "SignAndEncrypt": ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt}
@@ -459,6 +464,15 @@ class _Session(InternalSession):
     async def write(self, params: ua.WriteParameters) -> list[ua.StatusCode]:
         if self.iserver.is_busy():  # type: ignore[attr-defined]
             raise ServiceError(_S.BadResourceUnavailable)
+        limit: int = self.iserver.plc_write_limit  # type: ignore[attr-defined]
+        plc = 0
+        for wv in params.NodesToWrite:
+            path = self._ours(wv.NodeId, wv.AttributeId)
+            m = _PLC.match(path) if path is not None else None
+            if m is not None:
+                plc += _WIDTH[m.group(2)] * int(m.group(4) or 1)
+        if plc > limit:  # more than one PDU of the PLC in one request
+            raise ServiceError(_S.BadRequestTooLarge)
         nc: _Sinumerik = self.iserver.sinumerik  # type: ignore[attr-defined]
         out: list[ua.StatusCode | None] = []
         rest = ua.WriteParameters()
@@ -551,6 +565,7 @@ class _Internal(InternalServer):
         self._rng = random.Random(seed)
         self.evicted = 0
         """Sessions closed unactivated to make room (for tests)."""
+        self.plc_write_limit = PLC_WRITE_LIMIT["s7-1500"]
         self.busy_answers = 0
 
     def is_busy(self) -> bool:
@@ -610,6 +625,8 @@ class SinumerikOpcuaServer:
     busy : float
         Fraction of CreateSession, Read and Write requests answered busy (module
         docstring); ``seed`` makes the draw repeatable.
+    plc_class : {"s7-300", "s7-1500"}
+        The PLC's class: PLC bytes per Write request (:data:`PLC_WRITE_LIMIT`).
     """
 
     def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], *,
@@ -620,7 +637,9 @@ class SinumerikOpcuaServer:
                  private_key: Path | None = None,
                  trusted_clients: Sequence[Path] | None = None,
                  security_modes: Sequence[str] = SECURITY_MODES, busy: float = 0.0,
-                 seed: int | None = None) -> None:
+                 seed: int | None = None, plc_class: str = "s7-1500") -> None:
+        if plc_class not in PLC_WRITE_LIMIT:
+            raise ValueError(f"plc_class: s7-300 or s7-1500, got {plc_class!r}")
         unknown = set(security_modes) - set(SECURITY_MODES)
         if unknown or not security_modes:
             raise ValueError(f"security_modes: some of {', '.join(SECURITY_MODES)}, got "
@@ -637,6 +656,8 @@ class SinumerikOpcuaServer:
         self.trusted_clients = None if trusted_clients is None else list(trusted_clients)
         self.sinumerik = _Sinumerik(cnc, users, db)
         self._internal = _Internal(_Users(users), self.sinumerik, max_sessions, busy, seed)
+        self._internal.plc_write_limit = PLC_WRITE_LIMIT[plc_class]
+        self.plc_class = plc_class
         self.server: Server | None = None
         self._sampled: list[tuple[ua.NodeId, str]] = []
         self._sampler: asyncio.Task[None] | None = None

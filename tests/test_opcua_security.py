@@ -25,6 +25,7 @@ from server.links.opcua import PLC_BLOCK, OpcuaMemory
 from server.links.opcuapki import Pki, pki_at, thumbprint
 from server.links.window.memory import LinkError
 from server.schemas.link import OpcuaLink
+from tests.support.cli import ednc
 from tests.support.integration import spec
 
 pytestmark = pytest.mark.timeout(300)
@@ -301,3 +302,45 @@ async def test_the_certificate_is_shown_for_the_controllers_trust_lists() -> Non
     pem = x509.load_pem_x509_certificate(shown.pem.encode())
     assert pem.public_bytes(Encoding.DER) == identity.der
     assert "made now" not in certificate_line(Pki(pki_at().root))  # a restart reads it
+
+
+async def test_an_s7_300_class_plc_takes_240_bytes_per_write() -> None:
+    async with controller(plc_class="s7-300") as cnc:
+        url = f"opc.tcp://127.0.0.1:{cnc.server.port}"
+        big = OpcuaMemory.from_link(link(url, plc_class="s7-1500"))
+        await big.connect()
+        try:
+            with pytest.raises(LinkError, match=r"set the link's plc_class s7-300.*"
+                                                r"BadRequestTooLarge"):
+                await big.write(512, bytes(range(244)) * 3 + bytes(228))  # 960 bytes
+        finally:
+            await big.close()
+        small = OpcuaMemory.from_link(link(url))  # the default: an S7-300's 240
+        await small.connect()
+        try:
+            await small.write(512, bytes(range(240)))
+            assert bytes(cnc.window[512:752]) == bytes(range(240))
+        finally:
+            await small.close()
+
+
+def test_ednc_sim_options_set_the_links_and_the_simulated_controllers(
+        monkeypatch: pytest.MonkeyPatch) -> None:
+    from machine_sim.fleet import generated_fleet, served_machine
+
+    monkeypatch.setenv("EDNC_OPCUA_PASSWORD", PASSWORD)
+    secret = "0123456789abcdef0123"
+    (plain,) = generated_fleet(1, secret, link="opcua", opcua_security="none")
+    assert plain.link is not None and plain.link["security_policy"] == "None"
+    assert served_machine(plain).server.security_modes == ("None",)  # type: ignore[attr-defined]
+    (one,) = generated_fleet(1, secret, link="opcua", plc_class="s7-1500")
+    assert one.link is not None and (one.link["security_mode"], one.link["plc_class"]) == (
+        "SignAndEncrypt", "s7-1500")
+    served = served_machine(one).server
+    assert served.security_modes == ("None", "Sign", "SignAndEncrypt")  # type: ignore[attr-defined]
+    assert served.plc_class == "s7-1500"  # type: ignore[attr-defined]
+    assert OpcuaLink.model_validate(one.link).plc_class == "s7-1500"
+    for option, value in (("--opcua-security", "encrypt"), ("--plc-class", "s7-400")):
+        r = ednc("sim", "--link", "opcua", "--machines", "1", "--secret", secret, option,
+                 value)
+        assert r.returncode == 2 and f"{option} {value!r}: expected" in r.stderr, r.stderr

@@ -97,6 +97,8 @@ _HINTS: Final = {
     "BadSecurityChecksFailed": "the secure channel was refused (does the controller trust "
                                "the center's certificate? GET /api/opcua/certificate)",
     "BadResourceUnavailable": "the controller is busy",
+    "BadRequestTooLarge": "the controller takes smaller writes (an S7-300-class PLC: set "
+                          "the link's plc_class s7-300)",
     "BadTimeout": "the controller timed out",
 }
 
