@@ -139,6 +139,8 @@ async def test_security_none_must_be_asked_for_and_then_the_password_is_seen() -
         (notice,) = mem.take_notices()
         assert "security None" in notice and "clear text" in notice
         assert mem.take_notices() == []  # each once
+        again = OpcuaMemory.from_link(link(relay.endpoint, security_policy="None"))
+        assert again.take_notices() == []  # and once per controller: no event per retry
         await mem.connect()
         try:
             assert await mem.read(0, 4) == b"EDCM"

@@ -75,7 +75,7 @@ TRANSIENT: Final = frozenset({"BadTooManySessions", "BadResourceUnavailable", "B
 RETRY_DELAYS_S: Final = (0.05, 0.1, 0.2, 0.4, 0.8)
 """Waits before the retries of one request (1.55 s in all, within a push's budget); each
 is jittered by up to half of it so a fleet does not retry in step."""
-_warned_insecure: set[str] = set()
+_warned_insecure: set[tuple[str, str]] = set()
 
 SD_NUMBERS: Final = (43900, 43910, 43920)
 _SD_NAMES: Final = {43900: "TEMP_COMP_ABS_VALUE", 43910: "TEMP_COMP_SLOPE",
@@ -246,14 +246,15 @@ class OpcuaMemory:
         """Requests asked again after a transient answer (for tests and metrics)."""
         self._notices: list[str] = []
         self._client: Client | None = None
-        if insecure:
+        if insecure and (endpoint, user) not in _warned_insecure:
+            # once per controller, user and process: the link's task makes a memory per
+            # attempt to connect, and a warning per attempt would be a storm of events
+            _warned_insecure.add((endpoint, user))
             text = (f"{endpoint}: OPC UA security None: the password of user {user!r} "
                     "crosses the network in clear text; set the link's security_policy "
                     "Basic256Sha256 (the default)")
             self._notices.append(text)
-            if endpoint not in _warned_insecure:  # once per controller and process
-                _warned_insecure.add(endpoint)
-                log.warning("%s", text)
+            log.warning("%s", text)
 
     @classmethod
     def from_link(cls, link: OpcuaLink, *, password: str | None = None,
