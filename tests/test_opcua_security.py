@@ -346,3 +346,40 @@ def test_ednc_sim_options_set_the_links_and_the_simulated_controllers(
         r = ednc("sim", "--link", "opcua", "--machines", "1", "--secret", secret, option,
                  value)
         assert r.returncode == 2 and f"{option} {value!r}: expected" in r.stderr, r.stderr
+
+
+async def test_each_transient_answer_is_asked_again_and_others_are_not() -> None:
+    from asyncua import ua
+
+    mem = OpcuaMemory("opc.tcp://10.0.3.18:4840", "ednc", "env:OPCUA_SEC_PW",
+                      retry_delays_s=(0.0, 0.0, 0.0))
+    for name in ("BadTooManySessions", "BadResourceUnavailable", "BadTimeout"):
+        answers: list[object] = [getattr(ua.StatusCodes, name)] * 2 + ["ok"]
+
+        async def request(answers: list[object] = answers) -> object:
+            got = answers.pop(0)
+            if isinstance(got, int):
+                raise ua.UaStatusCodeError(got)
+            return got
+
+        before = mem.retries
+        assert await mem._call(request, "read", 0, 4, lambda _: []) == "ok"
+        assert mem.retries - before == 2, name
+    # a node answered busy inside a good response is asked again too
+    busy = ua.StatusCode(ua.StatusCodes.BadResourceUnavailable)
+    codes = [[busy, ua.StatusCode()], [ua.StatusCode(), ua.StatusCode()]]
+
+    async def write() -> list[ua.StatusCode]:
+        return codes.pop(0)
+
+    assert all(c.is_good() for c in await mem._call(write, "write", 0, 8, list))
+    refused = 0
+
+    async def denied() -> object:
+        nonlocal refused
+        refused += 1
+        raise ua.UaStatusCodeError(ua.StatusCodes.BadUserAccessDenied)
+
+    with pytest.raises(LinkError, match="lacks PlcWrite"):
+        await mem._call(denied, "write", 0, 4, list)
+    assert refused == 1  # a refusal is not asked again
