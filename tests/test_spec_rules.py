@@ -29,9 +29,10 @@ import numpy as np
 import pytest
 
 from machine_sim import ladder
-from machine_sim.fanuc import FanucConfig, FanucPMC
+from machine_sim.fanuc import FanucPMC
 from machine_sim.lookup import FactoredLadder
 from machine_sim.plcmap import PlcMapProgram
+from machine_sim.stplc import StPlc
 from protocol import MapAck, MapReject, split_into_chunks
 from protocol.codes import MapEncoding, MapRejectReason
 from protocol.ctrlmem import (
@@ -50,11 +51,14 @@ from protocol.mapformat import MapFormatError
 from protocol.maptables import decode_payload
 from server.mapcodec import factored_from_payload
 from tests.support import factored_fromspec as spec
+from tests.support.stplc import write_map as st_write_map
+from tests.support.stplc import write_temperatures as st_write_temperatures
 
 VECTORS = Path(__file__).parent / "vectors"
 RULES: dict[str, Any] = json.loads((VECTORS / "rules.json").read_text())
 MAPS = {k: (VECTORS / v).read_bytes() for k, v in RULES["maps"].items()}
 STEPS: list[dict[str, Any]] = RULES["steps"]
+VERSIONS = {"A": 1, "B": 2}
 
 
 # --- the vector itself: the figures the README's rules give by hand -------------------
@@ -64,19 +68,21 @@ def test_the_vector_holds_the_hand_computed_cases() -> None:
     C is a constant 2.5 counts with sensitivities 0, so every choice costs the same and
     the nearest count, halves up, wins: 3 (the old rule, floor first, gave 2); X is 8
     counts with reversal +5 and limit 10: negative, 13 clamped to 10 (reversal before
-    the clamp); spindle at 200 °C against t_ref 20 °C: ΔT 180,000 m°C clamped to
-    131,072, drift 2^24 · 131072 · 2^-16 = 2^25 in 2^-16 counts."""
+    the clamp); coolant at 25 °C against t_ref -150 °C: ΔT 175,000 m°C clamped to
+    131,072, drift 2^20 · 131072 · 2^-16 = 2^21 in 2^-16 counts (unclamped it would be
+    2,800,000: Z -67 counts, not -57)."""
     first = STEPS[0]
     assert first["direction"] == [1, 1, 1] and first["counts"] == [8, 0, 3]
     assert STEPS[1]["counts"][2] == 3 + 2  # C negative: its reversal 2
     assert STEPS[1]["c0"][1] == -(1 << 24) * 6000 >> 16
     clamp = STEPS[4]
-    assert clamp["c0"][1] == -(1 << 25) + ((80000 * 1000 + (1 << 15)) >> 16)
-    assert clamp["counts"][1] == -400  # -512 counts clamped, -3 reversal, clamped again
+    assert clamp["c0"][1] == STEPS[3]["c0"][1] - (1 << 21)
+    assert clamp["counts"][1] == -57  # R(-3631931 + 122070, 16) = -54, reversal -3
     assert STEPS[5]["direction"][0] == -1 and STEPS[5]["counts"][0] == 10
     swap = STEPS[6]
-    # B's spindle record at the held 200 °C (ΔT clamped), air never read: 0; no x_screw
-    assert swap["c0"] == [0, (1 << 23) * 131072 >> 16, 0] and swap["c1"] == [0, 0, 0]
+    # B's spindle record (t_ref 21 °C, its slot 1, A's x_screw slot) at the held 26 °C,
+    # air never read: 0; no x_screw record
+    assert swap["c0"] == [0, (1 << 23) * 5000 >> 16, 0] and swap["c1"] == [0, 0, 0]
     assert swap["direction"] == STEPS[5]["direction"]  # a swap keeps the directions
 
 
@@ -94,13 +100,11 @@ def test_the_fanuc_pmc_runs_the_scenario() -> None:
     """Readings go into the PMC's held readings (a null slot: nothing stored), a swap
     builds the new map's constants from them, and the R shifts reach the vector's
     counts (at the step limit of §13.3, 5 counts per scan)."""
-    pmc = FanucPMC("rules", ("X", "Z", "C"), FanucConfig(
-        plausible_C=(-300.0, 300.0), max_temp_rate_K_per_s=1e9))
+    pmc = FanucPMC("rules", ("X", "Z", "C"))
     now = 0.0
     for k, st in enumerate(STEPS):
         if "map" in st:
-            version = 1 if st["map"] == "A" else 2
-            assert isinstance(_feed(pmc, MAPS[st["map"]], version, now), MapAck)
+            assert isinstance(_feed(pmc, MAPS[st["map"]], VERSIONS[st["map"]], now), MapAck)
         for name, mc in st.get("readings_mC", {}).items():
             if mc is not None:
                 assert pmc.temperatures.update(name, mc / 1000.0, now, "center")
@@ -113,6 +117,33 @@ def test_the_fanuc_pmc_runs_the_scenario() -> None:
         m = pmc.store.active
         assert isinstance(m, FactoredLadder)
         assert m.c0.tolist() == st["c0"] and m.c1.tolist() == st["c1"]
+
+
+def test_the_st_program_runs_the_scenario() -> None:
+    """The compiled Structured Text program (``plc/``, written from the README by
+    another hand) through its window: the maps switched in, the readings written to the
+    slots in each map's record order (null: -2^31) stamped with its version, then scans
+    at the step's positions (it tracks directions itself)."""
+    plc = StPlc("rules", ("X", "Z", "C"), channel_limit=(1 << 30) - 1)
+    plc.scan([0, 0, 0])
+    seq = tseq = 0
+    key = ""
+    for k, st in enumerate(STEPS):
+        q = st["q_counts"]
+        if "map" in st:
+            seq, key = seq + 1, st["map"]
+            st_write_map(plc.window, plc.layout, 2 - seq % 2, MAPS[key], VERSIONS[key], seq)
+            plc.scan(q)
+        if "readings_mC" in st:
+            tseq += 1
+            sensors = list(dict.fromkeys(r.sensor for r in decode_factored(MAPS[key]).thermal))
+            given = st["readings_mC"]
+            st_write_temperatures(plc.window, [NO_TEMPERATURE if given.get(s) is None
+                                               else given[s] for s in sensors],
+                                  tseq, VERSIONS[key])
+        for _ in range(200):
+            plc.scan(q)
+        assert plc.applied.tolist() == st["counts"], f"step {k}: {st['note']}"
 
 
 def test_the_ladder_tracks_direction_by_moves() -> None:
@@ -353,12 +384,14 @@ def test_a_swap_keeps_held_readings_and_forgets_the_sequence() -> None:
     m = plc.pmc.store.active
     # B's spindle record (t_ref 21 °C) at the held 26 °C
     assert isinstance(m, FactoredLadder) and m.c0.tolist()[1] == (1 << 23) * 5000 >> 16
-    # B's slots (0 spindle, 1 air) with the sequence A's last had, stamped for B: taken,
+    assert plc.status().temp_ack == 0  # none taken for B yet
+    # B's slots (0 air, 1 spindle) with the sequence A's last had, stamped for B: taken,
     # since the swap forgot the sequence; A's stamp would not be
-    plc.slots([None, 19.0], 9, version=1)
-    assert "air" not in plc.held()
-    plc.slots([None, 19.0], 9, version=2)
+    plc.slots([19.0, None], 9, version=1)
+    assert "air" not in plc.held() and plc.status().temp_ack == 0
+    plc.slots([19.0, None], 9, version=2)
     assert plc.held()["air"] == 19.0 and plc.status().temp_ack == 9
+    assert plc.held()["spindle"] == 26.0
 
 
 def test_header_map_version_differing_from_the_payloads_is_wrong_version() -> None:

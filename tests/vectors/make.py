@@ -156,9 +156,13 @@ def _rules_map(version: int, thermal: tuple[FactoredThermal, ...]) -> FactoredPa
 
 
 RULES_A = (FactoredThermal("spindle", 1, 1, 1 << 24, 20000),          # drift of Z
-           FactoredThermal("x_screw", 1, 2, 1 << 20, 20000, 1000))    # expansion of Z
-RULES_B = (FactoredThermal("spindle", 1, 1, -(1 << 23), 21000),
-           FactoredThermal("air", 0, 1, 1 << 26, 20000))              # never read
+           FactoredThermal("x_screw", 1, 2, 1 << 20, 20000, 1000),    # expansion of Z
+           # t_ref -150 °C: a reading in any plausible range is beyond ΔT's clamp
+           FactoredThermal("coolant", 1, 1, 1 << 20, -150000))
+# B names air first: its slot 0 is air, slot 1 spindle (A's slot 1 was x_screw): held
+# readings belong to sensor names, not to slots
+RULES_B = (FactoredThermal("air", 0, 1, 1 << 26, 20000),              # never read yet
+           FactoredThermal("spindle", 1, 1, -(1 << 23), 21000))
 
 
 def rules() -> None:
@@ -182,12 +186,13 @@ def rules() -> None:
          "readings_mC": {"spindle": NO_READING, "x_screw": 25000},
          "q_counts": [0, -100000, -1000]},
         {"note": "no move: directions kept; X moves positive", "q_counts": [5, -100000, -1000]},
-        {"note": "spindle 200 °C: ΔT 180 K clamped to 131.072 K",
-         "readings_mC": {"spindle": 200000}, "q_counts": [5, -100000, -1000]},
+        {"note": "coolant read, 25 °C against t_ref -150 °C: ΔT 175 K clamped to "
+                 "131.072 K", "readings_mC": {"coolant": 25000},
+         "q_counts": [5, -100000, -1000]},
         {"note": "X moved negative: 8 + 5 = 13 counts clamped to its limit 10",
          "q_counts": [-7, -100000, -1000]},
         {"note": "swap to B: constants from B's records and the held readings (spindle "
-                 "200000, air never read: 0); directions kept", "map": "B",
+                 "26000; air never read: 0); directions kept", "map": "B",
          "q_counts": [-7, -100000, -1000]},
         {"note": "air read; C moves positive again", "readings_mC": {"air": 19000},
          "q_counts": [-7, -100000, 2000]},
