@@ -51,6 +51,7 @@ from protocol.mapformat import MapFormatError
 from protocol.maptables import decode_payload
 from server.mapcodec import factored_from_payload
 from tests.support import factored_fromspec as spec
+from tests.support import window_vector
 from tests.support.stplc import write_map as st_write_map
 from tests.support.stplc import write_temperatures as st_write_temperatures
 
@@ -430,3 +431,20 @@ def test_start_up_checks_the_active_buffer_again() -> None:
 def test_slot_values_are_milli_celsius_and_empty_slots_no_reading() -> None:
     w = plan_temperatures([None, 20.0005], 1)
     assert struct.unpack_from("<2i", w.data, 0) == (NO_TEMPERATURE, 20000)
+
+
+# --- the window vector: every ack code, the take rules, start-up -------------------
+
+@pytest.mark.parametrize("run", [window_vector.run_python, window_vector.run_st],
+                         ids=["python-plc", "st-program"])
+def test_the_window_vector(run: Any) -> None:
+    """``tests/vectors/window.json`` on the Python PLC and on the compiled Structured
+    Text program: 23 steps, each ack code of §13.1 (0, 3, 4, 5, 6 five ways, 7, 8, 10, 11,
+    100, 101), the temperature take rules and two power cycles."""
+    vector = window_vector.load()
+    got = run(vector)
+    want = [s["expect"] for s in vector["steps"]]
+    for k, (g, w) in enumerate(zip(got, want, strict=True)):
+        assert g == w, f"step {k}: {vector['steps'][k]['note']}"
+    codes = {s["expect"]["ack_code"] for s in vector["steps"]}
+    assert codes == {0, 3, 4, 5, 6, 7, 8, 10, 11, 100, 101}
