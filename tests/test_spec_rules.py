@@ -32,6 +32,7 @@ from machine_sim import ladder
 from machine_sim.fanuc import FanucPMC
 from machine_sim.lookup import FactoredLadder
 from machine_sim.plcmap import PlcMapProgram
+from machine_sim.siemens import SD_ABS_VALUE, SiemensConfig, SiemensNC
 from machine_sim.stplc import StPlc
 from protocol import MapAck, MapReject, split_into_chunks
 from protocol.codes import MapEncoding, MapRejectReason
@@ -448,3 +449,22 @@ def test_the_window_vector(run: Any) -> None:
         assert g == w, f"step {k}: {vector['steps'][k]['note']}"
     codes = {s["expect"]["ack_code"] for s in vector["steps"]}
     assert codes == {0, 3, 4, 5, 6, 7, 8, 10, 11, 100, 101}
+
+
+def test_a_siemens_nc_clamps_after_the_reversal() -> None:
+    """A float32 grid (Siemens-style) of 0.3 mm with a reversal of 0.3 mm on a channel
+    of ±0.5 mm: while X's direction is negative the PLC writes 0.5 to SD43900 (0.6
+    clamped), no range alarm; positive again, 0.3."""
+    from protocol import ErrorMapPayload, GridAxis, OutputAxis, encode_payload, pack_values
+    nc = SiemensNC("s", ("X",), SiemensConfig(limit_mm=0.5))
+    p = ErrorMapPayload("s", 1, MapEncoding.FLOAT32_MM, (GridAxis("X", 0.0, 1.0, 2),),
+                        (OutputAxis("X", 0.3),),
+                        pack_values(MapEncoding.FLOAT32_MM, [0.3, 0.3]), 0.0)
+    for msg in split_into_chunks(encode_payload(p), 1):
+        reply = nc.feed_map(msg, 0.0)
+    assert isinstance(reply, MapAck)
+    for direction, want in ((-1, 0.5), (1, 0.3)):
+        for k in range(4):
+            nc.ipo_cycle(0.004 * k, np.zeros(1), np.array([direction]))
+        assert nc.read_sd(SD_ABS_VALUE, "X") == pytest.approx(want, abs=1e-7)
+        assert not nc.alarms
