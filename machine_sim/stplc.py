@@ -32,8 +32,8 @@ __all__ = ["ST_SOURCES", "ST_VARIABLES", "WINDOW_CAPACITY", "StPlc", "StWindowCN
 
 PLC_DIR = ROOT / "plc"
 ST_SOURCES = tuple(PLC_DIR / f for f in (
-    "ednc_types.st", "ednc_bytes.st", "ednc_names.st", "ednc_factored.st",
-    "ednc_thermal.st", "ednc_window.st", "ednc_program.st"))
+    "ednc_types.st", "ednc_bytes.st", "ednc_names.st", "ednc_factored.st", "ednc_f64.st",
+    "ednc_grid.st", "ednc_thermal.st", "ednc_window.st", "ednc_program.st"))
 WINDOW_CAPACITY = 16_384
 """Payload bytes per buffer the program is built for (T_Window, T_Copy)."""
 MAX_AXES = 8
@@ -55,8 +55,9 @@ ST_VARIABLES = (
     StVar("state", ctypes.c_uint16),
 )
 
-FACTORED = 0x11
-"""INT32_INCREMENTS | FACTORED: factored maps, whose values are int32 counts."""
+FORMATS = 0x19
+"""INT32_INCREMENTS | THERMAL | FACTORED: int32 grids with their thermal records and
+factored maps (Hello's map_formats bits)."""
 
 
 def st_library() -> Path:
@@ -90,7 +91,7 @@ class StPlc:
     """
 
     def __init__(self, machine: str, axes: Sequence[str], *, channel_limit: int = 500,
-                 max_step: int = 5, formats: int = FACTORED, increment_nm: int = 1000
+                 max_step: int = 5, formats: int = FORMATS, increment_nm: int = 1000
                  ) -> None:
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"1 to {MAX_AXES} axes, got {len(axes)}")

@@ -89,6 +89,25 @@ def test_the_program_gives_the_factored_vectors() -> None:
     assert any(any(p["negative"]) for p in body["points"])
 
 
+@pytest.mark.parametrize("name", ["grid_3axis", "grid_ties"])
+def test_the_program_gives_the_grid_vectors(name: str) -> None:
+    """int32 grids: format version 3 with thermal records and a reversal, format version
+    1 whose interpolation lands on half counts (halves up)."""
+    from protocol.mapformat import decode_map
+
+    body = _vector(name)
+    data = (VECTORS / body["map"]).read_bytes()
+    axes = body["axes"]
+    plc = loaded(data, body["temperatures_mC"], axes)
+    outs = [axes.index(o.name.upper()) for o in decode_map(data).outputs]
+    got = [[int(v) for v in plc.lookup(p["q_counts"], p["negative"])[outs]]
+           for p in body["points"]]
+    want = [p["counts"] for p in body["points"]]
+    bad = [i for i, (g, w) in enumerate(zip(got, want, strict=True)) if g != w]
+    assert not bad, f"{len(bad)} of {len(want)} differ, first {body['points'][bad[0]]}: " \
+                    f"{got[bad[0]]}"
+
+
 def test_without_readings_the_records_add_nothing() -> None:
     """A record whose sensor never had a reading adds 0 (section 6)."""
     from machine_sim.lookup import FactoredLadder
