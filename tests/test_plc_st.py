@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import ctypes
 import json
+import math
 from pathlib import Path
 from typing import Any
 
@@ -121,3 +122,54 @@ def test_without_readings_the_records_add_nothing() -> None:
         q = np.array([p["q"][a] for a in body["axes"]])
         assert plc.lookup(p["q_counts"], [False] * 5).tolist() == \
             ladder.counts(q[None, :])[0].tolist()
+
+
+CONVERT = """
+PROGRAM PRG_Convert
+VAR
+  x : LREAL;
+  y : LREAL;
+  d : LREAL;
+  n : LINT;
+  ok : BOOL;
+END_VAR
+ok := TRUE;
+n := F_RoundProd(ok, x, y, d);
+END_PROGRAM
+"""
+
+
+def test_the_loaders_f64_conversion_is_exact(tmp_path: Path) -> None:
+    """round_half_up(x · y / d) of the exact f64 values (section 6), as the program
+    converts a grid's start and step, t_ref and thermal coefficients, against rational
+    arithmetic: random values, decimal-looking ones (20.0005 °C) and exact half-count
+    ties."""
+    from fractions import Fraction
+
+    from machine_sim.stplc import PLC_DIR
+
+    src = tmp_path / "convert.st"
+    src.write_text(CONVERT)
+    names = [StVar("x", ctypes.c_double), StVar("y", ctypes.c_double),
+             StVar("d", ctypes.c_double), StVar("n", ctypes.c_int64), StVar("ok", ctypes.c_uint8)]
+    sources = [PLC_DIR / f for f in ("ednc_types.st", "ednc_bytes.st", "ednc_f64.st")]
+    prog = StProgram(build_program([*sources, src], "PRG_Convert", names), names)
+    prog.init()
+    rng = np.random.default_rng(6)
+    cases = [(float(v), 1000.0, 1.0) for v in np.round(rng.uniform(-50, 150, 4000), 4)]
+    cases += [(float(v), 1000.0 * 67108864.0, 15625.0) for v in rng.normal(0, 5, 3000)]
+    cases += [(float(v), 549755813888.0, 1953125.0) for v in rng.normal(0, 15, 3000)]
+    cases += [(k + 0.5, 1.0, 1.0) for k in range(-20, 20)]          # ties: halves up
+    cases += [(k * 0.0005, 1000.0, 1.0) for k in range(-2000, 2000)]  # 20.0005-like
+    wrong = []
+    for x, y, d in cases:
+        prog.var("x")[0], prog.var("y")[0], prog.var("d")[0] = x, y, d
+        prog.scan()
+        want = (Fraction(x) * Fraction(y) / Fraction(d) + Fraction(1, 2)).__floor__()
+        if prog.var("n")[0] != want or not prog.var("ok")[0]:
+            wrong.append((x, y, d, prog.var("n")[0], want))
+    assert not wrong, f"{len(wrong)} of {len(cases)} differ, first {wrong[0]}"
+    # the double-precision shortcut is not exact: the test can tell them apart
+    assert any(math.floor(x * y / d + 0.5) != (Fraction(x) * Fraction(y) / Fraction(d)
+                                               + Fraction(1, 2)).__floor__()
+               for x, y, d in cases)
