@@ -22,3 +22,6 @@ class EventKind(StrEnum):
     """A machine rejected a map (the detail says why)."""
     ERROR = "error"
     """Something failed on the center's side for this machine."""
+    WARNING = "warning"
+    """A link works but needs the operator's eye: OPC UA without security (the password
+    in clear), a controller certificate trusted on first use."""
