@@ -48,11 +48,18 @@ ST_VARIABLES = (
     StVar("formats", ctypes.c_uint16),
     StVar("channelLimit", ctypes.c_int32),
     StVar("maxStep", ctypes.c_int32),
+    StVar("tempMin", ctypes.c_int32),
+    StVar("tempMax", ctypes.c_int32),
+    StVar("tempRate", ctypes.c_int32),
+    StVar("tempAllowance", ctypes.c_int32),
     StVar("q", ctypes.c_int32, MAX_AXES),
     StVar("nowMs", ctypes.c_int32),
     StVar("applied", ctypes.c_int32, MAX_AXES),
     StVar("target", ctypes.c_int32, MAX_AXES),
     StVar("state", ctypes.c_uint16),
+    StVar("c0", ctypes.c_int64, MAX_AXES),
+    StVar("c1", ctypes.c_int64, MAX_AXES),
+    StVar("negative", ctypes.c_uint8, MAX_AXES),
 )
 
 FORMATS = 0x19
@@ -88,16 +95,21 @@ class StPlc:
     formats : int
         Map formats the program declares (Hello's map_formats bits).
     increment_nm : int
+    temperature_screen : (int, int, int, int)
+        Plausible range (m°C), rate (m°C per s) and jump allowance (m°C) of the
+        program's temperature screen.
     """
 
     def __init__(self, machine: str, axes: Sequence[str], *, channel_limit: int = 500,
-                 max_step: int = 5, formats: int = FORMATS, increment_nm: int = 1000
-                 ) -> None:
+                 max_step: int = 5, formats: int = FORMATS, increment_nm: int = 1000,
+                 temperature_screen: tuple[int, int, int, int] = (-20000, 100000, 1000,
+                                                                   10000)) -> None:
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"1 to {MAX_AXES} axes, got {len(axes)}")
         self.machine = machine
         self.axes = tuple(a.upper() for a in axes)
         self.settings = (channel_limit, max_step, formats, increment_nm)
+        self.screen = temperature_screen
         self.layout = Layout(WINDOW_CAPACITY)
         self.program = StProgram(st_library(), ST_VARIABLES)
         self.program.init()
@@ -115,6 +127,9 @@ class StPlc:
         p.var("formats")[0] = formats
         p.var("channelLimit")[0] = channel_limit
         p.var("maxStep")[0] = max_step
+        for name, value in zip(("tempMin", "tempMax", "tempRate", "tempAllowance"),
+                               self.screen, strict=True):
+            p.var(name)[0] = value
 
     @property
     def window(self) -> memoryview:
@@ -150,6 +165,17 @@ class StPlc:
     def target(self) -> NDArray[np.int64]:
         """What the corrections ramp to (before the step limit), counts."""
         return np.array(self.program.var("target")[:len(self.axes)], dtype=np.int64)
+
+    @property
+    def thermal_constants(self) -> tuple[list[int], list[int]]:
+        """c0 (2^-16 counts) and c1 (2^-32 counts per count) per map axis (output)."""
+        n = len(self.axes)
+        return (list(self.program.var("c0")[:n]), list(self.program.var("c1")[:n]))
+
+    @property
+    def directions(self) -> list[int]:
+        """+1 or -1 per axis: the sign of its last move (+1 before any)."""
+        return [-1 if v else 1 for v in self.program.var("negative")[:len(self.axes)]]
 
     @property
     def state(self) -> int:

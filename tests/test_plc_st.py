@@ -15,8 +15,9 @@ import numpy as np
 import pytest
 
 from machine_sim.iec import StProgram, StVar, build_program
+from machine_sim.stplc import StPlc
 from protocol.mapfactored import decode_factored
-from tests.support.stplc import loaded
+from tests.support.stplc import loaded, status
 
 VECTORS = Path(__file__).parent / "vectors"
 
@@ -173,3 +174,41 @@ def test_the_loaders_f64_conversion_is_exact(tmp_path: Path) -> None:
     assert any(math.floor(x * y / d + 0.5) != (Fraction(x) * Fraction(y) / Fraction(d)
                                                + Fraction(1, 2)).__floor__()
                for x, y, d in cases)
+
+
+def test_the_program_runs_the_rules_scenario() -> None:
+    """tests/vectors/rules.json scan by scan through the window: maps A then B switched
+    in, readings through the slots (null: -2^31, the held reading stays), positions;
+    each step's directions, thermal constants and counts."""
+    from protocol.ctrlmem import sensor_slots
+    from protocol.mapfactored import decode_factored
+    from tests.support.stplc import write_map, write_temperatures
+
+    rules = _vector("rules")
+    maps = {k: (VECTORS / v).read_bytes() for k, v in rules["maps"].items()}
+    plc = StPlc("rules", rules["axes"], channel_limit=(1 << 30) - 1, max_step=1 << 30,
+                temperature_screen=(-300_000, 300_000, 1 << 30, 1 << 30))
+    plc.scan([0, 0, 0])
+    seq = tseq = 0
+    current = None
+    for k, st in enumerate(rules["steps"]):
+        if "map" in st:
+            seq += 1
+            current = decode_factored(maps[st["map"]])
+            write_map(plc.window, plc.layout, 1 + seq % 2, maps[st["map"]], current.version,
+                      seq)
+        if "readings_mC" in st:
+            assert current is not None
+            slots = sensor_slots([r.sensor for r in current.thermal])
+            values = [-(1 << 31)] * len(slots)
+            for name, mc in st["readings_mC"].items():
+                if name in slots and mc is not None:
+                    values[slots[name]] = mc
+            tseq += 1
+            write_temperatures(plc.window, values, tseq, current.version)
+        plc.scan(st["q_counts"], 0)
+        assert status(plc.window).ack_code == 0
+        where = f"step {k}: {st['note']}"
+        assert plc.directions == st["direction"], where
+        assert list(plc.thermal_constants) == [st["c0"], st["c1"]], where
+        assert plc.target.tolist() == st["counts"], where
