@@ -212,3 +212,23 @@ def test_the_program_runs_the_rules_scenario() -> None:
         assert plc.directions == st["direction"], where
         assert list(plc.thermal_constants) == [st["c0"], st["c1"]], where
         assert plc.target.tolist() == st["counts"], where
+
+
+def test_axes_are_matched_by_name_not_by_place() -> None:
+    """§6.6: a machine whose axes come in another order, with one more, takes the map
+    (C, X, Z found by name) and drives the same axes; a map naming an axis the machine
+    lacks is APPLY_FAILED."""
+    from tests.support.stplc import write_map
+
+    data = (VECTORS / "rules_a.bin").read_bytes()
+    plc = StPlc("rules", ["C", "Y", "Z", "X"], max_step=1 << 20)
+    plc.scan([0] * 4)
+    write_map(plc.window, plc.layout, 1, data, 1, 1)
+    plc.scan([0] * 4)
+    assert status(plc.window).ack_code == 0
+    assert plc.applied.tolist() == [3, 0, 0, 8]   # C 3, Y nothing, Z 0, X 8
+    other = StPlc("rules", ["X", "Y", "Z"])
+    other.scan([0] * 3)
+    write_map(other.window, other.layout, 1, data, 1, 1)
+    other.scan([0] * 3)
+    assert (status(other.window).ack_code, status(other.window).active) == (11, 0)

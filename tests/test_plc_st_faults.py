@@ -235,3 +235,74 @@ def test_a_restart_with_the_window_kept_applies_the_active_buffer_again(pair: Pa
     assert pair.verdict() == (2, 0, 2, 2, 9)
     # and the next switch is a new one
     assert pair.push(1, version(MAP, 3), 3, 3) == (3, 0, 1, 3, 9)
+
+
+RULES_A = (VECTORS / "rules_a.bin").read_bytes()
+RULES_B = (VECTORS / "rules_b.bin").read_bytes()
+
+
+class RulesPair(Pair):
+    """The pair on the rules maps (machine ``rules``, axes X Z C), the screen of the
+    Python PLC's defaults (-20..100 °C)."""
+
+    def __init__(self) -> None:
+        self.st = StPlc("rules", ["X", "Z", "C"], channel_limit=500, max_step=5)
+        self.layout = self.st.layout
+        self.t = 0.0
+        self._boot_rules(bytearray(self.layout.size))
+        self.scan()
+
+    def _boot_rules(self, window: bytearray) -> None:
+        self.window = window
+        self.ctl = FanucPMC("rules", ["X", "Z", "C"], FanucConfig())
+        self.py = PlcMapProgram(window, self.layout, self.ctl,
+                                formats=self.ctl.store.assembler.accepted)
+        self.py.boot(self.t, "rules")
+
+    def scan(self) -> None:
+        self.t += 0.008
+        q = np.zeros(3)
+        applied = self.ctl.scan(self.t, q)
+        self.py.scan(self.t, q, np.asarray(applied * 0.001, dtype=np.float64))
+        self.st.scan([0, 0, 0])
+
+    def refused(self) -> int:
+        a, b = status(self.window).temp_refused, status(self.st.window).temp_refused
+        assert a == b, f"temp_refused: Python PLC {a:#x}, ST program {b:#x}"
+        return a
+
+    def slots(self, celsius: list[float | None], seq: int, version: int = 0) -> None:
+        self.write([plan_temperatures(celsius, seq, map_version=version)])
+        self.scan()
+
+
+def test_slots_by_sequence_and_stamp_screen_and_swap_as_the_python_plc() -> None:
+    """§13.1 on both PLCs: sequence 0 takes nothing, a stamp of another map version
+    is not taken, the screen's refusals in temp_refused, a swap forgets the sequence;
+    and the header's map version differing from the payload's is WRONG_VERSION."""
+    pair = RulesPair()
+    assert pair.push(1, RULES_A, 1, 1) == (1, 0, 1, 1, 0)
+    pair.write([plan_temperatures([26.0, 25.0], 1), Write(384, b"\0\0")])  # sequence 0
+    pair.scan()
+    assert pair.verdict()[4] == 0
+    pair.slots([26.0, 25.0], 2, version=7)                  # another map's stamp
+    assert pair.verdict()[4] == 0
+    pair.slots([26.0, None], 3, version=1)
+    assert pair.verdict()[4] == 3 and pair.refused() == 0
+    pair.slots([None, 150.0], 4)                            # beyond the screen: bit 1
+    assert pair.verdict()[4] == 4 and pair.refused() == 0b10
+    pair.slots([None, 25.0], 9, version=1)
+    assert pair.refused() == 0
+    # a swap keeps temp_ack (the last taken) but forgets the sequence for the next take
+    assert pair.push(2, RULES_B, 2, 2) == (2, 0, 2, 2, 9)
+    before = pair.st.thermal_constants
+    pair.slots([None, 19.0], 9, version=1)                  # A's stamp: not B's slots
+    assert "air" not in pair.ctl.temperatures.readings()
+    assert pair.st.thermal_constants == before
+    pair.slots([None, 19.0], 9, version=2)                  # B's: taken, same sequence
+    assert "air" in pair.ctl.temperatures.readings()
+    assert pair.st.thermal_constants != before and pair.verdict()[4] == 9
+    # a header whose map version is not the payload's
+    pair.write(plan_map_write(pair.layout, 1, version(RULES_B, 3), 4, 3))
+    pair.scan()
+    assert pair.verdict() == (3, 5, 2, 2, 9)
