@@ -306,3 +306,26 @@ def test_slots_by_sequence_and_stamp_screen_and_swap_as_the_python_plc() -> None
     pair.write(plan_map_write(pair.layout, 1, version(RULES_B, 3), 4, 3))
     pair.scan()
     assert pair.verdict() == (3, 5, 2, 2, 9)
+
+
+AXIS0, TERMS = 64, 64 + 3 * 20
+THERMAL = TERMS + 2 * (8 + 2)
+
+
+@pytest.mark.parametrize(("what", "at", "fmt", "value"), [
+    ("reversal with its flag clear", AXIS0 + 4, "<B", 0),
+    ("flags bits 2-7", AXIS0 + 4, "<B", 0x06),
+    ("axis names distinct", AXIS0 + 20, "<I", int.from_bytes(b"X\0\0\0", "little")),
+    ("a term's field below D + L x R", TERMS, "<B", 5),
+    ("a drift's q_min 0", THERMAL + 28, "<i", 7),
+    ("|start| < 2^30", AXIS0 + 8, "<i", 1 << 30),
+    ("|t_ref| < 2^30", THERMAL + 24, "<i", -(1 << 30)),
+    ("expansion coefficient < 2^24", THERMAL + 32 + 20, "<i", 1 << 24),
+])
+def test_a_map_breaking_a_decode_rule_is_a_decode_error_on_both(what: str, at: int,
+                                                                fmt: str, value: int) -> None:
+    bad = bytearray(RULES_A)
+    struct.pack_into(fmt, bad, at, value)
+    pair = RulesPair()
+    assert pair.push(1, bytes(bad), 1, 1) == (1, 6, 0, 0, 0), what
+    assert pair.push(2, RULES_A, 1, 2) == (2, 0, 2, 1, 0)
