@@ -232,3 +232,33 @@ def test_axes_are_matched_by_name_not_by_place() -> None:
     write_map(other.window, other.layout, 1, data, 1, 1)
     other.scan([0] * 3)
     assert (status(other.window).ack_code, status(other.window).active) == (11, 0)
+
+
+def test_the_step_limit_ramps_and_a_map_expires() -> None:
+    """§13.3 step 4: at most maxStep counts per scan per axis, state bit 1 while short;
+    the status carries positions and applied corrections; §8: a map with valid_s > 0
+    expires, the corrections ramp to zero, version 0 and state bit 5."""
+    import struct as st_
+
+    from protocol.ctrlmem import State
+    from tests.support.stplc import write_map
+
+    data = bytearray((VECTORS / "rules_a.bin").read_bytes())
+    st_.pack_into("<I", data, 52, 2)   # valid_s: 2 s
+    plc = StPlc("rules", ["X", "Z", "C"], max_step=5)
+    plc.scan([0, 0, 0])
+    write_map(plc.window, plc.layout, 1, bytes(data), 1, 1)
+    plc.scan([10, 20, 30])
+    s = status(plc.window)
+    assert s.ack_code == 0 and s.applied[:3] == (5, 0, 3) and s.positions[:3] == (10, 20, 30)
+    assert s.state & State.RAMPING and s.state & State.MAP_IN_USE
+    plc.scan([10, 20, 30])
+    s = status(plc.window)
+    assert s.applied[:3] == (8, 0, 3) and not s.state & State.RAMPING
+    plc.scan([10, 20, 30], 2000)   # the validity runs out
+    s = status(plc.window)
+    assert s.applied_version == 0 and s.active == 0
+    assert s.state & State.EXPIRED and not s.state & State.MAP_IN_USE
+    assert s.applied[:3] == (3, 0, 0) and s.state & State.RAMPING
+    plc.scan([10, 20, 30])
+    assert status(plc.window).applied[:3] == (0, 0, 0)
