@@ -48,6 +48,8 @@ ST_VARIABLES = (
     StVar("formats", ctypes.c_uint16),
     StVar("channelLimit", ctypes.c_int32),
     StVar("maxStep", ctypes.c_int32),
+    StVar("alarmOnJump", ctypes.c_uint8),
+    StVar("resetAlarm", ctypes.c_uint8),
     StVar("tempMin", ctypes.c_int32),
     StVar("tempMax", ctypes.c_int32),
     StVar("tempRate", ctypes.c_int32),
@@ -98,18 +100,23 @@ class StPlc:
     temperature_screen : (int, int, int, int)
         Plausible range (m°C), rate (m°C per s) and jump allowance (m°C) of the
         program's temperature screen.
+    alarm_on_jump : bool
+        A step larger than ``max_step`` raises the alarm and holds the corrections until
+        :meth:`reset_alarm` (instead of ramping).
     """
 
     def __init__(self, machine: str, axes: Sequence[str], *, channel_limit: int = 500,
                  max_step: int = 5, formats: int = FORMATS, increment_nm: int = 1000,
                  temperature_screen: tuple[int, int, int, int] = (-20000, 100000, 1000,
-                                                                   10000)) -> None:
+                                                                   10000),
+                 alarm_on_jump: bool = False) -> None:
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"1 to {MAX_AXES} axes, got {len(axes)}")
         self.machine = machine
         self.axes = tuple(a.upper() for a in axes)
         self.settings = (channel_limit, max_step, formats, increment_nm)
         self.screen = temperature_screen
+        self.alarm_on_jump = alarm_on_jump
         self.layout = Layout(WINDOW_CAPACITY)
         self.program = StProgram(st_library(), ST_VARIABLES)
         self.program.init()
@@ -127,6 +134,7 @@ class StPlc:
         p.var("formats")[0] = formats
         p.var("channelLimit")[0] = channel_limit
         p.var("maxStep")[0] = max_step
+        p.var("alarmOnJump")[0] = int(self.alarm_on_jump)
         for name, value in zip(("tempMin", "tempMax", "tempRate", "tempAllowance"),
                                self.screen, strict=True):
             p.var(name)[0] = value
@@ -155,7 +163,12 @@ class StPlc:
         self.now_ms += dt_ms
         p.var("nowMs")[0] = self.now_ms
         p.scan()
+        p.var("resetAlarm")[0] = 0
         return self.applied
+
+    def reset_alarm(self) -> None:
+        """The operator's reset: the next scan clears the step alarm."""
+        self.program.var("resetAlarm")[0] = 1
 
     @property
     def applied(self) -> NDArray[np.int64]:

@@ -373,3 +373,41 @@ def test_corrections_scan_by_scan_equal_the_python_plcs_while_the_axes_move() ->
         differ += int(np.any(pair.st.target != pair.st.applied))
     assert differ > 10   # the step limit was at work, not idle
     assert status(pair.st.window).temp_ack == 1
+
+
+class AlarmPair(RulesPair):
+    """The rules pair with the step alarm instead of the ramp on both PLCs."""
+
+    def __init__(self) -> None:
+        self.st = StPlc("rules", ["X", "Z", "C"], channel_limit=500, max_step=5,
+                        alarm_on_jump=True)
+        self.layout = self.st.layout
+        self.t = 0.0
+        self.window = bytearray(self.layout.size)
+        self.ctl = FanucPMC("rules", ["X", "Z", "C"], FanucConfig(on_jump="alarm"))
+        self.py = PlcMapProgram(self.window, self.layout, self.ctl,
+                                formats=self.ctl.store.assembler.accepted)
+        self.py.boot(self.t, "rules")
+        self.scan()
+
+    def state(self) -> tuple[int, tuple[int, ...]]:
+        a, b = status(self.window), status(self.st.window)
+        assert (a.state, a.applied) == (b.state, b.applied), \
+            f"Python PLC {a.state:#x} {a.applied}, ST program {b.state:#x} {b.applied}"
+        return a.state, a.applied[:3]
+
+
+def test_the_step_alarm_holds_the_corrections_until_reset_as_the_python_plc() -> None:
+    """§13.3 step 4's alternative: a target more than max_step away raises the alarm
+    (state bit 3) and holds the corrections; the operator's reset lets the next scan
+    decide again (the same jump: the alarm again)."""
+    pair = AlarmPair()
+    pair.push(1, RULES_A, 1, 1)   # X wants 8 counts at once: more than 5
+    pair.scan()
+    state, applied = pair.state()
+    assert state & 8 and applied == (0, 0, 0)
+    pair.ctl.reset_alarm()
+    pair.st.reset_alarm()
+    pair.scan()
+    state, applied = pair.state()
+    assert state & 8 and applied == (0, 0, 0)
