@@ -25,3 +25,6 @@ class EventKind(StrEnum):
     its reason and what was seen (the first of each reason, then one a minute)."""
     ERROR = "error"
     """Something failed on the center's side for this machine."""
+    WARNING = "warning"
+    """A link works but needs the operator's eye: OPC UA without security (the password
+    in clear), a controller certificate trusted on first use."""

@@ -123,6 +123,9 @@ def register(app: typer.Typer) -> None:
         app = create_app(settings, services=[machine_services])
         configure_logging(log_level)
         typer.echo(ports_line(settings), err=True)
+        from server.links.opcuapki import certificate_line, pki_at
+
+        typer.echo(certificate_line(pki_at()), err=True)  # for the controllers' trust lists
         # a dashboard stream ends itself within 10 s; do not let it hold a shutdown longer
         from server.api.http import uvicorn_options  # header deadline (408), header size
 

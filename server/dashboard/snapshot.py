@@ -235,10 +235,11 @@ def chain_text(description: Mapping[str, Any]) -> str:
 
 
 def link_kind(description: Mapping[str, Any]) -> str:
-    """``ednc``, ``modbus`` or ``opcua``: the description's link (server/schemas/link.py)."""
+    """``ednc``, ``modbus``, ``opcua`` or ``sinumerik_sd``: the description's link
+    (server/schemas/link.py)."""
     link = description.get("link")
     kind = link.get("kind") if isinstance(link, Mapping) else None
-    return kind if kind in ("ednc", "modbus", "opcua") else "ednc"
+    return kind if kind in ("ednc", "modbus", "opcua", "sinumerik_sd") else "ednc"
 
 
 def residual(v: VerificationSummary | None) -> tuple[float | None, bool]:

@@ -11,6 +11,9 @@
   :mod:`server.links.opcua` (SINUMERIK PLC through OPC UA);
 * :mod:`server.links.state`, :mod:`server.links.pacing`: what a link is doing and why,
   and how often it is tried again;
+* :mod:`server.links.sinumerik_sd`: a SINUMERIK with nothing of ours in its PLC, whose
+  temperature compensation setting data the center writes (planner
+  :mod:`server.links.sdwrites`, service :mod:`server.links.sdservice`);
 * :mod:`server.links.discover`: the probes of ``ednc discover``.
 
 A fourth link (an S7 data block through python-snap7, a Beckhoff ADS symbol) is one

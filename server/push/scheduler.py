@@ -140,6 +140,9 @@ class PushScheduler:
         self.verdict_timeout_s = verdict_timeout_s
         self.build_workers = build_workers or os.cpu_count() or 2
         self.observers: list[Callable[[Delivery], None]] = []
+        self.commit_listeners: list[Callable[[set[int]], None]] = []
+        """Told the machine ids of every committed model or machine change (the native
+        SINUMERIK links follow models this way: one CommitWatcher per process sees them)."""
         self._targets: dict[str, _Target] = {}
         self._by_id: dict[int, _Target] = {}
         self._pool: ThreadPoolExecutor | None = None
@@ -169,6 +172,8 @@ class PushScheduler:
         return target is not None
 
     def _on_commit(self, machine_ids: set[int]) -> None:
+        for listener in list(self.commit_listeners):
+            listener(machine_ids)
         for machine_id in machine_ids:
             target = self._by_id.get(machine_id)
             if target is not None:

@@ -41,7 +41,7 @@ from server.links import memory_for
 from server.links.pacing import BACKOFF, Pacer
 from server.links.secret import read_secret
 from server.links.state import LinkCondition, Throttle
-from server.links.window.memory import LinkError
+from server.links.window.memory import LinkError, MemoryClient
 from server.schemas.link import LinkSpec, ModbusLink, OpcuaLink
 from volumetric.model.machine import parse_machine
 
@@ -235,6 +235,13 @@ class ControllerLinks:
             self.center.registry.seen(name, telemetry)
         return seen
 
+    async def _warnings(self, name: str, memory: MemoryClient) -> None:
+        """A memory's warnings for the operator (OPC UA security None, a certificate
+        trusted on first use: server/links/opcua.py) as events, each once."""
+        take = getattr(memory, "take_notices", None)
+        for text in take() if take is not None else ():
+            await self.feed.record(EventKind.WARNING, name, text)
+
     async def _session(self, row: MachineRow, session: ControllerSession) -> LinkCondition:
         """Open and serve one session; returns why it ended."""
         name = row.name
@@ -242,10 +249,12 @@ class ControllerLinks:
             await session.open()
         except LinkError as exc:
             await session.memory.close()
+            await self._warnings(name, session.memory)
             return exc.condition
         except asyncio.CancelledError:
             await session.memory.close()
             raise
+        await self._warnings(name, session.memory)
         if self.leases is not None:
             refusal = await self.leases.claim(row.id, name, session,
                                               lambda why: session.abort(None, why))
