@@ -9,18 +9,13 @@ server accepts connections and never answers.
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import functools
 import random
-from collections.abc import AsyncIterator, Sequence
+import struct
+from collections.abc import AsyncIterator
 from contextlib import AsyncExitStack, asynccontextmanager
 from dataclasses import dataclass, field
 from typing import Any
-
-from pymodbus.constants import ExcCodes
-from pymodbus.datastore import ModbusServerContext
-from pymodbus.exceptions import NoSuchIdException
-from pymodbus.server import ModbusTcpServer
 
 from machine_sim.fanuc import FanucConfig
 from machine_sim.modbus_server import PmcModbusServer
@@ -64,45 +59,38 @@ class Faults:
 
 
 def inject(srv: PmcModbusServer, faults: Faults) -> None:
-    """Put ``faults`` between the server and the PMC memory of ``srv``."""
+    """Put ``faults`` between the server and the PMC memory of ``srv`` (its area answers
+    one request PDU at a time: :meth:`machine_sim.modbus_server.PmcArea.answer`)."""
     area: Any = srv.area
-    get, put = area.async_getValues, area.async_setValues
+    plain = area.answer
     first = area.register
 
-    def busy() -> bool:
+    def answer(unit: int, pdu: bytes) -> bytes:
+        fc = pdu[0] if pdu else 0
+        if unit != area.unit_id or fc not in (0x03, 0x10) or len(pdu) < 5:
+            return bytes(plain(unit, pdu))
         if faults.busy and faults.rng.random() < faults.busy:
             faults.busy_answers += 1
-            return True
-        return False
-
-    async def get_values(device_id: int, func_code: int, address: int,
-                         count: int = 1) -> Any:
-        area._device(device_id)
-        if address == first:
-            faults.identity_reads += 1
-        if busy():
-            return ExcCodes.DEVICE_BUSY
-        return await get(device_id, func_code, address, count)
-
-    async def set_values(device_id: int, func_code: int, address: int,
-                         values: Sequence[int]) -> Any:
-        area._device(device_id)
-        if busy():
-            return ExcCodes.DEVICE_BUSY
+            return bytes([fc | 0x80, 6])
+        address, count = struct.unpack_from(">HH", pdu, 1)
         offset = (address - first) * 2
+        if fc == 0x03:
+            if offset == 0:
+                faults.identity_reads += 1
+            return bytes(plain(unit, pdu))
         if offset >= BUFFERS_AT:
             faults.buffer_writes += 1
             if faults.refuse_buffer_writes:
-                return ExcCodes.ILLEGAL_ADDRESS
-            if faults.tear_headers and offset in faults.headers_at and any(values):
+                return bytes([fc | 0x80, 2])
+            data = pdu[6:]
+            if faults.tear_headers and offset in faults.headers_at and any(data):
                 faults.tear_headers -= 1
-                values = [values[0] ^ 0x0101, *values[1:]]
-        elif offset <= SWITCH_AT < offset + 2 * len(values):
+                pdu = pdu[:6] + bytes([data[0] ^ 1, data[1] ^ 1]) + data[2:]
+        elif offset <= SWITCH_AT < offset + 2 * count:
             faults.switch_writes += 1
-        return await put(device_id, func_code, address, values)
+        return bytes(plain(unit, pdu))
 
-    area.async_getValues = get_values
-    area.async_setValues = set_values
+    area.answer = answer
 
 
 @asynccontextmanager
@@ -177,62 +165,36 @@ def payload(version: int, name: str = "gantry-02") -> bytes:
     return encode(with_version(built_map(name), version))
 
 
-class _Gateway(ModbusServerContext):
-    """A Modbus/TCP gateway's register space: each unit id is another controller's
-    window (the areas of unstarted :class:`PmcModbusServer` objects)."""
+class _Gateway:
+    """A Modbus/TCP gateway's register space: each unit id another controller's window
+    (their :class:`~machine_sim.modbus_server.PmcArea` objects, answering in turn)."""
 
-    def __init__(self, areas: dict[int, Any]) -> None:  # no super(): no pymodbus store
+    def __init__(self, areas: dict[int, Any]) -> None:
         self.areas = areas
-        self.old_simulator = True
-        self.simdevices: list[Any] = []
 
-    def _area(self, device_id: int) -> Any:
-        area = self.areas.get(device_id)
+    def answer(self, unit: int, pdu: bytes) -> bytes:
+        area = self.areas.get(unit)
         if area is None:
-            raise NoSuchIdException(f"unit id {device_id}")
-        return area
+            return bytes([(pdu[0] if pdu else 0) | 0x80, 0x0B])  # no target there
+        return bytes(area.answer(unit, pdu))
 
-    async def async_getValues(self, device_id: int, func_code: int, address: int,
-                              count: int = 1) -> Any:
-        return await self._area(device_id).async_getValues(device_id, func_code, address,
-                                                            count)
-
-    async def async_setValues(self, device_id: int, func_code: int, address: int,
-                              values: Any) -> Any:
-        return await self._area(device_id).async_setValues(device_id, func_code, address,
-                                                            values)
-
-    def device_ids(self) -> list[int]:
-        return sorted(self.areas)
+    def too_long(self, fc: int) -> bytes:
+        return bytes(next(iter(self.areas.values())).too_long(fc))
 
 
 @asynccontextmanager
 async def gateway(specs: dict[int, Spec]) -> AsyncIterator[tuple[int, dict[int, WindowCNC]]]:
     """Several PMCs behind one Modbus/TCP address, one unit id each; yields the port and
-    the machines by unit id."""
-    async def idle() -> None:
-        return None
-
-    def factory(unit: int) -> Any:
-        def make(cnc: WindowCNC) -> PmcModbusServer:
-            srv = PmcModbusServer(cnc, port=0, register=REGISTER, unit_id=unit)
-            srv.start = idle  # type: ignore[method-assign]  # the gateway serves it
-            srv.stop = idle  # type: ignore[method-assign]
-            return srv
-        return make
-
+    the machines by unit id. The first PMC's server is the gateway: it answers for all."""
     async with AsyncExitStack() as stack:
         cncs: dict[int, WindowCNC] = {}
         for unit, s in specs.items():
+            def make(cnc: WindowCNC, unit: int = unit) -> PmcModbusServer:
+                return PmcModbusServer(cnc, port=0, register=REGISTER, unit_id=unit)
             rt = MachineRuntime(s.machine, seed=s.seed, fanuc=FanucConfig(max_step_counts=1000))
             cncs[unit] = await stack.enter_async_context(
-                WindowCNC(s.machine, factory(unit), runtime=rt, cycle_s=0.02))
-        areas = {unit: cnc.server.area for unit, cnc in cncs.items()}  # type: ignore[attr-defined]
-        server = ModbusTcpServer(_Gateway(areas), address=("127.0.0.1", 0))
-        await server.serve_forever(background=True)
-        try:
-            transport: Any = server.transport
-            yield int(transport.sockets[0].getsockname()[1]), cncs
-        finally:
-            with contextlib.suppress(Exception):
-                await server.shutdown()  # type: ignore[no-untyped-call]
+                WindowCNC(s.machine, make, runtime=rt, cycle_s=0.02))
+        servers: dict[int, Any] = {unit: cnc.server for unit, cnc in cncs.items()}
+        front = next(iter(servers.values()))
+        front.area = _Gateway({unit: srv.area for unit, srv in servers.items()})
+        yield int(front.port), cncs
