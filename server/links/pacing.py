@@ -7,9 +7,9 @@ the backoff grows with every failure, opened session or not, and only proof that
 link works resets it: a map the controller applied, or a healthy poll cycle (the session
 up for :data:`HEALTHY_AFTER_S` with the PLC's heartbeat moving and no push in flight).
 
-On top of the backoff, a budget: at most :data:`ATTEMPTS_PER_MINUTE` connects per machine
-in any 60 s, so the first retries can be quick (a controller that rebooted is back in
-seconds) and a persistent fault still costs the controller no more than that.
+On top of the backoff, a budget as a safety net: at most :data:`ATTEMPTS_PER_MINUTE`
+connects and as many pushes per machine in any 60 s, also for a link that keeps proving
+itself and failing again (each proof resets the backoff).
 """
 
 from __future__ import annotations
@@ -30,9 +30,12 @@ HEALTHY_AFTER_S: Final = 5.0
 """A session that has run this long with the PLC's heartbeat moving and no push in flight
 has proved the link; its next failure starts the backoff from the beginning, s."""
 
-BACKOFF: Final = Backoff(initial_s=1.0, factor=2.0, cap_s=60.0, jitter=0.5)
-"""Delays after the n-th failure in a row: 1, 2, 4 ... 60 s, shortened by up to half at
-random so that controllers behind one failed switch are not retried in step."""
+BACKOFF: Final = Backoff(initial_s=4.0, factor=3.0, cap_s=60.0, jitter=0.25)
+"""Delays after the n-th failure in a row: 4, 12, 36, 60 s, shortened by up to a quarter
+at random so that controllers behind one failed switch are not retried in step. Chosen so
+that a fault that persists costs at most 4 connects in its first minute (0, 3-4, 12-16,
+39-52 s) without the per-minute budget having to hold a retry back: a retry held back by
+the budget would delay the recovery beyond the backoff step the operator sees."""
 
 
 @dataclass

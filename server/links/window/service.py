@@ -97,8 +97,8 @@ class ControllerLinks:
         self.reconcile_s = reconcile_s
         self.backoff = backoff or BACKOFF
         self.pacers: dict[str, Pacer] = {}
-        """Retry schedules by machine, kept across its tasks (a changed registration
-        restarts the task, not the backoff)."""
+        """Retry schedules by machine, kept while its registration stays the same (a
+        changed one starts afresh: the operator may have corrected it)."""
         self._bg = Background(grace_s=5.0)
         self._tasks: dict[str, tuple[Any, asyncio.Task[None]]] = {}
         self._rng = random.Random()
@@ -166,6 +166,10 @@ class ControllerLinks:
                 task.cancel()
                 with contextlib.suppress(asyncio.CancelledError, Exception):
                     await task
+                if name not in want or want[name][0] != key:
+                    # the registration changed (a byte order corrected...): try it now
+                    self.pacers.pop(name, None)
+                    self.throttle.forget(name)
         for name, (key, row) in want.items():
             if name not in self._tasks:
                 task = asyncio.create_task(self._serve(row), name=f"{name}:controller-link")
