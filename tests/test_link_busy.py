@@ -14,6 +14,7 @@ import pytest
 
 from protocol import Controller
 from server.links.modbus import BUSY_RETRIES, ModbusMemory
+from server.links.state import LinkCondition
 from server.links.window.memory import LinkError
 from server.links.window.session import ControllerSession
 from tests.support.integration import spec
@@ -36,6 +37,8 @@ async def test_at_30_percent_busy_answers_every_map_is_applied_within_10_s() -> 
     faults = Faults(busy=0.3)
     async with asyncio.timeout(200), pmc(GANTRY, faults=faults, cycle_s=0.01) as cnc:
         s = _session(cnc.server.port)  # type: ignore[attr-defined]
+        told: list[LinkCondition] = []
+        s.on_condition = told.append
         await s.open()
         runner = asyncio.create_task(s.run())
         loop = asyncio.get_running_loop()
@@ -52,6 +55,9 @@ async def test_at_30_percent_busy_answers_every_map_is_applied_within_10_s() -> 
             assert s.failure is None
             assert faults.busy_answers > 20, faults.busy_answers  # busy answers were met
             assert s.memory.busy_retries == faults.busy_answers  # type: ignore[attr-defined]
+            # shown, not hidden: the link stays connected with the reason busy
+            assert told and all(c.state == "connected" for c in told), told
+            assert told[0].reason == "busy" and "exception 06" in told[0].text, told
         finally:
             s.abort(None, "test over")
             await runner

@@ -91,6 +91,8 @@ class ModbusMemory:
         self.requests = 0
         self.busy_retries = 0
         """Requests asked again after a busy answer (05, 06)."""
+        self.busy_note = ""
+        """The last busy answer, for the operator."""
 
     @property
     def address(self) -> str:
@@ -140,6 +142,7 @@ class ModbusMemory:
                 if not exc.transient or retry == BUSY_RETRIES:
                     raise
                 self.busy_retries += 1
+                self.busy_note = str(exc)
                 await asyncio.sleep(min(BUSY_PAUSE_CAP_S, BUSY_PAUSE_S * 1.5 ** retry))
         raise AssertionError("unreachable")  # the loop returns or raises
 

@@ -102,7 +102,7 @@
   // "unreachable (no_answer)" with the controller's own words in the tooltip
   function linkLine(card) {
     const st = card.link_state;
-    if (!st || st === "connected" || st === "offline") return null;
+    if (!st || st === "offline" || (st === "connected" && !card.link_reason)) return null;
     const head = st.replace("_", " ") + (card.link_reason ? ` (${card.link_reason})` : "");
     return el("div", { class: "sub", "data-field": "link-state", title: card.link_text || "" },
       "link: ", el("b", {}, head));

@@ -211,7 +211,9 @@ class ControllerLinks:
         """What a session says of its link while it is open (the PLC stopped, running
         again): shown and reported like a failure, the session going on."""
         def changed(condition: LinkCondition) -> None:
-            if condition.state == "connected":
+            if self.sessions.get(name) is None:
+                return  # not (or no longer) serving: the session's end says why
+            if condition.state == "connected" and not condition.reason:
                 self.center.registry.condition(name, "connected")
                 return
             task = asyncio.create_task(self._report(name, link, condition),
@@ -225,7 +227,7 @@ class ControllerLinks:
         an event and a warning for the first of each reason, then at most once a minute
         per reason (:class:`~server.links.state.Throttle`)."""
         self.center.registry.condition(name, ended.state, ended.reason, ended.text)
-        if ended.state in ("connected", "connecting", "offline"):
+        if ended.state in ("connecting", "offline") or not ended.reason:
             return
         self.failures += 1
         if not self.throttle.allow(name, ended.reason or ended.state,

@@ -69,6 +69,9 @@ stopped, or the controller's server answers from memory no program reads)."""
 
 _STATES: Final = {0: "idle", 1: "compensating"}
 
+BUSY_TELL_S: Final = 10.0
+"""Busy answers go on being retried silently; the link's reason says so this often, s."""
+
 
 class LinkAck:
     """The PLC's verdict read from the status (also one a previous center missed)."""
@@ -158,6 +161,9 @@ class ControllerSession:
         (up ``healthy_after_s`` with the heartbeat moving and no push in flight)."""
         self._opened_at = 0.0
         self.opened_status: Status | None = None
+        self._busy_seen = 0
+        self._busy_last = 0.0
+        self._busy_told: float | None = None
         self.push_times: list[float] = []
         self.last_code: int | None = None
         """The PLC's ack code of the last push answered in this session."""
@@ -250,6 +256,7 @@ class ControllerSession:
             while self.closed_because is None:
                 st = await self._read_status()
                 self._watch_heartbeat()
+                self._watch_busy()
                 self._resolve(st)
                 self._report(st)
                 with contextlib.suppress(TimeoutError):
@@ -284,6 +291,25 @@ class ControllerSession:
         if (running and not self.healthy and self._pending is None
                 and now - self._opened_at >= self.healthy_after_s):
             self.healthy = True
+
+    def _watch_busy(self) -> None:
+        """Busy answers asked again (a memory's ``busy_retries``) keep the session but
+        are shown: the link stays ``connected`` with reason ``busy`` (told at most every
+        :data:`BUSY_TELL_S`), back to no reason after a minute without any."""
+        retries = int(getattr(self.memory, "busy_retries", 0))
+        now = asyncio.get_running_loop().time()
+        if retries != self._busy_seen:
+            self._busy_seen = retries
+            self._busy_last = now
+            if self._busy_told is None or now - self._busy_told >= BUSY_TELL_S:
+                self._busy_told = now
+                note = getattr(self.memory, "busy_note", "")
+                self._condition(LinkCondition(
+                    "connected", "busy", f"{retries} requests answered busy and asked "
+                    f"again in this session (the last: {note})"))
+        elif self._busy_told is not None and now - self._busy_last >= 60.0:
+            self._busy_told = None
+            self._condition(LinkCondition("connected"))
 
     def _condition(self, condition: LinkCondition) -> None:
         if self.on_condition is not None:
