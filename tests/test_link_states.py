@@ -183,3 +183,24 @@ def test_the_registry_shows_a_stopped_plc_during_its_session() -> None:
     assert shown_state(reg.get("m")) == "plc_stopped"
     reg.disconnected("m")
     assert shown_state(reg.get("m")) == "offline"
+
+
+def test_ednc_serve_prints_a_link_warning_by_default(capsys: pytest.CaptureFixture[str]
+                                                     ) -> None:
+    import logging
+
+    from ednc.commands.serve import configure_logging
+
+    root = logging.getLogger()
+    level = root.level
+    handler = configure_logging("warning")
+    try:
+        logging.getLogger("server.links.window.service").warning(
+            "gantry-02: modbus link refused (byte_order): swapped")
+        logging.getLogger("server.links.window.service").info("not shown")
+    finally:
+        root.removeHandler(handler)
+        root.setLevel(level)
+    err = capsys.readouterr().err
+    assert "WARNING server.links.window.service: gantry-02: modbus link refused" in err
+    assert "not shown" not in err

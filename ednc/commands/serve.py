@@ -48,20 +48,25 @@ def taken(host: str, port: int) -> str | None:
     return None
 
 
-def configure_logging(level: str) -> None:
+def configure_logging(level: str) -> Any:
     """Print the center's own messages of ``level`` and above on stderr, with time and
     source: without a handler Python prints only bare warnings, and a plant engineer
     needs to see a refused link or a failed push without asking for it (uvicorn configures
-    its own loggers, which do not propagate here)."""
+    its own loggers, which do not propagate here). Returns the handler added."""
     import logging
+    import sys
 
     from ednc.cli import UserError
 
     number = logging.getLevelName(level.upper())
     if not isinstance(number, int):
         raise UserError(f"--log-level {level!r}: debug, info, warning or error")
-    logging.basicConfig(level=number, format="%(asctime)s %(levelname)s %(name)s: %(message)s")
-    logging.getLogger().setLevel(number)
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
+    root = logging.getLogger()
+    root.addHandler(handler)
+    root.setLevel(number)
+    return handler
 
 
 def register(app: typer.Typer) -> None:
