@@ -148,3 +148,26 @@ async def test_a_refused_write_is_a_failed_delivery_not_a_rejection(tmp_path: Pa
         await until(plant.applied(s.name, 1))
         states = [d["state"] for d in await plant.deliveries(s.name)]
         assert states[0] == "applied" and set(states[1:]) <= {"failed", "superseded"}, states
+
+
+def test_a_database_from_before_gets_the_new_columns(tmp_path: Path) -> None:
+    import sqlite3
+
+    from server.db import make_engine
+
+    path = tmp_path / "old.db"
+    with sqlite3.connect(path) as conn:  # the table as it shipped before
+        conn.execute("CREATE TABLE applied (id INTEGER PRIMARY KEY, machine_id INTEGER, "
+                     "map_id INTEGER, map_version INTEGER, applied_at DATETIME, "
+                     "acked BOOLEAN, reject_reason TEXT)")
+        conn.execute("INSERT INTO applied VALUES (1, 1, 1, 1, '2026-01-01', 0, "
+                     "'session ended before the answer to map version 1')")
+    db = Database(make_engine(f"sqlite:///{path}"))
+    try:
+        db.create_schema()
+        db.create_schema()  # again: nothing to add
+        row = db.call(lambda s: s.get(AppliedRow, 1))
+        assert row is not None and row.state is None and row.failure is None
+        assert map_repo.delivery_state(row) == "failed"
+    finally:
+        db.engine.dispose()
