@@ -383,3 +383,39 @@ async def test_each_transient_answer_is_asked_again_and_others_are_not() -> None
     with pytest.raises(LinkError, match="lacks PlcWrite"):
         await mem._call(denied, "write", 0, 4, list)
     assert refused == 1  # a refusal is not asked again
+
+
+async def test_a_controller_busy_for_30_percent_of_its_answers_applies_every_map() -> None:
+    """Issue 30's target for busy answers, over OPC UA: 10 of 10 pushes applied within
+    10 s each through the center's session, which stays up throughout."""
+    import dataclasses
+
+    import numpy as np
+
+    from machine_sim.truth import random_geometry
+    from protocol import Controller
+    from server.links.window.session import ControllerSession
+    from server.mapcodec import build_for, encode
+    from volumetric.model.model import MachineModel
+
+    m = spec("vmc-06").machine
+    truth = random_geometry(m, np.random.default_rng(4), scale=2.0, form="table")
+    content = build_for(m, MachineModel(m.name, truth), {}, tolerance_um=1.0,
+                        controller="siemens")
+    async with controller(busy=0.3, seed=11) as cnc:
+        mem = OpcuaMemory.from_link(link(f"opc.tcp://127.0.0.1:{cnc.server.port}"))
+        session = ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names,
+                                    mem, link="opcua", chain=m.chain, poll_s=0.1)
+        await session.open()
+        runner = asyncio.create_task(session.run())
+        try:
+            for version in range(1, 11):
+                payload = encode(dataclasses.replace(content, version=version))
+                verdict = await session.push_map(version, payload, 10.0)
+                assert verdict.applied and verdict.version == version
+            assert session.closed_because is None  # one session throughout
+            internal = cnc.server._internal  # type: ignore[attr-defined]
+            assert internal.busy_answers >= 30 and mem.retries >= internal.busy_answers - 2
+        finally:
+            session.abort(None, "test over")
+            await runner

@@ -28,7 +28,8 @@ it: the password travels as plain text.
 
 Transient answers (``BadTooManySessions``, ``BadResourceUnavailable``, ``BadTimeout``:
 the controller is busy) are retried per request within the session, a bounded number of
-times (:data:`RETRY_DELAYS_S`); only a failure that persists ends it.
+times over a few seconds (:data:`RETRY_DELAYS_S`); only a failure that persists ends
+it.
 
 Every failure raises :class:`~server.links.window.memory.LinkError` with a text that says
 what to fix (a missing password, a refused login, a user without ``PlcWrite``, no free
@@ -72,9 +73,12 @@ PDU (240-byte PDU) and an S7-1500's (960). The OPC UA server forwards a write to
 in PDUs of its size; a block of one PDU is written in one PLC access."""
 TRANSIENT: Final = frozenset({"BadTooManySessions", "BadResourceUnavailable", "BadTimeout"})
 """Answers that mean "busy, ask again": retried, not a reason to end the session."""
-RETRY_DELAYS_S: Final = (0.05, 0.1, 0.2, 0.4, 0.8)
-"""Waits before the retries of one request (1.55 s in all, within a push's budget); each
-is jittered by up to half of it so a fleet does not retry in step."""
+RETRY_DELAYS_S: Final = (0.05, 0.1, 0.2, 0.4, 0.8, 0.8, 0.8, 0.8, 0.8)
+"""Waits before the retries of one request: 9 retries over 4.75 s (up to 1.5x with the
+jitter, so a fleet does not retry in step). A controller busy for 30 % of its answers
+fails one request in 0.3^10 = 6e-6: a status poll every 200 ms ends the session about
+once in 9 hours instead of every 5 minutes with 5 retries; one busy for good is given up
+within the time a push has anyway."""
 _warned_insecure: set[tuple[str, str]] = set()
 
 SD_NUMBERS: Final = (43900, 43910, 43920)
@@ -313,7 +317,11 @@ class OpcuaMemory:
                 await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
 
     async def _connect_once(self, password: str) -> Client:
-        client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=5.0)
+        # no asyncua watchdog: it reads the server state every interval and drops the
+        # connection on any error, a busy answer (BadResourceUnavailable) included, which
+        # is exactly what must not end a session here. The window session's status polls
+        # keep the session alive and find a dead connection within timeout_s.
+        client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=86_400.0)
         client.session_timeout = 60_000  # the SINUMERIK's; it revises longer ones to this
         client.application_uri = CENTER_URI
         client.set_user(self.user)
