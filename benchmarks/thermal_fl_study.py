@@ -56,7 +56,12 @@ from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel
 
 F64 = NDArray[np.float64]
-DATA = Path(__file__).resolve().parents[2] / "shared" / "data" / "fl_thermal_ch3_measurements.csv"
+SHARED_DATA = next((d / "shared" / "data" for d in Path(__file__).resolve().parents[1:]
+                    if (d / "shared" / "data").is_dir()),
+                   Path(__file__).resolve().parents[2] / "shared" / "data")
+"""The shared data folder: the nearest ``shared/data`` above the repository (beside the
+main checkout, or above a worktree of it)."""
+DATA = SHARED_DATA / "fl_thermal_ch3_measurements.csv"
 CHANNELS = DATA.with_name("fl_thermal_spindle_caiviac.csv")
 """The same test with all five displacement channels (ch3 is the one above)."""
 SPLIT_S = 144_000.0

@@ -83,13 +83,17 @@
       el("td", { class: "sub", "data-field": "map-facts" }, EDNC.mapFacts(card.maps)));
   }
 
+  // how a machine is reached, as the plant says it (server/schemas/link.py's kinds)
+  const LINK_NAMES = { modbus: "Modbus/TCP", opcua: "OPC UA",
+    sinumerik_sd: "SINUMERIK setting data (OPC UA)" };
+
   function machineCell(card) {
     return el("td", { class: "machine" },
       el("a", { href: `/machines/${encodeURIComponent(card.name)}`, class: "name",
         "data-field": "name" }, card.name),
       el("div", { class: "sub", "data-field": "link" },
         `${card.controller} · ${card.ip}` + (card.link && card.link !== "ednc"
-          ? ` · ${card.link === "modbus" ? "Modbus/TCP" : "OPC UA"} link` : "")),
+          ? ` · ${LINK_NAMES[card.link] || card.link} link` : "")),
       el("div", { class: "sub chain", "data-field": "chain" }, card.chain));
   }
 

@@ -21,9 +21,18 @@ ROOT = Path(__file__).resolve().parents[2]
 sys.path.insert(0, str(ROOT))
 
 from benchmarks.map_build import TRUNNION, errors  # noqa: E402
+from machine_sim import ladder  # noqa: E402
 from machine_sim.lookup import FactoredLadder, GridLadder, positions_in_counts  # noqa: E402
 from protocol import ErrorMapPayload, GridAxis, MapEncoding, OutputAxis, pack_values  # noqa: E402
-from protocol.mapfactored import decode_factored  # noqa: E402
+from protocol.mapfactored import (  # noqa: E402
+    FactoredAxis,
+    FactoredPayload,
+    FactoredThermal,
+    TermTable,
+    decode_factored,
+    encode_factored,
+    milli_celsius,
+)
 from protocol.mapformat import decode_map, encode_map  # noqa: E402
 from server.mapcodec import encode  # noqa: E402
 from volumetric.compensate.factoredmap import build_factored_map  # noqa: E402
@@ -130,10 +139,100 @@ def grid_ties() -> None:
            {"X": [0.0, 0.002], "Y": [0.0, 0.002]}, {})
 
 
+NO_READING = None
+"""A step's reading of ``null``: nothing to say for that sensor (slot -2^31): held."""
+
+
+def _rules_map(version: int, thermal: tuple[FactoredThermal, ...]) -> FactoredPayload:
+    """Axes X, Z (linear) and C (rotary): constant terms X = 8 counts (limit 10, reversal
+    +5: the clamp order), C = 2.5 counts (sensitivities 0: equal costs, the nearest count
+    3); Z only thermal (limit 400, reversal -3)."""
+    axes = (FactoredAxis("X", False, 5, 10, 1, 0, 0),
+            FactoredAxis("Z", False, -3, 400, 1, 0, 0),
+            FactoredAxis("C", True, 2, 400, 1, 0, 0))
+    terms = (TermTable(0, 0, 0, (), (8,)),     # 8 · 2^15 · 2^1 = 8 counts in 2^-16
+             TermTable(2, 2, -1, (), (5,)))    # 5 · 2^15 · 2^0 = 2.5 counts
+    return FactoredPayload("rules", version, 0, 1000, axes, (), terms, thermal)
+
+
+RULES_A = (FactoredThermal("spindle", 1, 1, 1 << 24, 20000),          # drift of Z
+           FactoredThermal("x_screw", 1, 2, 1 << 20, 20000, 1000))    # expansion of Z
+RULES_B = (FactoredThermal("spindle", 1, 1, -(1 << 23), 21000),
+           FactoredThermal("air", 0, 1, 1 << 26, 20000))              # never read
+
+
+def rules() -> None:
+    """``rules.json``: one scenario through two factored maps that pins the rules of
+    section 6 a PLC program gets wrong first: held readings per sensor name, a sensor
+    never read adding 0, ΔT clamped to ±2^17 m°C, the thermal constants recomputed at a
+    swap, direction (+ at start-up, the sign of the last move, kept by a scan without a
+    move and across a swap), the reversal before the final clamp, and rotary rounding
+    from the nearest count on equal costs; then temperatures in m°C from the exact
+    double."""
+    maps = {"A": _rules_map(1, RULES_A), "B": _rules_map(2, RULES_B)}
+    for key, p in maps.items():
+        (HERE / f"rules_{key.lower()}.bin").write_bytes(encode_factored(p))
+    steps: list[dict[str, object]] = [
+        {"note": "start-up: no reading yet, every direction positive", "map": "A",
+         "q_counts": [0, 0, 0]},
+        {"note": "spindle read (ΔT 6 K); x_screw never read adds 0; C moved negative",
+         "readings_mC": {"spindle": 26000}, "q_counts": [0, 0, -1000]},
+        {"note": "x_screw read, spindle's slot empty (-2^31): spindle's reading is held; "
+                 "Z moved negative",
+         "readings_mC": {"spindle": NO_READING, "x_screw": 25000},
+         "q_counts": [0, -100000, -1000]},
+        {"note": "no move: directions kept; X moves positive", "q_counts": [5, -100000, -1000]},
+        {"note": "spindle 200 °C: ΔT 180 K clamped to 131.072 K",
+         "readings_mC": {"spindle": 200000}, "q_counts": [5, -100000, -1000]},
+        {"note": "X moved negative: 8 + 5 = 13 counts clamped to its limit 10",
+         "q_counts": [-7, -100000, -1000]},
+        {"note": "swap to B: constants from B's records and the held readings (spindle "
+                 "200000, air never read: 0); directions kept", "map": "B",
+         "q_counts": [-7, -100000, -1000]},
+        {"note": "air read; C moves positive again", "readings_mC": {"air": 19000},
+         "q_counts": [-7, -100000, 2000]},
+    ]
+    held: dict[str, int] = {}
+    prog = None
+    prev = np.zeros(3, dtype=np.int64)
+    direction = np.ones(3, dtype=np.int64)
+    for k, st in enumerate(steps):
+        if "map" in st:
+            prog = ladder.factored_program(maps[str(st["map"])])
+        for name, v in dict(st.get("readings_mC", {})).items():  # type: ignore[call-overload]
+            if v is not NO_READING:
+                held[name] = int(v)
+        assert prog is not None
+        q = np.array(st["q_counts"], dtype=np.int64)
+        if k:
+            direction = ladder.directions(prev, q, direction)
+        prev = q
+        c0, c1 = ladder.thermal_constants(prog.thermal, 3, held)
+        st["direction"] = direction.tolist()
+        st["c0"], st["c1"] = c0.tolist(), c1.tolist()
+        st["counts"] = ladder.factored_counts(prog, q[None, :], c0, c1,
+                                              (direction < 0)[None, :])[0].tolist()
+    celsius = [20.0005, -0.0015, 21.2345, 26.35, 0.0005, -0.0005, 99.9995, 23.8,
+               12.3455, -273.15]
+    body = {
+        "note": "a scenario a PLC program runs scan by scan (see README.md); each step's "
+                "readings are what the slots carry (null: -2^31, nothing to say), then "
+                "the commanded positions; expected: direction (+1/-1), the thermal "
+                "constants c0 (2^-16 counts) and c1 (2^-32 counts per count) per axis, "
+                "and the counts written",
+        "maps": {k: f"rules_{k.lower()}.bin" for k in maps}, "axes": ["X", "Z", "C"],
+        "steps": steps,
+        "milli_celsius": [{"celsius": c, "celsius_hex": c.hex(), "mC": milli_celsius(c)}
+                          for c in celsius],
+    }
+    (HERE / "rules.json").write_text(json.dumps(body, indent=1) + "\n")
+
+
 def main() -> None:
     factored()
     grid()
     grid_ties()
+    rules()
 
 
 if __name__ == "__main__":

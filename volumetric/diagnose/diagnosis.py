@@ -7,6 +7,7 @@ from the modules that hold them.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 from volumetric.diagnose.base import REFITS, base_design, base_without
@@ -209,6 +210,19 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
           "rms_after_um": round(best.rms_after_um, 4)}],
         first_terms, model, best))
     chosen, effects, current = named.chosen, named.effects, named.current
+    if named.joint is not None and not any(c.drop or c.effect == "rotary_periodic"
+                                           for c in chosen):
+        # a drift and an expansion of one axis were judged as a pair: the rigid part and
+        # offsets of the fit with every effect in (a lagged drift's, replaced, no longer
+        # hold; a cyclic error's harmonic is the first fit's, kept); a term's own
+        # reference centres it on the training readings
+        p = len(base_fit.params)
+        named = replace(named, model=MachineModel(
+            named.model.machine,
+            model_from_parameters(machine, base_fit.params, named.joint[:p]).geometry,
+            named.model.terms,
+            {**base_fit.model.info, "extended_with": chosen[0].effect,
+             "offsets_um": offsets_of(base_fit.params, named.joint[:p])}))
     # step 7: unexplained structure
     left = residual_structure(machine, m, current.heldout, judged, base_fit.degrees)
     if left:
