@@ -419,3 +419,18 @@ async def test_a_controller_busy_for_30_percent_of_its_answers_applies_every_map
         finally:
             session.abort(None, "test over")
             await runner
+
+
+async def test_a_controller_offering_no_security_is_refused_unless_the_link_allows_it(
+        ) -> None:
+    async with controller(security_modes=("None",)) as cnc:
+        url = f"opc.tcp://127.0.0.1:{cnc.server.port}"
+        with pytest.raises(LinkError, match=r"does not offer Basic256Sha256 SignAndEncrypt "
+                                            r"\(it offers None None\)"):
+            await OpcuaMemory.from_link(link(url)).connect()
+        plain = OpcuaMemory.from_link(link(url, security_policy="None"))
+        await plain.connect()
+        try:
+            assert await plain.read(0, 4) == b"EDCM"
+        finally:
+            await plain.close()

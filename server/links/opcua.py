@@ -391,8 +391,9 @@ class OpcuaMemory:
         offered = [e for e in endpoints if e.SecurityPolicyUri == uri
                    and e.SecurityMode == mode]
         if not offered or not offered[0].ServerCertificate:
-            have = ", ".join(sorted({f"{e.SecurityPolicyUri.rsplit('#', 1)[-1]}/"
-                                     f"{e.SecurityMode.name}" for e in endpoints}))
+            have = ", ".join(sorted({f"{e.SecurityPolicyUri.rsplit('#', 1)[-1]} "
+                                     f"{e.SecurityMode.name.rstrip('_')}"
+                                     for e in endpoints}))
             raise LinkError(f"{self.endpoint}: the controller does not offer Basic256Sha256 "
                             f"{self.security_mode} (it offers {have or 'nothing'}): enable "
                             "it on the controller, or set the link's security_mode")
