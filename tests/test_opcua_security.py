@@ -434,3 +434,15 @@ async def test_a_controller_offering_no_security_is_refused_unless_the_link_allo
             assert await plain.read(0, 4) == b"EDCM"
         finally:
             await plain.close()
+
+
+async def test_a_server_that_does_not_resolve_the_path_is_named_as_such() -> None:
+    async with controller(db=901) as cnc:  # the window in another data block
+        mem = OpcuaMemory.from_link(link(f"opc.tcp://127.0.0.1:{cnc.server.port}"))
+        await mem.connect()
+        try:
+            with pytest.raises(LinkError, match=r"DB900 bytes 0\.\.63: no such node .*does "
+                                                r"not resolve the path.*BadNodeIdUnknown"):
+                await mem.read(0, 64)
+        finally:
+            await mem.close()

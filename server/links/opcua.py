@@ -91,7 +91,9 @@ _HINTS: Final = {
     "BadTooManySessions": "the controller has no free OPC UA session (a SINUMERIK allows "
                           "10; close other clients)",
     "BadIdentityTokenRejected": "the server does not accept user-and-password logins",
-    "BadNodeIdUnknown": "no such node on the controller (check window_node / sd_nodes)",
+    "BadNodeIdUnknown": "no such node on the controller: its server does not resolve the "
+                        "path (a SINUMERIK's resolves /Plc/DB<n>.DBD<x>:[k]; check "
+                        "window_node / sd_nodes and that the data block exists)",
     "BadOutOfRange": "outside the controller's data block (window larger than the DB?)",
     "BadTypeMismatch": "the node holds another type than UInt32 words",
     "BadSecurityPolicyRejected": "the server does not offer this security policy",
