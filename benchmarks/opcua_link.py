@@ -1,6 +1,7 @@
 """100 SINUMERIK-style machines over OPC UA, secured: connect all, push a map to each.
 
     .venv/bin/python benchmarks/opcua_link.py [--machines 100] [--workers 1] [--cycle-ms 100]
+                                              [--peer-first]
 
 The machines (WindowCNC over a SiemensNC, each with its own asyncua OPC UA server,
 machine_sim/opcua_server.py, offering Basic256Sha256 Sign and SignAndEncrypt beside None)
@@ -21,7 +22,10 @@ machine, in one event loop, with the link's defaults. Measured:
   with the map's version. The target: connect and push of all 100 within 30 s;
 * the same push in 960-byte blocks (an S7-1500), same sessions;
 * peer in the same run: new sessions with security None (the password in clear), connect
-  and push in 240-byte blocks, so the cost of the encryption is seen side by side.
+  and push in 240-byte blocks, so the cost of the encryption is seen side by side; last,
+  or first with ``--peer-first`` (the simulator's wall times grow with each step of a
+  run, so both orders are needed to compare walls; the center's CPU per push is not
+  moved by the order).
 
 The machines' controller cycle is ``--cycle-ms`` (100 ms by default instead of the
 SINUMERIK's 4 ms IPO cycle: 100 machines at 4 ms would need 25,000 Python cycles a
