@@ -24,6 +24,7 @@ from machine_sim.truth import random_geometry
 from volumetric.diagnose.candidates import Candidate
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.diagnose.joint import joint_fit
+from volumetric.diagnose.text import effects_text
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import ThermalTerm
 
@@ -65,6 +66,8 @@ def test_a_drift_and_an_expansion_on_one_axis_each_get_their_own_size(seed: int)
     assert drift["correlation"] == [{"effect": "thermal_expansion", "axis": axis,
                                      "sensor": f"T_{es}_C", "r": r}]
     assert expansion["correlation"][0]["r"] == r and -1.0 < r < 1.0
+    said = "\n".join(effects_text(d))
+    assert f"estimated jointly with thermal_expansion {axis} T_{es}_C" in said
     # the saved model carries both terms with the reported sizes
     terms = {(t.kind, t.sensor): t for t in d.model.terms if isinstance(t, ThermalTerm)}
     assert terms[("thermal_drift", f"T_{ds}_C")].coefficient == pytest.approx(
