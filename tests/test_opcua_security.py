@@ -446,3 +446,19 @@ async def test_a_server_that_does_not_resolve_the_path_is_named_as_such() -> Non
                 await mem.read(0, 64)
         finally:
             await mem.close()
+
+
+def test_the_simulated_controllers_keep_one_certificate(tmp_path: Path) -> None:
+    from cryptography import x509
+    from cryptography.hazmat.primitives import serialization
+
+    from machine_sim.opcua_server import sim_certificate
+
+    der, pem = sim_certificate(tmp_path / "sim")
+    assert (tmp_path / "sim" / "server.pem").exists()
+    sim_certificate.cache_clear()  # another process: reads the same back
+    assert sim_certificate(tmp_path / "sim") == (der, pem)
+    key = serialization.load_pem_private_key(pem, None)
+    public = serialization.Encoding.DER, serialization.PublicFormat.SubjectPublicKeyInfo
+    assert key.public_key().public_bytes(*public) == \
+        x509.load_der_x509_certificate(der).public_key().public_bytes(*public)
