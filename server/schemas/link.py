@@ -46,7 +46,12 @@ class ModbusLink(BaseModel):
     kind: Literal["modbus"]
     host: Host | None = Field(default=None, description="default: the machine's ip")
     port: int = Field(default=502, ge=1, le=65535)
-    unit_id: int = Field(default=1, ge=0, le=255)
+    unit_id: int = Field(default=1, ge=0, le=255,
+                         description="Modbus unit id the controller answers to; controllers "
+                         "behind one gateway (one host and port) differ by it")
+    block_registers: int = Field(default=123, ge=1, le=123,
+                                 description="largest write, registers (123: the Modbus "
+                                 "limit; fewer for a gateway or PMC that takes less)")
     start_register: int = Field(default=0, ge=0, le=65535,
                           description="first holding register of the window")
     pmc: str = Field(default="D0000", pattern=r"^[RDE][0-9]{4,5}$",

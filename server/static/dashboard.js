@@ -94,7 +94,18 @@
       el("div", { class: "sub", "data-field": "link" },
         `${card.controller} · ${card.ip}` + (card.link && card.link !== "ednc"
           ? ` · ${LINK_NAMES[card.link] || card.link} link` : "")),
+      linkLine(card),
       el("div", { class: "sub chain", "data-field": "chain" }, card.chain));
+  }
+
+  // what the link does when it is not simply connected (or offline): the operator sees
+  // "unreachable (no_answer)" with the controller's own words in the tooltip
+  function linkLine(card) {
+    const st = card.link_state;
+    if (!st || st === "offline" || (st === "connected" && !card.link_reason)) return null;
+    const head = st.replace("_", " ") + (card.link_reason ? ` (${card.link_reason})` : "");
+    return el("div", { class: "sub", "data-field": "link-state", title: card.link_text || "" },
+      "link: ", el("b", {}, head));
   }
 
   function statusCell(card) {
