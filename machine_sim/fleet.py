@@ -192,14 +192,27 @@ def loopback_address(i: int, block: int = 0) -> str:
     return f"127.{block}.{1 + i // 250}.{1 + i % 250}"
 
 
+OPCUA_SECURITY = {"sign-and-encrypt": ("Basic256Sha256", "SignAndEncrypt"),
+                  "sign": ("Basic256Sha256", "Sign"), "none": ("None", "None")}
+"""``ednc sim --opcua-security``: the (security_policy, security_mode) of the links."""
+
+
 def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0,
-                    link: str = "ednc", port: int | None = None) -> list[FleetEntry]:
+                    link: str = "ednc", port: int | None = None,
+                    opcua_security: str = "sign-and-encrypt", plc_class: str = "s7-300"
+                    ) -> list[FleetEntry]:
     """``n`` vertical machining centres (module docstring); ``link`` modbus or opcua:
     each serves its controller's window at its own address and ``port`` (502 Modbus,
     4840 OPC UA by default), and the controller follows the link (Fanuc-style over Modbus,
-    Siemens-style over OPC UA)."""
+    Siemens-style over OPC UA). An opcua link gets ``opcua_security`` (a key of
+    :data:`OPCUA_SECURITY`) and ``plc_class`` (``s7-300`` or ``s7-1500``)."""
     if link not in ("ednc", "modbus", "opcua"):
         raise FleetSpecError(f"link must be ednc, modbus or opcua, got {link!r}")
+    if opcua_security not in OPCUA_SECURITY:
+        raise FleetSpecError(f"OPC UA security must be {', '.join(OPCUA_SECURITY)}, got "
+                             f"{opcua_security!r}")
+    if plc_class not in ("s7-300", "s7-1500"):
+        raise FleetSpecError(f"PLC class must be s7-300 or s7-1500, got {plc_class!r}")
     if link != "ednc":
         want = "fanuc" if link == "modbus" else "siemens"
         if controller not in ("mixed", want):
@@ -223,8 +236,11 @@ def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int
         if link == "modbus":
             spec = {"kind": "modbus", "host": m.ip, "port": port or 502}
         elif link == "opcua":
+            policy, mode = OPCUA_SECURITY[opcua_security]
             spec = {"kind": "opcua", "endpoint": f"opc.tcp://{m.ip}:{port or 4840}",
-                    "user": "ednc", "password_ref": "env:EDNC_OPCUA_PASSWORD"}
+                    "user": "ednc", "password_ref": "env:EDNC_OPCUA_PASSWORD",
+                    "security_policy": policy, "security_mode": mode,
+                    "plc_class": plc_class}
         out.append(FleetEntry(m, key, seed + i, link=spec))
     return out
 
@@ -328,6 +344,14 @@ def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
                              f"password its link names ({ref or 'password_ref'}): set it")
     endpoint = str(link.get("endpoint", f"opc.tcp://{host}:4840"))
     port = int(endpoint.rsplit(":", 1)[-1].split("/", 1)[0])
-    return WindowCNC(e.machine, sinumerik_server({user: OpcuaUser(password, PLC_WRITER)},
-                                                 host=host, port=port),
-                     seed=e.seed, cycle_s=cycle_s)
+    # a link without security stands for a controller configured without it (only None
+    # offered); otherwise the controller offers all three, as a SINUMERIK can
+    insecure = "None" in (link.get("security_policy"), link.get("security_mode"))
+    plc_class = str(link.get("plc_class", "s7-300"))
+    if plc_class not in ("s7-300", "s7-1500"):
+        raise FleetSpecError(f"{e.machine.name}: plc_class s7-300 or s7-1500, got "
+                             f"{plc_class!r}")
+    return WindowCNC(e.machine, sinumerik_server(
+        {user: OpcuaUser(password, PLC_WRITER)}, host=host, port=port,
+        security_modes=("None",) if insecure else ("None", "Sign", "SignAndEncrypt"),
+        plc_class=plc_class), seed=e.seed, cycle_s=cycle_s)

@@ -46,7 +46,12 @@ class ModbusLink(BaseModel):
     kind: Literal["modbus"]
     host: Host | None = Field(default=None, description="default: the machine's ip")
     port: int = Field(default=502, ge=1, le=65535)
-    unit_id: int = Field(default=1, ge=0, le=255)
+    unit_id: int = Field(default=1, ge=0, le=255,
+                         description="Modbus unit id the controller answers to; controllers "
+                         "behind one gateway (one host and port) differ by it")
+    block_registers: int = Field(default=123, ge=1, le=123,
+                                 description="largest write, registers (123: the Modbus "
+                                 "limit; fewer for a gateway or PMC that takes less)")
     start_register: int = Field(default=0, ge=0, le=65535,
                           description="first holding register of the window")
     pmc: str = Field(default="D0000", pattern=r"^[RDE][0-9]{4,5}$",
@@ -64,8 +69,16 @@ class OpcuaLink(BaseModel):
     model_config = ConfigDict(extra="forbid")
     kind: Literal["opcua"]
     endpoint: Annotated[str, Field(pattern=r"^opc\.tcp://[^\s]+$", max_length=300)]
-    security_policy: Literal["None", "Basic256Sha256"] = "None"
-    security_mode: Literal["None", "Sign", "SignAndEncrypt"] = "None"
+    security_policy: Literal["None", "Basic256Sha256"] = Field(
+        default="Basic256Sha256", description="None (either field) only if asked: the "
+        "password then crosses the network in clear, with a warning event")
+    security_mode: Literal["None", "Sign", "SignAndEncrypt"] = "SignAndEncrypt"
+    trust: Literal["first_use", "list"] = Field(
+        default="first_use", description="the controller's certificate: kept on first use, "
+        "or only those in the center's trust list (server/links/opcuapki.py)")
+    plc_class: Literal["s7-300", "s7-1500"] = Field(
+        default="s7-300", description="the PLC's class: its PDU sets the write block (240 "
+        "bytes for an S7-300 class, the 840D sl's; 960 for an S7-1500, SINUMERIK ONE)")
     user: Annotated[str, Field(min_length=1, max_length=64)]
     password_ref: Annotated[str, Field(
         pattern=r"^(env:[A-Za-z_][A-Za-z0-9_]*|file:/.+)$",
@@ -82,14 +95,14 @@ class OpcuaLink(BaseModel):
                     "paths of machine axis k, /NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_...[uk]")
     client_certificate: str | None = Field(
         default=None, min_length=1, max_length=500,
-        description="path of the center's application certificate (PEM or DER), needed "
-                    "for Basic256Sha256")
+        description="path of another application certificate (PEM or DER) than the "
+                    "center's own (made on first start)")
     client_private_key: str | None = Field(
         default=None, min_length=1, max_length=500,
         description="path of that certificate's private key")
-    block_bytes: int = Field(
-        default=960, ge=4, le=16_384, multiple_of=4,
-        description="largest window write per request, bytes (960: an S7-1500 PDU)")
+    block_bytes: int | None = Field(
+        default=None, ge=4, le=16_384, multiple_of=4,
+        description="largest window write per request, bytes (default: by plc_class)")
     poll_ms: int = Field(default=200, ge=100, le=10_000,
                          description="status reads, ms (the server samples no faster than "
                                      "100 ms)")

@@ -7,10 +7,14 @@ from the modules that hold them.
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from volumetric.diagnose.base import REFITS, base_design, base_without
-from volumetric.diagnose.candidates import candidates
+from volumetric.diagnose.candidates import Candidate, candidates
 from volumetric.diagnose.estimate import estimate_effect, offsets_of
 from volumetric.diagnose.further import Named, add_further, list_alternatives
 from volumetric.diagnose.gates import (
@@ -23,6 +27,7 @@ from volumetric.diagnose.gates import (
     prefer_physical,
     score,
 )
+from volumetric.diagnose.joint import JointFit, joint_fit, masked_pair
 from volumetric.diagnose.lagged import (
     MAP_THERMAL_RECORDS,
     SELECTED_TERMS,
@@ -40,12 +45,14 @@ from volumetric.diagnose.splits import (
     Judge,
     block_table,
     choose_split,
+    combined,
     fold_fits,
     fold_labels,
     forward_blocks,
     forward_residuals,
     heldout_per_fold,
     heldout_residuals,
+    rms_of,
     solve_normal,
     time_ordered,
 )
@@ -68,6 +75,7 @@ __all__ = [
 ]
 
 MIN_READINGS = 50
+F64 = NDArray[np.float64]
 
 
 def diagnose(
@@ -160,7 +168,14 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         details["t"] = round(estimate.pop("_t"), 2)
         if details["t"] < T_MIN:
             best = None
+    first_pair = None
     if best is None:
+        # a drift and an expansion of one axis that cancel alone and pass together
+        def fit_of(cands: list[Candidate]) -> JointFit:
+            return joint_fit(a0, w, y, train, cands)
+        first_pair = masked_pair(scored, judge.of, judged, sp.order_judge, base_heldout,
+                                 rms_before, fit_of)
+    if best is None and first_pair is None:
         none_model = MachineModel(machine.name, base_fit.model.geometry, (),
                                   {**base_fit.model.info,
                                    "offsets_um": offsets_of(base_fit.params, base_fit.values)})
@@ -175,6 +190,58 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
                              base_heldout, base_heldout, judged)
         return Diagnosis("none", None, None, {}, rms_before, rms_before, table, missing,
                          none_model, details, base_heldout, base_heldout, judged)
+    if first_pair is not None:
+        named0 = pair_named(machine, m, judge, first_pair, base_fit)
+        details["t"] = round(named0.effects[0]["estimate"].pop("_t"), 2)
+    else:
+        assert best is not None
+        named0 = first_named(machine, m, judge, scored, best, static, estimate, term, joint,
+                             base_fit, details)
+    # step 6: further effects
+    named = add_further(machine, m, judge, scored, named0)
+    chosen, effects, current = named.chosen, named.effects, named.current
+    if named.joint is not None and not any(c.drop or c.effect == "rotary_periodic"
+                                           for c in chosen):
+        # a drift and an expansion of one axis were judged as a pair: the rigid part and
+        # offsets of the fit with every effect in (a lagged drift's, replaced, no longer
+        # hold; a cyclic error's harmonic is the first fit's, kept); a term's own
+        # reference centres it on the training readings
+        p = len(base_fit.params)
+        named = replace(named, model=MachineModel(
+            named.model.machine,
+            model_from_parameters(machine, base_fit.params, named.joint[:p]).geometry,
+            named.model.terms,
+            {**base_fit.model.info, "extended_with": chosen[0].effect,
+             "offsets_um": offsets_of(base_fit.params, named.joint[:p])}))
+    # step 7: unexplained structure
+    left = residual_structure(machine, m, current.heldout, judged, base_fit.degrees)
+    if left:
+        effects = with_unexplained(effects, left, rms_before, current.rms_after_um)
+    first = effects[0]
+    effect, axis, sensor, estimate = (first["effect"], first["axis"], first["sensor"],
+                                      first["estimate"])
+    details["effects"] = effects
+    if sp.name == "forward":
+        details["blocks"] = block_table(sp.folds, judged, base_heldout, sp.fold_ids,
+                                        current.heldout)
+    if refits > 0:
+        # step 1 again: the base's degrees were chosen with these effects still in the
+        # readings, which made them look like noise: chosen again without them, and
+        # everything judged again on that base when it differs
+        again = base_without(machine, m, train, a0, w, chosen, base_fit)
+        if again is not None:
+            return _diagnose(machine, m, holdout_after, again, refits - 1)
+    list_alternatives(chosen, effects, details, scored, judged, judge.of)
+    return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
+                     missing, named.model, details, base_heldout, current.heldout, judged)
+
+
+def first_named(machine: Machine, m: Measurements, judge: Judge, scored: list[Scored],
+                best: Scored, static: Candidate, estimate: dict[str, Any], term: Term | None,
+                joint: F64, base_fit: FitResult, details: dict[str, Any]) -> Named:
+    """The first effect named (step 5): its entry, and the saved model with it (a lagged
+    drift's dynamic term, or the effect's term with the rigid part of their joint fit,
+    ``joint``); the top level's ``alternatives`` into ``details``."""
     c = best.candidate
     if "lagged" in c.extra:
         # the static family names the effect; the dynamic model is its refinement
@@ -201,32 +268,38 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
                            and s.rms_after_um <= best.rms_after_um * (1 + TIE)} - {None})
     if alternatives:
         details["alternatives"] = alternatives
-    # step 6: further effects
     first_terms: list[Term | None] = [model.terms[0] if model.terms else None]
-    named = add_further(machine, m, judge, scored, Named(
-        [best.candidate],
-        [{"effect": effect, "axis": axis, "sensor": sensor, "estimate": estimate,
-          "rms_after_um": round(best.rms_after_um, 4)}],
-        first_terms, model, best))
-    chosen, effects, current = named.chosen, named.effects, named.current
-    # step 7: unexplained structure
-    left = residual_structure(machine, m, current.heldout, judged, base_fit.degrees)
-    if left:
-        effects = with_unexplained(effects, left, rms_before, current.rms_after_um)
-    first = effects[0]
-    effect, axis, sensor, estimate = (first["effect"], first["axis"], first["sensor"],
-                                      first["estimate"])
-    details["effects"] = effects
-    if sp.name == "forward":
-        details["blocks"] = block_table(sp.folds, judged, base_heldout, sp.fold_ids,
-                                        current.heldout)
-    if refits > 0:
-        # step 1 again: the base's degrees were chosen with these effects still in the
-        # readings, which made them look like noise: chosen again without them, and
-        # everything judged again on that base when it differs
-        again = base_without(machine, m, train, a0, w, chosen, base_fit)
-        if again is not None:
-            return _diagnose(machine, m, holdout_after, again, refits - 1)
-    list_alternatives(chosen, effects, details, scored, judged, judge.of)
-    return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
-                     missing, named.model, details, base_heldout, current.heldout, judged)
+    return Named([best.candidate],
+                 [{"effect": effect, "axis": axis, "sensor": sensor, "estimate": estimate,
+                   "rms_after_um": round(best.rms_after_um, 4)}],
+                 first_terms, model, best)
+
+
+def pair_named(machine: Machine, m: Measurements, judge: Judge,
+               pair: tuple[Candidate, Candidate, F64], base_fit: FitResult) -> Named:
+    """A drift and an expansion of one axis named together first
+    (:func:`~volumetric.diagnose.joint.masked_pair`): their entries, each estimated
+    with the other in the model, and the saved model with both terms and the rigid part
+    of their joint fit. The first entry's estimate keeps ``_t``."""
+    first, second, r_pair = pair
+    sp, a0, w, y = judge.split, judge.a0, judge.w, judge.y
+    entries: list[dict[str, Any]] = []
+    terms: list[Term | None] = []
+    for c, other in ((first, second), (second, first)):
+        est, term, _ = estimate_effect(machine, m, combined(a0, [other]), w, y, sp.train, c)
+        if c is second:
+            est.pop("_t")
+        entries.append({"effect": c.effect, "axis": c.axis, "sensor": c.sensor,
+                        "estimate": est})
+        terms.append(term)
+    entries[0]["rms_after_um"] = round(judge.rms(judge.of([first])), 4)
+    entries[1]["rms_after_um"] = round(judge.rms(r_pair), 4)
+    x = joint_fit(a0, w, y, sp.train, [first, second]).x[: len(base_fit.params)]
+    model = MachineModel(machine.name,
+                         model_from_parameters(machine, base_fit.params, x).geometry,
+                         tuple(t for t in terms if t is not None),
+                         {**base_fit.model.info, "extended_with": first.effect,
+                          "offsets_um": offsets_of(base_fit.params, x)})
+    rms = rms_of(r_pair[sp.judge])
+    return Named([first, second], entries, terms, model,
+                 Scored(second, r_pair, rms, 0.0, 0.0))

@@ -26,6 +26,7 @@ from volumetric.diagnose.gates import (
     prefer_physical,
     significance,
 )
+from volumetric.diagnose.joint import PAIR, JointFit, joint_fit, same_axis_pairs
 from volumetric.diagnose.rotary import rotary_again, with_harmonics
 from volumetric.diagnose.splits import Judge, combined, known_sum, rms_of, solve_normal
 from volumetric.measure.measurement import Measurements
@@ -187,6 +188,10 @@ class Named:
         The saved model with all of them.
     current : Scored
         The last one's held-out figures (the model with every named effect).
+    joint : ndarray or None
+        The base parameters of the fit with every named effect in, when the same-axis
+        pairs (:mod:`volumetric.diagnose.joint`) changed what was named: the saved model's
+        rigid part and offsets are then taken from it.
     """
 
     chosen: list[Candidate]
@@ -194,6 +199,7 @@ class Named:
     terms: list[Term | None]
     model: MachineModel
     current: Scored
+    joint: F64 | None = None
 
 
 def add_further(machine: Machine, m: Measurements, judge: Judge, scored: list[Scored],
@@ -238,6 +244,28 @@ def add_further(machine: Machine, m: Measurements, judge: Judge, scored: list[Sc
                 effects[i].update(effect=c_i.effect, axis=c_i.axis, sensor=c_i.sensor,
                                   rms_after_um=round(rms_of(r_i[jm]), 4))
             current = Scored(chosen[-1], r_i, rms_of(r_i[jm]), current.z, current.gain)
+    joint: F64 | None = None
+    if any(c.effect in PAIR for c in chosen):
+        # a drift and an expansion of one axis judged as a pair (volumetric.diagnose.joint)
+        def fit_of(cands: list[Candidate]) -> JointFit:
+            return joint_fit(a0, w, y, train, cands)
+        paired = same_axis_pairs(chosen, scored, judge.of, jm, sp.order_judge, fit_of)
+        if len(paired) != len(chosen) or any(
+                a is not b for a, b in zip(paired, chosen, strict=True)):
+            old = {id(c): (e, t) for c, e, t in zip(chosen, effects, effect_terms, strict=True)}
+            chosen = paired
+            effects, effect_terms = [], []
+            for i, c_i in enumerate(chosen):
+                e_i, t_i = old.get(id(c_i), ({}, None))
+                r_i = judge.of(chosen[: i + 1])
+                effects.append({**e_i, "effect": c_i.effect, "axis": c_i.axis,
+                                "sensor": c_i.sensor, "estimate": e_i.get("estimate", {}),
+                                "rms_after_um": round(rms_of(r_i[jm]), 4)})
+                effect_terms.append(t_i)
+            current = Scored(chosen[-1], r_i, rms_of(r_i[jm]), current.z, current.gain)
+            # the rigid part and offsets of the fit with every effect in: the first
+            # effect's own fit (a lagged drift's offsets with its level) no longer holds
+            joint = joint_fit(a0, w, y, train, chosen).x
     if len(chosen) > 1:
         # each estimate again with every other effect in the model: effects on one axis
         # (a drift and an expansion) share variance that the first fit gave to one alone
@@ -251,6 +279,24 @@ def add_further(machine: Machine, m: Measurements, judge: Judge, scored: list[Sc
             est_i.pop("_harmonics", None)  # the model keeps the harmonic first fitted
             effects[i]["estimate"] = est_i
             effect_terms[i] = term_i
+        with_correlations(chosen, effects, joint_fit(a0, w, y, train, chosen))
         model = MachineModel(model.machine, model.geometry,
                              tuple(t for t in effect_terms if t is not None), model.info)
-    return Named(chosen, effects, effect_terms, model, current)
+    return Named(chosen, effects, effect_terms, model, current, joint)
+
+
+def with_correlations(chosen: list[Candidate], effects: list[dict[str, Any]],
+                      fit: JointFit) -> None:
+    """Each entry of a drift or an expansion that shares its axis with the other gains
+    ``correlation``: for every such effect of its axis, the correlation between the two
+    estimates in the joint fit (near -1: the readings trade one for the other)."""
+    for i, c_i in enumerate(chosen):
+        if c_i.effect not in PAIR or i not in fit.slices:
+            continue
+        corr = [{"effect": c_j.effect, "axis": c_j.axis, "sensor": c_j.sensor,
+                 "r": round(fit.correlation(i, j), 3)}
+                for j, c_j in enumerate(chosen)
+                if j != i and j in fit.slices and c_j.effect in PAIR
+                and c_j.axis == c_i.axis and c_j.effect != c_i.effect]
+        if corr:
+            effects[i]["correlation"] = corr

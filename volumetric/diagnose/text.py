@@ -74,6 +74,9 @@ def effects_text(d: Diagnosis) -> list[str]:
         if e.get("alternatives"):
             lines.append("     the readings cannot tell it from: "
                          f"{', '.join(e['alternatives'])} (within {TIE:.0%} held-out RMS)")
+        for c in e.get("correlation", []):
+            lines.append(f"     estimated jointly with {_what(c)} (correlation of the two "
+                         f"estimates {c['r']:+.2f})")
         if e["effect"] == "backlash":
             # the sign that confuses: stated where the value is read (report.SIGN_NOTES)
             lines.append("     reversal_um is B >= 0, the axis's lost motion; a map carries "
