@@ -1,6 +1,7 @@
 """100 SINUMERIK-style machines over OPC UA, secured: connect all, push a map to each.
 
     .venv/bin/python benchmarks/opcua_link.py [--machines 100] [--workers 1] [--cycle-ms 100]
+                                              [--peer-first]
 
 The machines (WindowCNC over a SiemensNC, each with its own asyncua OPC UA server,
 machine_sim/opcua_server.py, offering Basic256Sha256 Sign and SignAndEncrypt beside None)
@@ -21,7 +22,10 @@ machine, in one event loop, with the link's defaults. Measured:
   with the map's version. The target: connect and push of all 100 within 30 s;
 * the same push in 960-byte blocks (an S7-1500), same sessions;
 * peer in the same run: new sessions with security None (the password in clear), connect
-  and push in 240-byte blocks, so the cost of the encryption is seen side by side.
+  and push in 240-byte blocks, so the cost of the encryption is seen side by side; last,
+  or first with ``--peer-first`` (the simulator's wall times grow with each step of a
+  run, so both orders are needed to compare walls; the center's CPU per push is not
+  moved by the order).
 
 The machines' controller cycle is ``--cycle-ms`` (100 ms by default instead of the
 SINUMERIK's 4 ms IPO cycle: 100 machines at 4 ms would need 25,000 Python cycles a
@@ -141,7 +145,7 @@ async def push_all(mems: list[OpcuaMemory], payloads: list[bytes], version: int
             "p50_s": statistics.median(lat), "max_s": max(lat)}
 
 
-async def center(n: int, workers: int, cycle_ms: float) -> None:
+async def center(n: int, workers: int, cycle_ms: float, peer_first: bool = False) -> None:
     m = machine_of(0)
     truth = random_geometry(m, np.random.default_rng(4), scale=2.0, form="table")
     content = build_for(m, MachineModel(m.name, truth), {}, tolerance_um=1.0,
@@ -184,17 +188,21 @@ async def center(n: int, workers: int, cycle_ms: float) -> None:
         return [OpcuaMemory(f"opc.tcp://127.0.0.1:{port}", "ednc", f"env:{PASSWORD_ENV}",
                             timeout_s=30.0, pki=pki, **kw) for port in ports]
 
-    mems = memories()
+    mems: list[OpcuaMemory] = []
     plain: list[OpcuaMemory] = []
     try:
         rows: list[tuple[str, dict[str, Any]]] = []
-        for label, group, block, version in (
-                ("SignAndEncrypt, 240-byte blocks", mems, 240, 1),
-                ("SignAndEncrypt, 960-byte blocks", mems, 960, 2),
-                ("None (peer), 240-byte blocks", plain, 240, 3)):
-            if label.startswith("None"):
-                await asyncio.gather(*(m.close() for m in mems))
-                group += memories(security_policy="None", security_mode="None")
+        steps = [("SignAndEncrypt, 240-byte blocks", mems, 240),
+                 ("SignAndEncrypt, 960-byte blocks", mems, 960),
+                 ("None (peer), 240-byte blocks", plain, 240)]
+        if peer_first:  # the order's own effect on the wall times, seen by swapping it
+            steps = steps[2:] + steps[:2]
+        for version, (label, group, block) in enumerate(steps, start=1):
+            if not group:  # the other set's sessions closed first: 10 per controller
+                for other in (mems, plain):
+                    await asyncio.gather(*(m.close() for m in other))
+                group += memories(security_policy="None", security_mode="None") \
+                    if group is plain else memories()
             if not group[0]._client:
                 c0, t0 = cpu_s(), time.perf_counter()
                 await asyncio.gather(*(m.connect() for m in group))
@@ -212,13 +220,15 @@ async def center(n: int, workers: int, cycle_ms: float) -> None:
                   f"{r['p50_s']:.2f} s max {r['max_s']:.2f} s, "
                   f"{r['cpu_per_push_ms']:.1f} ms CPU per push"
                   + (f"; connect + push {wall + r['wall_s']:.2f} s" if wall else ""))
-        secured, peer = rows[0][1], rows[2][1]
+        got = dict(rows)
+        secured, peer = got["SignAndEncrypt, 240-byte blocks"], got[
+            "None (peer), 240-byte blocks"]
         total = secured["connect_s"] + secured["wall_s"]
         print(f"target: {n} machines with SignAndEncrypt connected and pushed in "
               f"{total:.2f} s ({'met' if total <= 30.0 else 'MISSED'}: 30 s); "
               f"CPU per push SignAndEncrypt / None: "
               f"{secured['cpu_per_push_ms'] / peer['cpu_per_push_ms']:.2f}; retries "
-              f"{sum(m.retries for m in mems + plain)}")
+              f"{sum(m.busy_retries for m in mems + plain)}")
     finally:
         await asyncio.gather(*(m.close() for m in mems + plain))
         for p in procs:  # nothing left to measure: no orderly stop of 100 servers
@@ -236,13 +246,15 @@ def main() -> None:
     ap.add_argument("--machines", type=int, default=100)
     ap.add_argument("--workers", type=int, default=1)
     ap.add_argument("--cycle-ms", type=float, default=100.0)
+    ap.add_argument("--peer-first", action="store_true",
+                    help="run the None peer first (to see the order's own effect)")
     ap.add_argument("--serve", type=int, nargs=2, metavar=("FIRST", "COUNT"),
                     help=argparse.SUPPRESS)
     a = ap.parse_args()
     if a.serve:
         asyncio.run(serve(a.serve[0], a.serve[1], a.cycle_ms / 1000))
     else:
-        asyncio.run(center(a.machines, a.workers, a.cycle_ms))
+        asyncio.run(center(a.machines, a.workers, a.cycle_ms, a.peer_first))
 
 
 if __name__ == "__main__":

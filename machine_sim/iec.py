@@ -107,10 +107,13 @@ def build_program(sources: Sequence[Path], program: str, variables: Sequence[StV
                            cwd=work, capture_output=True, text=True)
         if r.returncode != 0:
             raise StBuildError(f"iec2c: {r.stdout}{r.stderr}")
-        # the resource and configuration files (the resource includes POUS.c)
+        # the resource and configuration files (the resource includes POUS.c);
+        # -ffp-contract=off: no fused multiply-add may change the exact two-product
+        # (plc/ednc_f64.st), as no IEC 61131-3 target fuses them either
         generated = sorted(f.name for f in work.glob("*.c")
                            if f.name not in ("POUS.c", "shim.c"))
-        r = subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-w", "-I", str(LIB / "C"),
+        r = subprocess.run(["gcc", "-shared", "-fPIC", "-O2", "-ffp-contract=off", "-w",
+                            "-I", str(LIB / "C"),
                             "-I", str(work), "-o", "libplc.so", *generated, "shim.c", "-lm"],
                            cwd=work, capture_output=True, text=True)
         if r.returncode != 0:

@@ -278,6 +278,12 @@ class TablesMap:
         qa = np.atleast_2d(np.asarray(q, dtype=float))
         return self.batch.applied(None, qa)
 
+    def lookup_directed(self, q: F64, negative: NDArray[np.bool_]) -> F64:
+        """Applied corrections at positions q (N, A) with the outputs ``negative`` (N, K)
+        approaching negatively: rounded, the reversal added, then clamped (§6.3 step 6)."""
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        return self.batch.applied(None, qa, np.where(negative, -1, 1))
+
     def corrections(self, q: F64) -> F64:
         """The solver's corrections (N, K) before clamping and rounding, mm or degrees."""
         return self.batch.corrections(None, np.atleast_2d(np.asarray(q, dtype=float)))

@@ -108,7 +108,7 @@ class PlcMapProgram:
         st = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         self._handled_seq = st.ack_seq
         self._temp_seq = None  # no held readings yet: take the slots the window holds
-        self._temp_ack, self._temp_refused = st.temp_ack, st.temp_refused
+        self._temp_ack = self._temp_refused = 0  # nothing taken since the start
         if st.active:
             checked = check_buffer(self.window, self.layout, st.active)
             applied = False
@@ -158,6 +158,7 @@ class PlcMapProgram:
             slots = sensor_slots([r.sensor for r in records])
             self._slots = {i: s for s, i in slots.items()}
             self._temp_seq = None  # read the slots again for the new map's sensors
+            self._temp_ack = 0  # none taken for this map yet (§13.1)
             return 0, ""
         if reply is None:
             return int(AckCode.BAD_HEADER), "no verdict"
@@ -193,10 +194,11 @@ class PlcMapProgram:
         old = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         c = self.controller
         state = self._state_bits()
+        # counts as the position registers hold them, halves up (§6)
         pos = old.positions if positions is None else tuple(
-            int(v) for v in np.rint(positions / self.increment_mm))
+            int(v) for v in np.floor(positions / self.increment_mm + 0.5))
         app = old.applied if applied_mm is None else tuple(
-            int(v) for v in np.rint(applied_mm / self.increment_mm))
+            int(v) for v in np.floor(applied_mm / self.increment_mm + 0.5))
         st = Status(self.heartbeat, self._handled_seq,
                     old.ack_code if ack_code is None else ack_code, active, state,
                     c.store.version, self._temp_ack, pos, app, self._temp_refused)

@@ -32,8 +32,9 @@ __all__ = ["ST_SOURCES", "ST_VARIABLES", "WINDOW_CAPACITY", "StPlc", "StWindowCN
 
 PLC_DIR = ROOT / "plc"
 ST_SOURCES = tuple(PLC_DIR / f for f in (
-    "ednc_types.st", "ednc_bytes.st", "ednc_names.st", "ednc_factored.st",
-    "ednc_thermal.st", "ednc_window.st", "ednc_program.st"))
+    "ednc_types.st", "ednc_bytes.st", "ednc_names.st", "ednc_factored.st", "ednc_f64.st",
+    "ednc_grid.st", "ednc_tables.st", "ednc_thermal.st", "ednc_window.st",
+    "ednc_program.st"))
 WINDOW_CAPACITY = 16_384
 """Payload bytes per buffer the program is built for (T_Window, T_Copy)."""
 MAX_AXES = 8
@@ -48,15 +49,25 @@ ST_VARIABLES = (
     StVar("formats", ctypes.c_uint16),
     StVar("channelLimit", ctypes.c_int32),
     StVar("maxStep", ctypes.c_int32),
+    StVar("alarmOnJump", ctypes.c_uint8),
+    StVar("resetAlarm", ctypes.c_uint8),
+    StVar("tempMin", ctypes.c_int32),
+    StVar("tempMax", ctypes.c_int32),
+    StVar("tempRate", ctypes.c_int32),
+    StVar("tempAllowance", ctypes.c_int32),
     StVar("q", ctypes.c_int32, MAX_AXES),
     StVar("nowMs", ctypes.c_int32),
     StVar("applied", ctypes.c_int32, MAX_AXES),
     StVar("target", ctypes.c_int32, MAX_AXES),
     StVar("state", ctypes.c_uint16),
+    StVar("c0", ctypes.c_int64, MAX_AXES),
+    StVar("c1", ctypes.c_int64, MAX_AXES),
+    StVar("negative", ctypes.c_uint8, MAX_AXES),
 )
 
-FACTORED = 0x11
-"""INT32_INCREMENTS | FACTORED: factored maps, whose values are int32 counts."""
+FORMATS = 0x19
+"""INT32_INCREMENTS | THERMAL | FACTORED: int32 grids with their thermal records and
+factored maps (Hello's map_formats bits)."""
 
 
 def st_library() -> Path:
@@ -87,16 +98,26 @@ class StPlc:
     formats : int
         Map formats the program declares (Hello's map_formats bits).
     increment_nm : int
+    temperature_screen : (int, int, int, int)
+        Plausible range (m°C), rate (m°C per s) and jump allowance (m°C) of the
+        program's temperature screen.
+    alarm_on_jump : bool
+        A step larger than ``max_step`` raises the alarm and holds the corrections until
+        :meth:`reset_alarm` (instead of ramping).
     """
 
     def __init__(self, machine: str, axes: Sequence[str], *, channel_limit: int = 500,
-                 max_step: int = 5, formats: int = FACTORED, increment_nm: int = 1000
-                 ) -> None:
+                 max_step: int = 5, formats: int = FORMATS, increment_nm: int = 1000,
+                 temperature_screen: tuple[int, int, int, int] = (-20000, 100000, 1000,
+                                                                   10000),
+                 alarm_on_jump: bool = False) -> None:
         if not 1 <= len(axes) <= MAX_AXES:
             raise ValueError(f"1 to {MAX_AXES} axes, got {len(axes)}")
         self.machine = machine
         self.axes = tuple(a.upper() for a in axes)
         self.settings = (channel_limit, max_step, formats, increment_nm)
+        self.screen = temperature_screen
+        self.alarm_on_jump = alarm_on_jump
         self.layout = Layout(WINDOW_CAPACITY)
         self.program = StProgram(st_library(), ST_VARIABLES)
         self.program.init()
@@ -114,6 +135,10 @@ class StPlc:
         p.var("formats")[0] = formats
         p.var("channelLimit")[0] = channel_limit
         p.var("maxStep")[0] = max_step
+        p.var("alarmOnJump")[0] = int(self.alarm_on_jump)
+        for name, value in zip(("tempMin", "tempMax", "tempRate", "tempAllowance"),
+                               self.screen, strict=True):
+            p.var(name)[0] = value
 
     @property
     def window(self) -> memoryview:
@@ -139,7 +164,12 @@ class StPlc:
         self.now_ms += dt_ms
         p.var("nowMs")[0] = self.now_ms
         p.scan()
+        p.var("resetAlarm")[0] = 0
         return self.applied
+
+    def reset_alarm(self) -> None:
+        """The operator's reset: the next scan clears the step alarm."""
+        self.program.var("resetAlarm")[0] = 1
 
     @property
     def applied(self) -> NDArray[np.int64]:
@@ -149,6 +179,17 @@ class StPlc:
     def target(self) -> NDArray[np.int64]:
         """What the corrections ramp to (before the step limit), counts."""
         return np.array(self.program.var("target")[:len(self.axes)], dtype=np.int64)
+
+    @property
+    def thermal_constants(self) -> tuple[list[int], list[int]]:
+        """c0 (2^-16 counts) and c1 (2^-32 counts per count) per map axis (output)."""
+        n = len(self.axes)
+        return (list(self.program.var("c0")[:n]), list(self.program.var("c1")[:n]))
+
+    @property
+    def directions(self) -> list[int]:
+        """+1 or -1 per axis: the sign of its last move (+1 before any)."""
+        return [-1 if v else 1 for v in self.program.var("negative")[:len(self.axes)]]
 
     @property
     def state(self) -> int:

@@ -4,7 +4,8 @@ For controllers that cannot open a connection of their own (a Fanuc PMC behind t
 Modbus/TCP Server function, a SINUMERIK PLC behind its OPC UA server) the center writes
 the map into a window of the controller's memory and reads back what the PLC program
 acknowledges and applies. This module is the window's byte layout and the rules both
-sides follow, with no I/O: the center plans its writes (:func:`plan_map_write`), the PLC
+sides follow, with no I/O: the center plans its writes (:func:`plan_delivery`, §13.2
+steps 0-5, and :func:`plan_map_write`), the PLC
 side checks a buffer (:func:`check_buffer`) and writes its status (:func:`encode_status`).
 
 Every area has one writer, so no word is ever written by both sides:
@@ -44,7 +45,10 @@ __all__ = [
     "LAYOUT_VERSION",
     "MAX_AXES",
     "MAX_SENSORS",
+    "MODBUS_BLOCK",
     "NO_TEMPERATURE",
+    "S7_300_BLOCK",
+    "S7_1500_BLOCK",
     "SLOTS_VERSION_AT",
     "STATUS_AT",
     "STATUS_SIZE",
@@ -75,6 +79,7 @@ __all__ = [
     "next_switch_sequence",
     "next_temperature_sequence",
     "pack_switch",
+    "plan_delivery",
     "plan_map_write",
     "plan_temperatures",
     "sensor_slots",
@@ -513,6 +518,27 @@ def plan_map_write(layout: Layout, buffer: int, payload: bytes, map_version: int
     writes.append(Write(at, encode_buffer_header(header)))
     writes.append(Write(SWITCH_AT, struct.pack("<H", pack_switch(seq, buffer))))
     return writes
+
+
+MODBUS_BLOCK: Final = 246
+"""Bytes per payload write on Modbus/TCP: the 123 registers of one 10h request."""
+S7_300_BLOCK: Final = 240
+"""Bytes per OPC UA write into an S7-300-class PLC's data block (an 840D sl's PLC)."""
+S7_1500_BLOCK: Final = 960
+"""Bytes per OPC UA write into an S7-1500's data block (its PDU)."""
+
+
+def plan_delivery(layout: Layout, status: Status, switch_seq: int, payload: bytes,
+                  map_version: int, *, block: int = MODBUS_BLOCK) -> list[Write] | None:
+    """§13.2 steps 0-5 from what the center read (the status and the switch word's
+    sequence): None when the PLC reports ``map_version`` applied (nothing is written);
+    else the writes into the buffer that is not active (1 when none is), switched with a
+    sequence that differs from both the switch word's and ack_seq's."""
+    if not needs_push(status, map_version):
+        return None
+    target = 2 if status.active == 1 else 1
+    seq = next_switch_sequence(switch_seq, status.ack_seq)
+    return plan_map_write(layout, target, payload, map_version, seq, block=block)
 
 
 def sensor_slots(sensors: Sequence[str]) -> dict[str, int]:

@@ -62,6 +62,7 @@ from .mapformat import (
     MAX_THERMAL,
     THERMAL_DRIFT,
     THERMAL_EXPANSION,
+    ErrorMapPayload,
     MapFormatError,
     ThermalRecord,
     _name_field,
@@ -268,6 +269,44 @@ def thermal_fixed(rec: ThermalRecord, axis: int, counts_per_unit: int) -> Factor
         q_min = round_half_up(Fraction(rec.q_min) * p)
     return FactoredThermal(rec.sensor, axis, rec.kind, k,
                            round_half_up(Fraction(rec.t_ref_C) * 1000), q_min)
+
+
+def check_grid_ranges(p: ErrorMapPayload) -> None:
+    """The ranges of protocol/README.md §6 ("Ranges and word sizes") of an int32 grid
+    map (format version 1 or 3) after the loader's conversion of its f64 fields: grid
+    starts and last nodes, reversals, t_ref and q_min below 2^30 in magnitude, an
+    expansion coefficient below 2^24. A float32 map is not converted: nothing to check.
+
+    Raises
+    ------
+    MapFormatError
+        The first field out of range, named with its offset.
+    """
+    if p.encoding is not MapEncoding.INT32_INCREMENTS:
+        return
+    per_unit = round_half_up(1 / Fraction(p.increment_mm))
+    lo, hi = _I30
+    at = 64
+    for g in p.grid:
+        start = round_half_up(Fraction(g.start) * per_unit)
+        last = start + (g.count - 1) * round_half_up(Fraction(g.step) * per_unit)
+        if not (lo <= start <= hi and lo <= last <= hi):
+            raise MapFormatError(f"grid axis {g.name} at offset {at + 8}: start {start} or "
+                                 f"last node {last} counts, |·| < 2^30 (section 6)")
+        at += 24
+    for o in p.outputs:
+        if o.reversal is not None and not lo <= o.reversal <= hi:
+            raise MapFormatError(f"output axis {o.name} at offset {at + 8}: reversal "
+                                 f"{o.reversal} counts, |·| < 2^30 (section 6)")
+        at += 12
+    records_at = at + len(p.values) + 4  # after the values and the record count
+    names = [o.name for o in p.outputs]
+    for i, rec in enumerate(p.thermal):
+        try:
+            thermal_fixed(rec, names.index(rec.axis), per_unit)
+        except ValueError as exc:
+            raise MapFormatError(f"thermal record {i} at offset {records_at + 48 * i}: "
+                                 f"{exc} (after conversion, section 6)") from None
 
 
 @dataclass(frozen=True, slots=True)
@@ -529,6 +568,7 @@ __all__ = [
     "FactoredPayload",
     "FactoredThermal",
     "TermTable",
+    "check_grid_ranges",
     "decode_factored",
     "encode_factored",
     "milli_celsius",

@@ -61,11 +61,10 @@ def test_lookup_gives_the_vectors_in_both_directions(name: str, tmp_path: Path) 
 
 
 def test_lookup_runs_the_rules_scenario_with_unread_sensors(tmp_path: Path) -> None:
-    """Steps of ``rules.json`` on map A: step 2, spindle alone (x_screw never read: its
-    records add 0, and stderr says so); then step 3's readings and positions with X
+    """Steps of ``rules.json`` on map A: step 2, spindle alone (x_screw and coolant never
+    read: their records add 0, and stderr says so); then step 3's readings and positions with X
     negative too (step 6's move): X 8 + 5 clamped to 10, Z and C as in step 3, through
-    ``--negative`` for every point. (Step 5's 200 °C, the ΔT clamp, is beyond what the
-    command takes: -20..100 °C.)"""
+    ``--negative`` for every point."""
     vec = json.loads((VECTORS / "rules.json").read_text())
     steps = vec["steps"]
     axes = vec["axes"]
@@ -76,7 +75,7 @@ def test_lookup_runs_the_rules_scenario_with_unread_sensors(tmp_path: Path) -> N
                 "--extrapolate", "--temperature", "spindle=26")
     got, body = _counts(run, axes, 1000)
     assert got.tolist() == [steps[1]["counts"]]
-    assert body["unread_sensors"] == ["x_screw"] and "never read" in run.stderr
+    assert body["unread_sensors"] == ["coolant", "x_screw"] and "never read" in run.stderr
     step = steps[2]
     with (tmp_path / "q.csv").open("w") as fh:
         fh.write("x,z,c\n" + ",".join(str(v / 1000) for v in step["q_counts"]) + "\n")
@@ -84,7 +83,8 @@ def test_lookup_runs_the_rules_scenario_with_unread_sensors(tmp_path: Path) -> N
                 "--extrapolate", "--temperature", "spindle=26", "--temperature",
                 "x_screw=25", "--negative", "x,z", "--negative", "c")
     got, body = _counts(run, axes, 1000)
-    assert got.tolist() == [[10, *step["counts"][1:]]] and body["unread_sensors"] == []
+    assert got.tolist() == [[10, *step["counts"][1:]]]
+    assert body["unread_sensors"] == ["coolant"]  # step 3 has no coolant reading yet
     assert body["points"][0]["negative"] == ["x", "z", "c"]
     bad = _ednc("lookup", "--map", mapfile, "--points", str(tmp_path / "q.csv"),
                 "--extrapolate", "--negative", "y")

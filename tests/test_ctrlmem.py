@@ -11,7 +11,10 @@ import pytest
 from protocol.codes import MapEncoding, MapRejectReason
 from protocol.ctrlmem import (
     BUFFER_HEADER_SIZE,
+    MODBUS_BLOCK,
     NO_TEMPERATURE,
+    S7_300_BLOCK,
+    S7_1500_BLOCK,
     SLOTS_VERSION_AT,
     SWITCH_AT,
     TEMP_SEQ_AT,
@@ -37,6 +40,7 @@ from protocol.ctrlmem import (
     next_switch_sequence,
     next_temperature_sequence,
     pack_switch,
+    plan_delivery,
     plan_map_write,
     plan_temperatures,
     sensor_slots,
@@ -217,3 +221,20 @@ def test_registers_put_the_layout_bytes_into_memory(order: str) -> None:
     regs = to_registers(data, order)  # type: ignore[arg-type]
     assert from_registers(regs, order) == data  # type: ignore[arg-type]
     assert regs[0] == (0x0100 if order == "little" else 0x0001)
+
+
+def test_plan_delivery_follows_13_2_steps_0_to_5() -> None:
+    layout = Layout(1024)
+    applied = Status(1, 7, 0, 2, 1, 3, 0, (0,), (0,))
+    assert plan_delivery(layout, applied, 7, PAYLOAD, 3) is None  # step 0: it has it
+    writes = plan_delivery(layout, applied, 7, PAYLOAD, 4, block=S7_300_BLOCK)
+    assert writes is not None
+    assert writes[0].offset == layout.buffer_at(1)  # not the active buffer 2
+    assert all(len(w.data) <= 240 for w in writes)
+    assert unpack_switch(struct.unpack("<H", writes[-1].data)[0]) == (8, 1)
+    # ack_seq 1 after a switch word of 16383: 1 is skipped, 2 it is; no map yet: buffer 1
+    fresh = Status(1, 1, 0, 0, 0, 0, 0, (0,), (0,))
+    writes = plan_delivery(layout, fresh, 16383, PAYLOAD, 1)
+    assert writes is not None and writes[0].offset == layout.buffer_at(1)
+    assert unpack_switch(struct.unpack("<H", writes[-1].data)[0]) == (2, 1)
+    assert (MODBUS_BLOCK, S7_300_BLOCK, S7_1500_BLOCK) == (246, 240, 960)

@@ -6,8 +6,9 @@ main before issue 33 got wrong: the sensors swapped between the two effects (a d
 the y screw and an expansion on the column came out as an expansion on the y screw and
 a drift on the column, each with the other's size), and a drift on the y screw beside
 a column expansion named on the spindle's sensor at a fifth of its size, the expansion
-left out. ``benchmarks/diagnosis_hit_rate.py --thermal-pairs`` runs such pairs by the
-dozen.
+left out; a drift and an expansion of opposite signs, which cancel over the middle of
+the travel, named as nothing at all. ``benchmarks/diagnosis_hit_rate.py --thermal-pairs``
+runs such pairs by the dozen.
 """
 
 from __future__ import annotations
@@ -24,6 +25,7 @@ from machine_sim.truth import random_geometry
 from volumetric.diagnose.candidates import Candidate
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.diagnose.joint import joint_fit
+from volumetric.diagnose.text import effects_text
 from volumetric.model.machine import Machine, parse_machine
 from volumetric.model.model import ThermalTerm
 
@@ -31,6 +33,8 @@ CASES = {
     # seed: chain, axis, drift (sensor, µm/K), expansion (sensor, µm/(m K))
     1: ("w b Y X Z t", "y", ("y_screw", 2.1), ("column", 6.5)),
     11: ("w X b Y Z t", "y", ("y_screw", -1.6), ("column", 7.0)),
+    # opposite signs: over the middle of the travel they cancel, neither passes alone
+    26: ("w X b Y Z t", "x", ("z_screw", -3.0), ("y_screw", 7.5)),
 }
 
 
@@ -65,6 +69,8 @@ def test_a_drift_and_an_expansion_on_one_axis_each_get_their_own_size(seed: int)
     assert drift["correlation"] == [{"effect": "thermal_expansion", "axis": axis,
                                      "sensor": f"T_{es}_C", "r": r}]
     assert expansion["correlation"][0]["r"] == r and -1.0 < r < 1.0
+    said = "\n".join(effects_text(d))
+    assert f"estimated jointly with thermal_expansion {axis} T_{es}_C" in said
     # the saved model carries both terms with the reported sizes
     terms = {(t.kind, t.sensor): t for t in d.model.terms if isinstance(t, ThermalTerm)}
     assert terms[("thermal_drift", f"T_{ds}_C")].coefficient == pytest.approx(

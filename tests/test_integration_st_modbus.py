@@ -104,3 +104,39 @@ async def test_the_compiled_st_program_over_modbus_gets_its_map_and_compensates(
           f"{ {k: round(v, 2) for k, v in after.items()} } µm, gain {gain}")
     assert max(before.values()) > 20.0
     assert gain["overall"] >= 0.97, gain
+
+
+async def test_the_st_programs_thermal_records_follow_temperatures_posted_to_the_center(
+        tmp_path: Path) -> None:
+    """A spindle-growth model posted to the center: the map's thermal records reach the
+    compiled program, temperatures posted to the center reach its slots over Modbus/TCP,
+    and its z correction moves by the opposite of the growth, 5 K a step, under one map
+    version."""
+    from server.numeric import plain_json
+    from tests.support.integration import THERMAL, diagnosed_spindle
+
+    model, term = await asyncio.to_thread(diagnosed_spindle, THERMAL)
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        plant = await stack.enter_async_context(center(f"sqlite:///{tmp_path / 'c.db'}"))
+        cnc = await stack.enter_async_context(st_pmc(THERMAL))
+        s = linked(THERMAL, cnc.server.port)
+        await plant.register(s)
+        await plant.post_model(s.name, plain_json(model.to_json()))
+        await until(lambda: plant.current_applied(s.name))
+        assert status(cnc.window).applied_version == 1
+        sensor = term.sensor.removeprefix("T_").removesuffix("_C")
+        z = cnc.machine.axis_names.index("Z")
+        seen: list[int] = []
+        for celsius in (20.0, 25.0, 30.0):
+            ack = status(cnc.window).temp_ack
+            r = await plant.client.post(f"/api/machines/{s.name}/temperatures",
+                                        json={"readings": [{"sensor": sensor,
+                                                            "celsius": celsius}]})
+            assert r.status_code == 200, r.text
+            # the center writes the slots with a new sequence; the program takes them
+            await until(lambda a=ack: status(cnc.window).temp_ack != a)
+            # the thermal part of z's correction, counts: c0 / 2^16 at any position
+            seen.append(round(cnc.plc.thermal_constants[0][z] / 65536))
+        assert status(cnc.window).applied_version == 1   # one map version all along
+    steps = np.diff(seen)
+    np.testing.assert_allclose(steps, -term.coefficient * 5.0, atol=1.5)

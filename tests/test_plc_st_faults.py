@@ -235,3 +235,179 @@ def test_a_restart_with_the_window_kept_applies_the_active_buffer_again(pair: Pa
     assert pair.verdict() == (2, 0, 2, 2, 9)
     # and the next switch is a new one
     assert pair.push(1, version(MAP, 3), 3, 3) == (3, 0, 1, 3, 9)
+
+
+RULES_A = (VECTORS / "rules_a.bin").read_bytes()
+RULES_B = (VECTORS / "rules_b.bin").read_bytes()
+
+
+class RulesPair(Pair):
+    """The pair on the rules maps (machine ``rules``, axes X Z C), the screen of the
+    Python PLC's defaults (-20..100 °C)."""
+
+    def __init__(self) -> None:
+        self.st = StPlc("rules", ["X", "Z", "C"], channel_limit=500, max_step=5)
+        self.layout = self.st.layout
+        self.t = 0.0
+        self._boot_rules(bytearray(self.layout.size))
+        self.scan()
+
+    def _boot_rules(self, window: bytearray) -> None:
+        self.window = window
+        self.ctl = FanucPMC("rules", ["X", "Z", "C"], FanucConfig())
+        self.py = PlcMapProgram(window, self.layout, self.ctl,
+                                formats=self.ctl.store.assembler.accepted)
+        self.py.boot(self.t, "rules")
+
+    def scan(self) -> None:
+        self.t += 0.008
+        q = np.zeros(3)
+        applied = self.ctl.scan(self.t, q)
+        self.py.scan(self.t, q, np.asarray(applied * 0.001, dtype=np.float64))
+        self.st.scan([0, 0, 0])
+
+    def refused(self) -> int:
+        a, b = status(self.window).temp_refused, status(self.st.window).temp_refused
+        assert a == b, f"temp_refused: Python PLC {a:#x}, ST program {b:#x}"
+        return a
+
+    def slots(self, celsius: list[float | None], seq: int, version: int = 0) -> None:
+        self.write([plan_temperatures(celsius, seq, map_version=version)])
+        self.scan()
+
+
+def test_slots_by_sequence_and_stamp_screen_and_swap_as_the_python_plc() -> None:
+    """§13.1 on both PLCs: sequence 0 takes nothing, a stamp of another map version
+    is not taken, the screen's refusals in temp_refused, a swap forgets the sequence;
+    and the header's map version differing from the payload's is WRONG_VERSION."""
+    pair = RulesPair()
+    assert pair.push(1, RULES_A, 1, 1) == (1, 0, 1, 1, 0)
+    pair.write([plan_temperatures([26.0, 25.0], 1), Write(384, b"\0\0")])  # sequence 0
+    pair.scan()
+    assert pair.verdict()[4] == 0
+    pair.slots([26.0, 25.0], 2, version=7)                  # another map's stamp
+    assert pair.verdict()[4] == 0
+    pair.slots([26.0, None], 3, version=1)
+    assert pair.verdict()[4] == 3 and pair.refused() == 0
+    pair.slots([None, 150.0], 4)                            # beyond the screen: bit 1
+    assert pair.verdict()[4] == 4 and pair.refused() == 0b10
+    pair.slots([None, 25.0], 9, version=1)
+    assert pair.refused() == 0
+    # a swap keeps temp_ack (the last taken) but forgets the sequence for the next take
+    assert pair.push(2, RULES_B, 2, 2) == (2, 0, 2, 2, 9)
+    before = pair.st.thermal_constants
+    pair.slots([None, 19.0], 9, version=1)                  # A's stamp: not B's slots
+    assert "air" not in pair.ctl.temperatures.readings()
+    assert pair.st.thermal_constants == before
+    pair.slots([None, 19.0], 9, version=2)                  # B's: taken, same sequence
+    assert "air" in pair.ctl.temperatures.readings()
+    assert pair.st.thermal_constants != before and pair.verdict()[4] == 9
+    # a header whose map version is not the payload's
+    pair.write(plan_map_write(pair.layout, 1, version(RULES_B, 3), 4, 3))
+    pair.scan()
+    assert pair.verdict() == (3, 5, 2, 2, 9)
+
+
+AXIS0, TERMS = 64, 64 + 3 * 20
+THERMAL = TERMS + 2 * (8 + 2)
+
+
+@pytest.mark.parametrize(("what", "at", "fmt", "value"), [
+    ("reversal with its flag clear", AXIS0 + 4, "<B", 0),
+    ("flags bits 2-7", AXIS0 + 4, "<B", 0x06),
+    ("axis names distinct", AXIS0 + 20, "<I", int.from_bytes(b"X\0\0\0", "little")),
+    ("a term's field below D + L x R", TERMS, "<B", 5),
+    ("a drift's q_min 0", THERMAL + 28, "<i", 7),
+    ("|start| < 2^30", AXIS0 + 8, "<i", 1 << 30),
+    ("|t_ref| < 2^30", THERMAL + 24, "<i", -(1 << 30)),
+    ("expansion coefficient < 2^24", THERMAL + 32 + 20, "<i", 1 << 24),
+])
+def test_a_map_breaking_a_decode_rule_is_a_decode_error_on_both(what: str, at: int,
+                                                                fmt: str, value: int) -> None:
+    bad = bytearray(RULES_A)
+    struct.pack_into(fmt, bad, at, value)
+    pair = RulesPair()
+    assert pair.push(1, bytes(bad), 1, 1) == (1, 6, 0, 0, 0), what
+    assert pair.push(2, RULES_A, 1, 2) == (2, 0, 2, 1, 0)
+
+
+def test_corrections_scan_by_scan_equal_the_python_plcs_while_the_axes_move() -> None:
+    """The whole output path on both PLCs over 400 scans of random moves (some axes
+    standing, reversals, jumps across the map): evaluation, reversal, clamp to the
+    channel's 500 counts and the step limit of 5 counts per scan give the same applied
+    corrections in the status at every scan."""
+    pair = Pair()
+    assert pair.push(1, MAP, 1, 1) == (1, 0, 1, 1, 0)
+    pair.write([plan_temperatures([31.0, 12.5], 1, map_version=1)])
+    rng = np.random.default_rng(11)
+    lo = np.array([a.start for a in P.axes])
+    hi = np.array([a.start + ((a.count - 1) << a.shift) for a in P.axes])
+    q = ((lo + hi) // 2).astype(np.int64)
+    last = q.copy()
+    direction = np.ones(len(AXES))
+    differ = 0
+
+    def scan_both() -> None:
+        pair.t += 0.008
+        applied = pair.ctl.scan(pair.t, q * 0.001, direction.astype(np.int8))
+        pair.py.scan(pair.t, q * 0.001, np.asarray(applied * 0.001, dtype=np.float64))
+        pair.st.scan(q.tolist())
+
+    # settle: the Python PLC's ladder uses a new map or reading one scan after its map
+    # handling took it, the ST program in the same scan; both then ramp to rest
+    for _ in range(200):
+        scan_both()
+    assert status(pair.window).applied == status(pair.st.window).applied
+    for k in range(400):
+        if k % 50 == 0:   # a jump across the map
+            step = rng.integers(-20_000, 20_000, len(AXES))
+        else:
+            step = rng.integers(-300, 300, len(AXES)) * (rng.random(len(AXES)) < 0.6)
+        q = np.clip(q + step, lo, hi)
+        moved = q != last
+        direction = np.where(moved, np.sign(q - last), direction)
+        last = q.copy()
+        scan_both()
+        a, b = status(pair.window).applied, status(pair.st.window).applied
+        assert a == b, f"scan {k}: Python PLC {a}, ST program {b}"
+        differ += int(np.any(pair.st.target != pair.st.applied))
+    assert differ > 10   # the step limit was at work, not idle
+    assert status(pair.st.window).temp_ack == 1
+
+
+class AlarmPair(RulesPair):
+    """The rules pair with the step alarm instead of the ramp on both PLCs."""
+
+    def __init__(self) -> None:
+        self.st = StPlc("rules", ["X", "Z", "C"], channel_limit=500, max_step=5,
+                        alarm_on_jump=True)
+        self.layout = self.st.layout
+        self.t = 0.0
+        self.window = bytearray(self.layout.size)
+        self.ctl = FanucPMC("rules", ["X", "Z", "C"], FanucConfig(on_jump="alarm"))
+        self.py = PlcMapProgram(self.window, self.layout, self.ctl,
+                                formats=self.ctl.store.assembler.accepted)
+        self.py.boot(self.t, "rules")
+        self.scan()
+
+    def state(self) -> tuple[int, tuple[int, ...]]:
+        a, b = status(self.window), status(self.st.window)
+        assert (a.state, a.applied) == (b.state, b.applied), \
+            f"Python PLC {a.state:#x} {a.applied}, ST program {b.state:#x} {b.applied}"
+        return a.state, a.applied[:3]
+
+
+def test_the_step_alarm_holds_the_corrections_until_reset_as_the_python_plc() -> None:
+    """§13.3 step 4's alternative: a target more than max_step away raises the alarm
+    (state bit 3) and holds the corrections; the operator's reset lets the next scan
+    decide again (the same jump: the alarm again)."""
+    pair = AlarmPair()
+    pair.push(1, RULES_A, 1, 1)   # X wants 8 counts at once: more than 5
+    pair.scan()
+    state, applied = pair.state()
+    assert state & 8 and applied == (0, 0, 0)
+    pair.ctl.reset_alarm()
+    pair.st.reset_alarm()
+    pair.scan()
+    state, applied = pair.state()
+    assert state & 8 and applied == (0, 0, 0)

@@ -1,6 +1,7 @@
 """The compiled Structured Text program against ``ednc lookup``'s arithmetic
-(``machine_sim/lookup.py``, FactoredLadder) on 5,000 random points per map: the 5-axis
-factored vector map and a 3-axis factored map built here, with thermal records at
+(``machine_sim/lookup.py``: FactoredLadder, GridLadder) on 5,000 random points per map:
+the 5-axis factored vector map, a 3-axis factored map built here and the 3-axis int32
+grid vector map (format version 3), with thermal records at
 readings written to the program's temperature slots, each point approached from a random
 side per axis (reversal values): 0 count differences."""
 
@@ -77,3 +78,34 @@ def test_5000_random_points_equal_ednc_lookup(which: str) -> None:
     assert np.any(want != np.clip(ladder.counts(q), -lim, lim))
     cold = FactoredLadder(p)
     assert np.any(cold.counts(q) != ladder.counts(q))
+
+
+def test_5000_random_points_of_an_int32_grid_with_thermal_records() -> None:
+    import json
+
+    from machine_sim.lookup import GridLadder
+    from protocol.mapformat import decode_map
+
+    body = json.loads((VECTORS / "grid_3axis.json").read_text())
+    data = (VECTORS / body["map"]).read_bytes()
+    p = decode_map(data)
+    axes = body["axes"]
+    temps_C = {"spindle": 27.5, "x_screw": 16.25}
+    plc = loaded(data, {"spindle": 27500, "x_screw": 16250}, axes)
+    ladder = GridLadder.from_payload(p, temps_C)
+    assert ladder.program is not None and p.thermal
+    outs = [axes.index(o.name.upper()) for o in p.outputs]
+    rng = np.random.default_rng(2027)
+    lo = np.array([body["travel"][a][0] for a in axes])
+    hi = np.array([body["travel"][a][1] for a in axes])
+    q = lo - 2.0 + (hi - lo + 4.0) * rng.random((5000, len(axes)))
+    q[:2500] = np.round(q[:2500], 3)
+    negative = rng.random(q.shape) < 0.5
+    qc = positions_in_counts(q, 1000)
+    want = ladder.counts(q) + np.where(negative[:, outs], ladder.program.reversal, 0)
+    got = np.array([plc.lookup(qc[i].tolist(), negative[i].tolist())[outs]
+                    for i in range(len(q))])
+    bad = np.flatnonzero((got != want).any(axis=1))
+    assert bad.size == 0, (f"{bad.size} of 5000 differ, first at {q[bad[0]]}: "
+                           f"{got[bad[0]]} vs {want[bad[0]]}")
+    assert np.any(ladder.program.reversal != 0) and np.any(negative)

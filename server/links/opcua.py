@@ -28,7 +28,8 @@ it: the password travels as plain text.
 
 Transient answers (``BadTooManySessions``, ``BadResourceUnavailable``, ``BadTimeout``:
 the controller is busy) are retried per request within the session, a bounded number of
-times (:data:`RETRY_DELAYS_S`); only a failure that persists ends it.
+times over a few seconds (:data:`RETRY_DELAYS_S`); only a failure that persists ends
+it.
 
 Every failure raises :class:`~server.links.window.memory.LinkError` with a text that says
 what to fix (a missing password, a refused login, a user without ``PlcWrite``, no free
@@ -62,7 +63,7 @@ from server.links.window.memory import LinkError
 from server.schemas.link import OpcuaLink
 
 __all__ = ["PLC_BLOCK", "RETRY_DELAYS_S", "SD_NUMBERS", "TRANSIENT", "AxisReading",
-           "OpcuaMemory", "read_password"]
+           "OpcuaMemory", "read_password", "recheck_certificate", "secure_client"]
 
 log = logging.getLogger(__name__)
 
@@ -72,9 +73,12 @@ PDU (240-byte PDU) and an S7-1500's (960). The OPC UA server forwards a write to
 in PDUs of its size; a block of one PDU is written in one PLC access."""
 TRANSIENT: Final = frozenset({"BadTooManySessions", "BadResourceUnavailable", "BadTimeout"})
 """Answers that mean "busy, ask again": retried, not a reason to end the session."""
-RETRY_DELAYS_S: Final = (0.05, 0.1, 0.2, 0.4, 0.8)
-"""Waits before the retries of one request (1.55 s in all, within a push's budget); each
-is jittered by up to half of it so a fleet does not retry in step."""
+RETRY_DELAYS_S: Final = (0.05, 0.1, 0.2, 0.4, 0.8, 0.8, 0.8, 0.8, 0.8)
+"""Waits before the retries of one request: 9 retries over 4.75 s (up to 1.5x with the
+jitter, so a fleet does not retry in step). A controller busy for 30 % of its answers
+fails one request in 0.3^10 = 6e-6: a status poll every 200 ms ends the session about
+once in 9 hours instead of every 5 minutes with 5 retries; one busy for good is given up
+within the time a push has anyway."""
 _warned_insecure: set[tuple[str, str]] = set()
 
 SD_NUMBERS: Final = (43900, 43910, 43920)
@@ -87,7 +91,9 @@ _HINTS: Final = {
     "BadTooManySessions": "the controller has no free OPC UA session (a SINUMERIK allows "
                           "10; close other clients)",
     "BadIdentityTokenRejected": "the server does not accept user-and-password logins",
-    "BadNodeIdUnknown": "no such node on the controller (check window_node / sd_nodes)",
+    "BadNodeIdUnknown": "no such node on the controller: its server does not resolve the "
+                        "path (a SINUMERIK's resolves /Plc/DB<n>.DBD<x>:[k]; check "
+                        "window_node / sd_nodes and that the data block exists)",
     "BadOutOfRange": "outside the controller's data block (window larger than the DB?)",
     "BadTypeMismatch": "the node holds another type than UInt32 words",
     "BadSecurityPolicyRejected": "the server does not offer this security policy",
@@ -121,6 +127,104 @@ def read_password(ref: str, user: str) -> str:
                             f"({e.__class__.__name__})") from None
     raise LinkError(f"password of OPC UA user {user!r}: reference {ref!r} is neither "
                     "env:NAME nor file:/path")
+
+
+def _mode(mode: str) -> ua.MessageSecurityMode:
+    return (ua.MessageSecurityMode.Sign if mode == "Sign"
+            else ua.MessageSecurityMode.SignAndEncrypt)
+
+
+async def secure_client(client: Client, endpoint: str, *, mode: str = "SignAndEncrypt",
+                        trust: TrustMode = "first_use", pki: Pki | None = None,
+                        certificate: str | None = None, private_key: str | None = None
+                        ) -> tuple[bool, list[str]]:
+    """Set Basic256Sha256 ``mode`` (``Sign`` or ``SignAndEncrypt``) on an asyncua
+    ``client`` before its ``connect()``: the center's certificate from ``pki`` (or the
+    ``certificate`` and ``private_key`` files), the controller's the one kept for
+    ``endpoint`` or, at first use, fetched from its endpoint list and checked
+    (:meth:`Pki.check_server`). Any OPC UA link of the center can use it (the window
+    link here; a link writing setting data too).
+
+    Returns
+    -------
+    pinned : bool
+        The controller's certificate was the kept one (not fetched now): a failed login
+        may mean it changed (:func:`recheck_certificate`).
+    notices : list of str
+        Warnings for the operator (a certificate trusted on first use).
+
+    Raises
+    ------
+    LinkError
+        The certificate files cannot be read, the controller offers no such endpoint, or
+        its certificate is not trusted.
+    """
+    pki = pki if pki is not None else pki_at()
+    policy = security_policies.SecurityPolicyBasic256Sha256
+    if certificate is not None and private_key is not None:
+        try:
+            cert = await uacrypto.load_certificate(certificate)
+            key = await uacrypto.load_private_key(private_key)
+        except (OSError, ValueError) as e:
+            raise LinkError(f"{endpoint}: client_certificate or client_private_key cannot "
+                            f"be read ({e.__class__.__name__})") from None
+    else:
+        # made or read once per process (a thread: 0.1-1 s of key generation, once)
+        identity = await asyncio.to_thread(pki.identity) if pki.pending else pki.identity()
+        cert, key = identity.certificate, identity.private_key
+    client.application_uri = CENTER_URI  # as in the certificate
+    notices: list[str] = []
+    server_der = pki.known(endpoint, trust)
+    pinned = server_der is not None
+    if server_der is None:
+        server_der = await _server_certificate(client, endpoint, mode, policy.URI)
+        if await asyncio.to_thread(pki.check_server, endpoint, server_der, trust):
+            text = (f"{endpoint}: the controller's certificate (thumbprint "
+                    f"{thumbprint(server_der)}) trusted on first use")
+            notices.append(text)
+            log.warning("%s", text)
+    sp = policy(server_der, cert, key, _mode(mode))  # type: ignore[no-untyped-call]
+    client.security_policy = sp  # type: ignore[assignment]
+    client.uaclient.set_security(sp)
+    return pinned, notices
+
+
+async def _server_certificate(client: Client, endpoint: str, mode: str, uri: str) -> bytes:
+    """The controller's certificate from its endpoint list (GetEndpoints over an
+    unsecured channel, as every OPC UA client first does)."""
+    endpoints = await client.connect_and_get_server_endpoints()
+    offered = [e for e in endpoints if e.SecurityPolicyUri == uri
+               and e.SecurityMode == _mode(mode)]
+    if not offered or not offered[0].ServerCertificate:
+        have = ", ".join(sorted({f"{e.SecurityPolicyUri.rsplit('#', 1)[-1]} "
+                                 f"{e.SecurityMode.name.rstrip('_')}" for e in endpoints}))
+        raise LinkError(f"{endpoint}: the controller does not offer Basic256Sha256 {mode} "
+                        f"(it offers {have or 'nothing'}): enable it on the controller, or "
+                        "set the link's security_mode")
+    der = uacrypto.x509_from_der(  # type: ignore[no-untyped-call]
+        offered[0].ServerCertificate)  # the first of a chain
+    return bytes(der.public_bytes(serialization.Encoding.DER))
+
+
+async def recheck_certificate(endpoint: str, *, mode: str = "SignAndEncrypt",
+                              trust: TrustMode = "first_use", pki: Pki | None = None,
+                              timeout_s: float = 5.0) -> bool:
+    """After a failed login with the certificate kept for ``endpoint``: raise the trust
+    store's refusal (:class:`LinkError`) if the controller now shows another one; True
+    if it shows another that is trusted (the operator put it into the trust list: log in
+    again), False if the certificate is not the reason."""
+    pki = pki if pki is not None else pki_at()
+    pinned = pki.pinned(endpoint)
+    probe = Client(endpoint, timeout=timeout_s)
+    try:
+        async with asyncio.timeout(timeout_s):
+            der = await _server_certificate(
+                probe, endpoint, mode, security_policies.SecurityPolicyBasic256Sha256.URI)
+    except Exception:  # the first error stands
+        return False
+    finally:
+        probe.disconnect_socket()
+    return await asyncio.to_thread(pki.check_server, endpoint, der, trust) or der != pinned
 
 
 @dataclass(frozen=True, slots=True)
@@ -242,8 +346,11 @@ class OpcuaMemory:
         self.timeout_s = float(timeout_s)
         self.block = block
         self.retry_delays_s = tuple(retry_delays_s)
-        self.retries = 0
-        """Requests asked again after a transient answer (for tests and metrics)."""
+        self.busy_retries = 0
+        """Requests asked again after a transient answer (the window session shows the
+        link busy while this grows)."""
+        self.busy_note = ""
+        """The last transient answer, for the operator."""
         self._notices: list[str] = []
         self._client: Client | None = None
         if insecure and (endpoint, user) not in _warned_insecure:
@@ -309,13 +416,17 @@ class OpcuaMemory:
             except _Transient as e:
                 if attempt == len(self.retry_delays_s):
                     raise LinkError(e.text) from None
-                self.retries += 1
+                self.busy_retries += 1
+                self.busy_note = e.text
                 await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
 
     async def _connect_once(self, password: str) -> Client:
-        client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=5.0)
+        # no asyncua watchdog: it reads the server state every interval and drops the
+        # connection on any error, a busy answer (BadResourceUnavailable) included, which
+        # is exactly what must not end a session here. The window session's status polls
+        # keep the session alive and find a dead connection within timeout_s.
+        client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=86_400.0)
         client.session_timeout = 60_000  # the SINUMERIK's; it revises longer ones to this
-        client.application_uri = CENTER_URI
         client.set_user(self.user)
         client.set_password(password)
         pinned = False
@@ -344,73 +455,16 @@ class OpcuaMemory:
     async def _secure(self, client: Client) -> bool:
         """Set Basic256Sha256 on ``client``; returns whether the controller's certificate
         was the one kept for this endpoint (not fetched and checked now)."""
-        mode = (ua.MessageSecurityMode.Sign if self.security_mode == "Sign"
-                else ua.MessageSecurityMode.SignAndEncrypt)
-        policy = security_policies.SecurityPolicyBasic256Sha256
-        if self.client_certificate is not None and self.client_private_key is not None:
-            try:
-                cert = await uacrypto.load_certificate(self.client_certificate)
-                key = await uacrypto.load_private_key(self.client_private_key)
-            except (OSError, ValueError) as e:
-                raise LinkError(f"{self.endpoint}: client_certificate or client_private_key "
-                                f"cannot be read ({e.__class__.__name__})") from None
-        else:
-            pki = self.pki
-            # made or read once per process (a thread: 0.1-1 s of key generation once)
-            identity = await asyncio.to_thread(pki.identity) if pki.pending else \
-                pki.identity()
-            cert, key = identity.certificate, identity.private_key
-        server_der = self.pki.known(self.endpoint, self.trust)
-        pinned = server_der is not None
-        if server_der is None:
-            server_der = await self._server_certificate(client, mode, policy.URI)
-            if await asyncio.to_thread(self.pki.check_server, self.endpoint, server_der,
-                                       self.trust):
-                text = (f"{self.endpoint}: the controller's certificate (thumbprint "
-                        f"{thumbprint(server_der)}) trusted on first use")
-                self._notices.append(text)
-                log.warning("%s", text)
-        sp = policy(server_der, cert, key, mode)  # type: ignore[no-untyped-call]
-        client.security_policy = sp  # type: ignore[assignment]
-        client.uaclient.set_security(sp)
+        pinned, notices = await secure_client(
+            client, self.endpoint, mode=self.security_mode, trust=self.trust, pki=self.pki,
+            certificate=self.client_certificate, private_key=self.client_private_key)
+        self._notices += notices
         return pinned
 
-    async def _server_certificate(self, client: Client, mode: ua.MessageSecurityMode,
-                                  uri: str) -> bytes:
-        """The controller's certificate from its endpoint list (GetEndpoints over an
-        unsecured channel, as every OPC UA client first does)."""
-        endpoints = await client.connect_and_get_server_endpoints()
-        offered = [e for e in endpoints if e.SecurityPolicyUri == uri
-                   and e.SecurityMode == mode]
-        if not offered or not offered[0].ServerCertificate:
-            have = ", ".join(sorted({f"{e.SecurityPolicyUri.rsplit('#', 1)[-1]}/"
-                                     f"{e.SecurityMode.name}" for e in endpoints}))
-            raise LinkError(f"{self.endpoint}: the controller does not offer Basic256Sha256 "
-                            f"{self.security_mode} (it offers {have or 'nothing'}): enable "
-                            "it on the controller, or set the link's security_mode")
-        der = uacrypto.x509_from_der(  # type: ignore[no-untyped-call]
-            offered[0].ServerCertificate)  # the first of a chain
-        return bytes(der.public_bytes(serialization.Encoding.DER))
-
     async def _recheck_certificate(self) -> bool:
-        """After a failed login with the kept certificate: raise the trust store's refusal
-        if the controller now shows another certificate; True if it shows another one
-        that is trusted (the operator put it into the trust list: log in again with it),
-        False if the certificate is not the reason."""
-        pinned = self.pki.pinned(self.endpoint)
-        probe = Client(self.endpoint, timeout=self.timeout_s)
-        try:
-            async with asyncio.timeout(self.timeout_s):
-                mode = (ua.MessageSecurityMode.Sign if self.security_mode == "Sign"
-                        else ua.MessageSecurityMode.SignAndEncrypt)
-                der = await self._server_certificate(
-                    probe, mode, security_policies.SecurityPolicyBasic256Sha256.URI)
-        except Exception:  # the first error stands
-            return False
-        finally:
-            probe.disconnect_socket()
-        return await asyncio.to_thread(self.pki.check_server, self.endpoint, der,
-                                       self.trust) or der != pinned
+        return await recheck_certificate(self.endpoint, mode=self.security_mode,
+                                         trust=self.trust, pki=self.pki,
+                                         timeout_s=self.timeout_s)
 
     def _login_error(self, e: BaseException) -> str:
         name = _status_name(e)
@@ -543,11 +597,13 @@ class OpcuaMemory:
             except _Transient as e:
                 if last:
                     raise LinkError(e.text) from None
+                self.busy_note = e.text
             else:
                 busy = [c.name for c in codes(answer) if c is not None and c.name in TRANSIENT]
                 if not busy or last:
                     return answer
-            self.retries += 1
+                self.busy_note = self._refused(busy[0], what, offset, size)
+            self.busy_retries += 1
             await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
         raise AssertionError("unreachable")  # the last attempt returned or raised
 

@@ -237,7 +237,7 @@ class Pki:
             raise LinkError(f"cannot keep the center's OPC UA certificate in "
                             f"{self.own_dir}: {e.strerror}; set {PKI_ENV} to a writable "
                             "folder") from None
-        log.warning("made the center's OPC UA certificate %s (thumbprint %s): add it to "
+        log.info("made the center's OPC UA certificate %s (thumbprint %s): add it to "
                     "each controller's trusted clients", cert_path, thumbprint(der))
         return CenterIdentity(cert, key, der, cert_path, True)
 

@@ -7,6 +7,7 @@ import struct
 from collections.abc import MutableSequence, Sequence
 
 from machine_sim.stplc import StPlc
+from protocol import decode_payload
 from protocol.ctrlmem import (
     STATUS_AT,
     STATUS_SIZE,
@@ -16,7 +17,7 @@ from protocol.ctrlmem import (
     decode_status,
     plan_map_write,
 )
-from protocol.mapfactored import decode_factored
+from protocol.mapfactored import FactoredPayload
 
 __all__ = ["loaded", "status", "write_all", "write_map", "write_temperatures"]
 
@@ -49,18 +50,22 @@ def status(window: memoryview | bytearray) -> Status:
     return decode_status(bytes(window[STATUS_AT:STATUS_AT + STATUS_SIZE]))
 
 
-def loaded(data: bytes, readings_mC: dict[str, int] | None = None) -> StPlc:
-    """A compiled PLC with the factored map ``data`` applied through its window, no
-    channel limit but the map's and no step limit, the readings (m°C by sensor) written
-    to its temperature slots."""
-    p = decode_factored(data)
-    plc = StPlc(p.machine, [a.name for a in p.axes], channel_limit=(1 << 30) - 1,
-                max_step=1 << 30)
+def loaded(data: bytes, readings_mC: dict[str, int] | None = None,
+           axes: Sequence[str] | None = None) -> StPlc:
+    """A compiled PLC with the map ``data`` (factored or int32 grid) applied through its
+    window, no channel limit but the map's and no step limit, the readings (m°C by
+    sensor) written to its temperature slots; ``axes`` the machine's (a factored map's
+    own by default)."""
+    p = decode_payload(data)
+    if axes is None:
+        assert isinstance(p, FactoredPayload)
+        axes = [a.name for a in p.axes]
+    plc = StPlc(p.machine, axes, channel_limit=(1 << 30) - 1, max_step=1 << 30)
     plc.scan([0] * len(plc.axes))
     write_map(plc.window, plc.layout, 1, data, p.version, 1)
     plc.scan([0] * len(plc.axes))
     st = status(plc.window)
-    assert (st.ack_seq, st.ack_code, st.active, st.applied_version) == (1, 0, 1, p.version)
+    assert (st.ack_seq, st.ack_code, st.active, st.applied_version) == (1, 0, 1, p.version), st
     if readings_mC:
         sensors = list(dict.fromkeys(r.sensor for r in p.thermal))
         write_temperatures(plc.window, [readings_mC[s] for s in sensors], 1, p.version)

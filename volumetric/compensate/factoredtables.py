@@ -340,7 +340,9 @@ class FactoredMap:
                 continue
             d = self.axes.index(th.axis.upper())
             coef, t_ref, q_min = thermal_ints(th, self.counts_per_unit)
-            dt = _half_up(Fraction(float(celsius)) * 1000) - t_ref
+            # ΔT clamped to ±2^17 m°C (protocol/README.md §6): bounds every product
+            dt = min(max(_half_up(Fraction(float(celsius)) * 1000) - t_ref, -(1 << 17)),
+                     1 << 17)
             if th.kind == "thermal_drift":
                 c0[d] -= rshift_round(coef * dt, 16)
             else:

@@ -10,8 +10,11 @@ from __future__ import annotations
 from dataclasses import replace
 from typing import Any
 
+import numpy as np
+from numpy.typing import NDArray
+
 from volumetric.diagnose.base import REFITS, base_design, base_without
-from volumetric.diagnose.candidates import candidates
+from volumetric.diagnose.candidates import Candidate, candidates
 from volumetric.diagnose.estimate import estimate_effect, offsets_of
 from volumetric.diagnose.further import Named, add_further, list_alternatives
 from volumetric.diagnose.gates import (
@@ -24,6 +27,7 @@ from volumetric.diagnose.gates import (
     prefer_physical,
     score,
 )
+from volumetric.diagnose.joint import JointFit, joint_fit, masked_pair
 from volumetric.diagnose.lagged import (
     MAP_THERMAL_RECORDS,
     SELECTED_TERMS,
@@ -41,12 +45,14 @@ from volumetric.diagnose.splits import (
     Judge,
     block_table,
     choose_split,
+    combined,
     fold_fits,
     fold_labels,
     forward_blocks,
     forward_residuals,
     heldout_per_fold,
     heldout_residuals,
+    rms_of,
     solve_normal,
     time_ordered,
 )
@@ -69,6 +75,7 @@ __all__ = [
 ]
 
 MIN_READINGS = 50
+F64 = NDArray[np.float64]
 
 
 def diagnose(
@@ -149,7 +156,8 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         details["blocks"] = block_table(sp.folds, judged, base_heldout, sp.fold_ids)
     # step 4: ranking and gates
     pick = prefer_physical(scored) if scored else None
-    best = named_thermal(pick, dyn, scored, sp.order_judge)
+    best = named_thermal(pick, dyn, scored, sp.order_judge,
+                         decided=sp.name in ("forward", "chronological"))
     if best is not None:
         static = best.candidate
         if "lagged" in static.extra:
@@ -161,7 +169,14 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         details["t"] = round(estimate.pop("_t"), 2)
         if details["t"] < T_MIN:
             best = None
+    first_pair = None
     if best is None:
+        # a drift and an expansion of one axis that cancel alone and pass together
+        def fit_of(cands: list[Candidate]) -> JointFit:
+            return joint_fit(a0, w, y, train, cands)
+        first_pair = masked_pair(scored, judge.of, judged, sp.order_judge, base_heldout,
+                                 rms_before, fit_of)
+    if best is None and first_pair is None:
         none_model = MachineModel(machine.name, base_fit.model.geometry, (),
                                   {**base_fit.model.info,
                                    "offsets_um": offsets_of(base_fit.params, base_fit.values)})
@@ -176,39 +191,15 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
                              base_heldout, base_heldout, judged)
         return Diagnosis("none", None, None, {}, rms_before, rms_before, table, missing,
                          none_model, details, base_heldout, base_heldout, judged)
-    c = best.candidate
-    if "lagged" in c.extra:
-        # the static family names the effect; the dynamic model is its refinement
-        estimate["dynamic"] = c.extra.get("description", {})
-    effect, axis, sensor = static.effect, static.axis, static.sensor
-    if "lagged" in c.extra:
-        # the dynamic model behind the figure is what is saved: its lags with their time
-        # constants and end states, and the offsets of the same joint fit
-        model = lagged_model(machine, m, judge, c, base_fit, estimate)
+    if first_pair is not None:
+        named0 = pair_named(machine, m, judge, first_pair, base_fit)
+        details["t"] = round(named0.effects[0]["estimate"].pop("_t"), 2)
     else:
-        # the rigid part refitted together with the effect, so it no longer carries a
-        # share of it (a drift seen as straightness, a backlash as positioning error)
-        geometry = model_from_parameters(machine, base_fit.params, joint).geometry
-        harmonics = estimate.pop("_harmonics", None)
-        if harmonics is not None:
-            # a cyclic error of a rotary axis: its harmonic joins the axis's components
-            geometry = with_harmonics(geometry, estimate["order"], harmonics)
-        model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
-                             {**base_fit.model.info, "extended_with": effect,
-                              "offsets_um": offsets_of(base_fit.params, joint)})
-    alternatives = sorted({s.candidate.sensor for s in scored
-                           if s.candidate.effect == effect and s.candidate.axis == axis
-                           and s.candidate.sensor not in (None, sensor)
-                           and s.rms_after_um <= best.rms_after_um * (1 + TIE)} - {None})
-    if alternatives:
-        details["alternatives"] = alternatives
+        assert best is not None
+        named0 = first_named(machine, m, judge, scored, best, static, estimate, term, joint,
+                             base_fit, details)
     # step 6: further effects
-    first_terms: list[Term | None] = [model.terms[0] if model.terms else None]
-    named = add_further(machine, m, judge, scored, Named(
-        [best.candidate],
-        [{"effect": effect, "axis": axis, "sensor": sensor, "estimate": estimate,
-          "rms_after_um": round(best.rms_after_um, 4)}],
-        first_terms, model, best))
+    named = add_further(machine, m, judge, scored, named0)
     chosen, effects, current = named.chosen, named.effects, named.current
     if named.joint is not None and not any(c.drop or c.effect == "rotary_periodic"
                                            for c in chosen):
@@ -244,3 +235,72 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
     list_alternatives(chosen, effects, details, scored, judged, judge.of)
     return Diagnosis(effect, axis, sensor, estimate, rms_before, current.rms_after_um, table,
                      missing, named.model, details, base_heldout, current.heldout, judged)
+
+
+def first_named(machine: Machine, m: Measurements, judge: Judge, scored: list[Scored],
+                best: Scored, static: Candidate, estimate: dict[str, Any], term: Term | None,
+                joint: F64, base_fit: FitResult, details: dict[str, Any]) -> Named:
+    """The first effect named (step 5): its entry, and the saved model with it (a lagged
+    drift's dynamic term, or the effect's term with the rigid part of their joint fit,
+    ``joint``); the top level's ``alternatives`` into ``details``."""
+    c = best.candidate
+    if "lagged" in c.extra:
+        # the static family names the effect; the dynamic model is its refinement
+        estimate["dynamic"] = c.extra.get("description", {})
+    effect, axis, sensor = static.effect, static.axis, static.sensor
+    if "lagged" in c.extra:
+        # the dynamic model behind the figure is what is saved: its lags with their time
+        # constants and end states, and the offsets of the same joint fit
+        model = lagged_model(machine, m, judge, c, base_fit, estimate)
+    else:
+        # the rigid part refitted together with the effect, so it no longer carries a
+        # share of it (a drift seen as straightness, a backlash as positioning error)
+        geometry = model_from_parameters(machine, base_fit.params, joint).geometry
+        harmonics = estimate.pop("_harmonics", None)
+        if harmonics is not None:
+            # a cyclic error of a rotary axis: its harmonic joins the axis's components
+            geometry = with_harmonics(geometry, estimate["order"], harmonics)
+        model = MachineModel(machine.name, geometry, (term,) if term is not None else (),
+                             {**base_fit.model.info, "extended_with": effect,
+                              "offsets_um": offsets_of(base_fit.params, joint)})
+    alternatives = sorted({s.candidate.sensor for s in scored
+                           if s.candidate.effect == effect and s.candidate.axis == axis
+                           and s.candidate.sensor not in (None, sensor)
+                           and s.rms_after_um <= best.rms_after_um * (1 + TIE)} - {None})
+    if alternatives:
+        details["alternatives"] = alternatives
+    first_terms: list[Term | None] = [model.terms[0] if model.terms else None]
+    return Named([best.candidate],
+                 [{"effect": effect, "axis": axis, "sensor": sensor, "estimate": estimate,
+                   "rms_after_um": round(best.rms_after_um, 4)}],
+                 first_terms, model, best)
+
+
+def pair_named(machine: Machine, m: Measurements, judge: Judge,
+               pair: tuple[Candidate, Candidate, F64], base_fit: FitResult) -> Named:
+    """A drift and an expansion of one axis named together first
+    (:func:`~volumetric.diagnose.joint.masked_pair`): their entries, each estimated
+    with the other in the model, and the saved model with both terms and the rigid part
+    of their joint fit. The first entry's estimate keeps ``_t``."""
+    first, second, r_pair = pair
+    sp, a0, w, y = judge.split, judge.a0, judge.w, judge.y
+    entries: list[dict[str, Any]] = []
+    terms: list[Term | None] = []
+    for c, other in ((first, second), (second, first)):
+        est, term, _ = estimate_effect(machine, m, combined(a0, [other]), w, y, sp.train, c)
+        if c is second:
+            est.pop("_t")
+        entries.append({"effect": c.effect, "axis": c.axis, "sensor": c.sensor,
+                        "estimate": est})
+        terms.append(term)
+    entries[0]["rms_after_um"] = round(judge.rms(judge.of([first])), 4)
+    entries[1]["rms_after_um"] = round(judge.rms(r_pair), 4)
+    x = joint_fit(a0, w, y, sp.train, [first, second]).x[: len(base_fit.params)]
+    model = MachineModel(machine.name,
+                         model_from_parameters(machine, base_fit.params, x).geometry,
+                         tuple(t for t in terms if t is not None),
+                         {**base_fit.model.info, "extended_with": first.effect,
+                          "offsets_um": offsets_of(base_fit.params, x)})
+    rms = rms_of(r_pair[sp.judge])
+    return Named([first, second], entries, terms, model,
+                 Scored(second, r_pair, rms, 0.0, 0.0))

@@ -164,3 +164,60 @@ def same_axis_pairs(
         at = sum(1 for c in out[:first] if not any(c is x for x in on_axis))
         out = [*kept[:at], *pair, *kept[at:]]
     return out
+
+
+def masked_pair(
+    scored: list[Scored], heldout_of: Callable[[list[Candidate]], F64],
+    judge: NDArray[np.bool_], order_judge: NDArray[np.intp], base: F64, rms_before: float,
+    fit_of: Callable[[list[Candidate]], JointFit],
+) -> tuple[Candidate, Candidate, F64] | None:
+    """A drift and an expansion of one axis that pass the gates together against the
+    rigid base when nothing passes alone, or None.
+
+    Of opposite signs they cancel over the middle of the travel (a screw growing one
+    way, the spindle's carrier the other): each alone then explains a small share of
+    the readings and fails the gates, the two together explain most of it. The pair
+    (the best of every drift and expansion sensor of an axis, over every axis) must
+    pass what names any effect against ``base``, the rigid model's held-out residuals
+    (gain ``MIN_GAIN`` of ``rms_before``, significance ``Z_MIN``, each coefficient
+    ``T_MIN`` in the joint fit), and its weaker member those of :func:`same_axis_pairs`
+    against the best single thermal effect of the axis.
+
+    Returns
+    -------
+    tuple or None
+        The member that explains more alone, the other, and the pair's held-out
+        residuals (N,).
+    """
+    best: tuple[float, Candidate, Candidate, F64, Candidate, F64] | None = None
+    for axis in sorted({s.candidate.axis for s in scored if s.candidate.effect in PAIR}):
+        pool = {e: [s.candidate for s in scored
+                    if s.candidate.effect == e and s.candidate.axis == axis
+                    and not s.candidate.drop and "lagged" not in s.candidate.extra]
+                for e in PAIR}
+        if not pool[PAIR[0]] or not pool[PAIR[1]]:
+            continue
+        top = min((s for s in scored if s.candidate.effect in PAIR
+                   and s.candidate.axis == axis and "lagged" not in s.candidate.extra),
+                  key=lambda s: s.rms_after_um)
+        for d in pool[PAIR[0]]:
+            for e in pool[PAIR[1]]:
+                r = heldout_of([d, e])
+                rms = rms_of(r[judge])
+                if best is None or rms < best[0]:
+                    best = (rms, d, e, r, top.candidate, top.heldout)
+    if best is None:
+        return None
+    rms_pair, d, e, r_pair, single, r_single = best
+    touched = np.any(d.columns != 0, axis=1) | np.any(e.columns != 0, axis=1)
+    if ((rms_before - rms_pair) / rms_before < MIN_GAIN
+            or significance(base, r_pair, order_judge, touched) < Z_MIN):
+        return None
+    rows = judge & touched
+    gain = (rms_of(r_single[rows]) - rms_of(r_pair[rows])) / rms_of(r_single[rows])
+    if gain < MIN_GAIN or significance(r_single, r_pair, order_judge, touched) < Z_MIN:
+        return None
+    fit = fit_of([d, e])
+    if min(_t(fit, 0), _t(fit, 1)) < T_MIN:
+        return None
+    return (d, e, r_pair) if single.effect == PAIR[0] else (e, d, r_pair)
