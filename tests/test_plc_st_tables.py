@@ -233,3 +233,28 @@ def test_a_tables_map_the_program_does_not_take_is_refused() -> None:
     built = center_tables(VMC, 2031, backlash={"y": 5.0})
     plc = _program(built)
     assert (status(plc.window).ack_code, status(plc.window).active) == (8, 0)
+
+
+def test_a_restart_keeps_the_tables_map_of_the_retentive_window() -> None:
+    """A PLC restart (every variable to its initial value but the window): the start-up
+    re-check decodes the active buffer's tables map again and applies it without a new
+    switch, the temperature slots (retentive too) are taken again, and the counts are
+    those before the restart, thermal records included."""
+    body = _vector()
+    data = (VECTORS / body["map"]).read_bytes()
+    p = decode_tables(data)
+    plc = _program(data)
+    write_temperatures(plc.window, [body["temperatures_mC"][s] for s in _sensors(p)], 1,
+                       p.version)
+    plc.scan([0] * len(plc.axes))
+    pt = next(pt for pt in body["points"] if not any(pt["negative"]))
+    assert plc.lookup(pt["q_counts"], pt["negative"]).tolist() == pt["counts"]
+    plc.restart()
+    plc.scan(pt["q_counts"])
+    st = status(plc.window)
+    assert (st.ack_seq, st.ack_code, st.active, st.applied_version) == (1, 0, 1, p.version)
+    assert plc.lookup(pt["q_counts"], pt["negative"]).tolist() == pt["counts"]
+    h = TablesHarness(p.machine, p.axis_names)
+    assert h.load(data) == (0, False)
+    h.set_readings([])   # without readings the records add 0: the point shows them
+    assert _applied(h, h.counts(pt["q_counts"]), pt["negative"]) != pt["counts"]
