@@ -241,7 +241,7 @@ async def test_sessions_never_activated_do_not_lock_the_center_out() -> None:
                     await m.connect()
                 with pytest.raises(LinkError, match="BadTooManySessions"):
                     await full[10].connect()
-                assert full[10].retries == 1  # asked again once, then refused
+                assert full[10].busy_retries == 1  # asked again once, then refused
             finally:
                 for m in full:
                     await m.close()
@@ -261,7 +261,7 @@ async def test_busy_answers_are_retried_within_the_session() -> None:
                 await mem.write(256, data)
                 assert await mem.read(256, 4) == data
             internal = cnc.server._internal  # type: ignore[attr-defined]
-            assert internal.busy_answers > 5 and mem.retries >= internal.busy_answers - 2
+            assert internal.busy_answers > 5 and mem.busy_retries >= internal.busy_answers - 2
             client = mem._client
             assert client is not None  # the same session throughout
         finally:
@@ -275,7 +275,7 @@ async def test_busy_answers_are_retried_within_the_session() -> None:
         try:
             with pytest.raises(LinkError, match=r"busy.*BadResourceUnavailable"):
                 await mem.read(0, 4)
-            assert mem.retries == 3
+            assert mem.busy_retries == 3
         finally:
             await mem.close()
 
@@ -362,9 +362,9 @@ async def test_each_transient_answer_is_asked_again_and_others_are_not() -> None
                 raise ua.UaStatusCodeError(got)
             return got
 
-        before = mem.retries
+        before = mem.busy_retries
         assert await mem._call(request, "read", 0, 4, lambda _: []) == "ok"
-        assert mem.retries - before == 2, name
+        assert mem.busy_retries - before == 2, name
     # a node answered busy inside a good response is asked again too
     busy = ua.StatusCode(ua.StatusCodes.BadResourceUnavailable)
     codes = [[busy, ua.StatusCode()], [ua.StatusCode(), ua.StatusCode()]]
@@ -404,8 +404,10 @@ async def test_a_controller_busy_for_30_percent_of_its_answers_applies_every_map
                         controller="siemens")
     async with controller(busy=0.3, seed=11) as cnc:
         mem = OpcuaMemory.from_link(link(f"opc.tcp://127.0.0.1:{cnc.server.port}"))
+        told: list[tuple[str, str]] = []
         session = ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names,
-                                    mem, link="opcua", chain=m.chain, poll_s=0.1)
+                                    mem, link="opcua", chain=m.chain, poll_s=0.1,
+                                    on_condition=lambda c: told.append((c.reason, c.text)))
         await session.open()
         runner = asyncio.create_task(session.run())
         try:
@@ -415,7 +417,10 @@ async def test_a_controller_busy_for_30_percent_of_its_answers_applies_every_map
                 assert verdict.applied and verdict.version == version
             assert session.closed_because is None  # one session throughout
             internal = cnc.server._internal  # type: ignore[attr-defined]
-            assert internal.busy_answers >= 30 and mem.retries >= internal.busy_answers - 2
+            assert internal.busy_answers >= 30 and mem.busy_retries >= internal.busy_answers - 2
+            # shown, not hidden: the link connected with reason busy, what was answered
+            busy = [text for reason, text in told if reason == "busy"]
+            assert busy and "BadResourceUnavailable" in busy[0], told
         finally:
             session.abort(None, "test over")
             await runner
@@ -446,3 +451,19 @@ async def test_a_server_that_does_not_resolve_the_path_is_named_as_such() -> Non
                 await mem.read(0, 64)
         finally:
             await mem.close()
+
+
+def test_the_simulated_controllers_keep_one_certificate(tmp_path: Path) -> None:
+    from cryptography import x509
+    from cryptography.hazmat.primitives import serialization
+
+    from machine_sim.opcua_server import sim_certificate
+
+    der, pem = sim_certificate(tmp_path / "sim")
+    assert (tmp_path / "sim" / "server.pem").exists()
+    sim_certificate.cache_clear()  # another process: reads the same back
+    assert sim_certificate(tmp_path / "sim") == (der, pem)
+    key = serialization.load_pem_private_key(pem, None)
+    public = serialization.Encoding.DER, serialization.PublicFormat.SubjectPublicKeyInfo
+    assert key.public_key().public_bytes(*public) == \
+        x509.load_der_x509_certificate(der).public_key().public_bytes(*public)

@@ -346,8 +346,11 @@ class OpcuaMemory:
         self.timeout_s = float(timeout_s)
         self.block = block
         self.retry_delays_s = tuple(retry_delays_s)
-        self.retries = 0
-        """Requests asked again after a transient answer (for tests and metrics)."""
+        self.busy_retries = 0
+        """Requests asked again after a transient answer (the window session shows the
+        link busy while this grows)."""
+        self.busy_note = ""
+        """The last transient answer, for the operator."""
         self._notices: list[str] = []
         self._client: Client | None = None
         if insecure and (endpoint, user) not in _warned_insecure:
@@ -413,7 +416,8 @@ class OpcuaMemory:
             except _Transient as e:
                 if attempt == len(self.retry_delays_s):
                     raise LinkError(e.text) from None
-                self.retries += 1
+                self.busy_retries += 1
+                self.busy_note = e.text
                 await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
 
     async def _connect_once(self, password: str) -> Client:
@@ -593,11 +597,13 @@ class OpcuaMemory:
             except _Transient as e:
                 if last:
                     raise LinkError(e.text) from None
+                self.busy_note = e.text
             else:
                 busy = [c.name for c in codes(answer) if c is not None and c.name in TRANSIENT]
                 if not busy or last:
                     return answer
-            self.retries += 1
+                self.busy_note = self._refused(busy[0], what, offset, size)
+            self.busy_retries += 1
             await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
         raise AssertionError("unreachable")  # the last attempt returned or raised
 
