@@ -41,6 +41,7 @@ VAR
   nOut : INT;
   steps : INT;
   sweeps : INT;
+  oneStep : BOOL;
   cfg : ST_Config;
   map : ST_Map;
   tm : ST_TablesMap;
@@ -74,7 +75,7 @@ FOR k := 0 TO 7 DO
   qL[k] := DINT_TO_LINT(q[k]);
 END_FOR;
 IF code = 0 AND NOT loadFailed THEN
-  ev(q := qL, held := held);
+  ev(q := qL, held := held, oneStep := oneStep);
   FOR k := 0 TO 7 DO
     counts[k] := LINT_TO_DINT(ev.counts[k]);
   END_FOR;
@@ -104,6 +105,7 @@ VARIABLES = (
     StVar("nOut", ctypes.c_int16),
     StVar("steps", ctypes.c_int16),
     StVar("sweeps", ctypes.c_int16),
+    StVar("oneStep", ctypes.c_uint8),
 )
 
 
