@@ -193,6 +193,7 @@ async def test_a_changed_controller_certificate_is_refused_until_trusted(
         with pytest.raises(LinkError, match=r"certificate changed.*refused") as err:
             await mem.connect()
         assert thumbprint(cert_b.read_bytes()) in str(err.value)
+        assert (err.value.state, err.value.reason) == ("refused", "server_certificate")
         (rejected,) = pki.rejected_dir.iterdir()
         assert rejected.read_bytes() == cert_b.read_bytes()
         pki.trusted_dir.mkdir(parents=True, exist_ok=True)
@@ -467,3 +468,36 @@ def test_the_simulated_controllers_keep_one_certificate(tmp_path: Path) -> None:
     public = serialization.Encoding.DER, serialization.PublicFormat.SubjectPublicKeyInfo
     assert key.public_key().public_bytes(*public) == \
         x509.load_der_x509_certificate(der).public_key().public_bytes(*public)
+
+
+async def test_each_failure_says_its_state_and_reason(tmp_path: Path) -> None:
+    """The classification the link state shows (server/links/state.py), given where the
+    failure is known."""
+    users = {**USERS, "viewer": OpcuaUser("view-pw", frozenset({"SinuReadAll"}))}
+    m = spec("vmc-06").machine
+    async with WindowCNC(m, sinumerik_server(users), cycle_s=0.02) as cnc:
+        url = f"opc.tcp://127.0.0.1:{cnc.server.port}"
+
+        async def failure(mem: OpcuaMemory, *, write: bool = False) -> tuple[str, str]:
+            with pytest.raises(LinkError) as err:
+                await mem.connect()
+                try:
+                    if write:
+                        await mem.write(256, b"\x00\x01")
+                finally:
+                    await mem.close()
+            return err.value.state, err.value.reason
+
+        wrong = OpcuaMemory(url, "ednc", "env:OPCUA_SEC_PW", password="not-it")
+        assert await failure(wrong) == ("refused", "login")
+        unset = OpcuaMemory(url, "ednc", "env:OPCUA_UNSET_PW")
+        assert await failure(unset) == ("refused", "password_ref")
+        viewer = OpcuaMemory(url, "viewer", "env:X", password="view-pw")
+        assert await failure(viewer, write=True) == ("refused", "rights")
+        nobody = OpcuaMemory("opc.tcp://127.0.0.1:9", "ednc", "env:OPCUA_SEC_PW",
+                             timeout_s=2.0)
+        assert await failure(nobody) == ("unreachable", "connect")
+    async with controller(security_modes=("None",)) as cnc:
+        only_none = OpcuaMemory(f"opc.tcp://127.0.0.1:{cnc.server.port}", "ednc",
+                                "env:OPCUA_SEC_PW")
+        assert await failure(only_none) == ("refused", "security")
