@@ -136,6 +136,37 @@ async def test_thermal_records_follow_temperatures_over_modbus(tmp_path: Path) -
         np.testing.assert_allclose(np.diff(seen), -term.coefficient * 5.0, atol=1.5)
 
 
+async def test_a_restarted_center_feeds_the_slots_of_the_map_the_plc_runs(
+        tmp_path: Path) -> None:
+    """A new center process finds the PLC running its current map: the map is not sent
+    again (§13.2 step 0), and the temperature slots of that map's thermal records are
+    fed all the same: the correction follows temperatures posted to the new center."""
+    model, term = await asyncio.to_thread(diagnosed_spindle, THERMAL)
+    db = f"sqlite:///{tmp_path / 'c.db'}"
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        cnc = await stack.enter_async_context(pmc(THERMAL, own_sensors=False))
+        s = linked(THERMAL, cnc.server.port)
+        async with center(db) as plant:
+            await plant.register(s)
+            await plant.post_model(s.name, plain_json(model.to_json()))
+            assert (await _map_applied(plant, cnc, s)).version == 1
+        ctl = cnc.runtime.controller
+        async with center(db) as plant:
+            async def linked_up() -> bool:
+                return bool((await plant.status(s.name))["connected"])
+
+            await until(linked_up)
+            sensor = term.sensor.removeprefix("T_").removesuffix("_C")
+            q = np.array([[400.0, 300.0, -250.0]])
+            z = cnc.machine.axis_names.index("Z")
+            seen = await follow_temperatures(
+                plant, ctl, s.name, sensor,
+                lambda: float(ctl.store.active.counts(q)[0][z]))  # type: ignore[union-attr]
+            assert len(await plant.deliveries(s.name)) == 1  # not sent again
+        assert ctl.store.version == 1
+        np.testing.assert_allclose(np.diff(seen), -term.coefficient * 5.0, atol=1.5)
+
+
 async def test_no_acknowledgement_is_lost_when_the_center_restarts(tmp_path: Path) -> None:
     """The center stops after switching the PLC to a new map but before the PLC answered
     (its PLC program paused); the PLC then applies it; a new center process on the same

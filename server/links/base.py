@@ -45,6 +45,12 @@ class Link(Protocol):
         not send a map the machine has (protocol/README.md §13.2 step 0)."""
         ...
 
+    def adopt(self, version: int, payload: bytes) -> None:
+        """The machine already runs map ``version`` (``reported_version``), so it is not
+        sent: take what the link needs of it all the same (a PLC window's temperature
+        slots follow its thermal records). Never raises."""
+        ...
+
     async def push_map(self, version: int, payload: bytes, timeout_s: float) -> Verdict:
         """Send map ``version`` and wait for the machine's verdict.
 

@@ -266,6 +266,10 @@ class PushScheduler:
             # sending it again at every session start would only load the PLC
             target.acked = current.version
             send_anyway = False
+            stored = await self.db.run(steps.stored_payload, target.machine_id,
+                                       current.version)
+            if stored is not None:  # its temperature slots follow that map all the same
+                target.session.adopt(current.version, stored)
         # what the machine has: its own Telemetry when it sent one, else its last answer
         reported = self.center.registry.get(target.name).telemetry.get("map_version")
         on_machine = reported if isinstance(reported, int) else target.acked

@@ -116,6 +116,9 @@ class MachineSession:
         """None: a machine says what it applied in its Telemetry, not at login."""
         return None
 
+    def adopt(self, version: int, payload: bytes) -> None:
+        """Nothing to take: the machine reads its own map's thermal records."""
+
     # -- receiving
     async def receive(self) -> Message:
         """The next message from the machine.

@@ -118,6 +118,13 @@ def identity_of(raw: bytes, address: str) -> Identity:
         raise LinkError(f"{address}: {exc}", state="refused", reason=reason) from None
 
 
+def _slots_of(payload: bytes) -> dict[str, int]:
+    """The temperature slot of each model column a map's thermal records read (a record
+    may name ``spindle`` or ``T_spindle_C``); raises what decoding raises."""
+    return {column_of(s): i for s, i in sensor_slots(
+        [r.sensor for r in decode_payload(payload).thermal]).items()}
+
+
 class ControllerSession:
     """One controller's window, used like a machine's EDNC session.
 
@@ -366,9 +373,7 @@ class ControllerSession:
         if self._pending is not None:
             raise RuntimeError(f"{self._name}: a map push is already in progress")
         try:
-            # slots by model column: a record may name ``spindle`` or ``T_spindle_C``
-            slots = {column_of(s): i for s, i in sensor_slots(
-                [r.sensor for r in decode_payload(payload).thermal]).items()}
+            slots = _slots_of(payload)
         except (MapFormatError, ControllerMemoryError) as exc:
             raise LinkClosed(f"map version {version} cannot be written: {exc}") from None
         verdict = await self._write_and_wait(version, payload, timeout_s)
@@ -387,6 +392,19 @@ class ControllerSession:
             self._slots, self._slots_version = slots, version
             self._temp_dirty.set()  # the new map's sensors get their readings at once
         return verdict
+
+    def adopt(self, version: int, payload: bytes) -> None:
+        """The PLC runs map ``version`` already (its status said so at open; the map is
+        not written again): its temperature slots follow that map's thermal records from
+        now on, as after a push, so a restarted center feeds them at once."""
+        try:
+            slots = _slots_of(payload)
+        except (MapFormatError, ControllerMemoryError) as exc:
+            log.warning("%s: map version %d: thermal records not read: %s", self._name,
+                        version, exc)
+            return
+        self._slots, self._slots_version = slots, version
+        self._temp_dirty.set()
 
     async def _write_and_wait(self, version: int, payload: bytes,
                               timeout_s: float) -> Verdict:
