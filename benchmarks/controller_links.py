@@ -38,6 +38,7 @@ from __future__ import annotations
 import argparse
 import asyncio
 import contextlib
+import cProfile
 import json
 import os
 import subprocess
@@ -56,7 +57,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from center_connections import center, percentiles  # noqa: E402
+from center_connections import center, cpu_of, percentiles  # noqa: E402
 
 BASE_PORT = 21000
 TEMPS: list[tuple[str, int, float]] = []
@@ -245,6 +246,8 @@ class ModbusRound:
     deliveries: list[Any]
     wall_s: float
     cpu_s: float
+    pmc_cpu_s: float
+    """The simulated PMCs' process's CPU over the round, s."""
     healthy: set[str]
 
     def applied(self) -> set[str]:
@@ -277,6 +280,9 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int,
         while not healthy <= {d.machine for d in got if d.outcome == "applied"}:
             await asyncio.sleep(0.02)
             if time.perf_counter() - t0 > timeout_s:
+                missing = healthy - {d.machine for d in got if d.outcome == "applied"}
+                progress(f"{len(missing)} healthy machines without their map after "
+                         f"{timeout_s:g} s: {', '.join(sorted(missing)[:10])}")
                 break
 
     rounds = []
@@ -286,32 +292,49 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int,
         async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
             got: list[Delivery] = []
             services.push.observers.append(got.append)
-            t0, cpu0 = time.perf_counter(), time.process_time()
+            pid = child.proc.pid
+            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
             await c.db.run(register, count, BASE_PORT, model, payload)
             await until_applied(got, t0)
             progress("Modbus round 1 done")
             rounds.append(ModbusRound("round 1 (connect and push)", list(got),
                                       time.perf_counter() - t0, time.process_time() - cpu0,
-                                      healthy))
+                                      cpu_of(pid) - pcpu0, healthy))
             got.clear()
-            t0, cpu0 = time.perf_counter(), time.process_time()
+            if PROFILE is not None:
+                PROFILE.enable()
+            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
             for name in list(services.push.connected()):
                 services.push.request(name, "benchmark", resend=True)
             await until_applied(got, t0)
+            if PROFILE is not None:
+                PROFILE.disable()
             progress("Modbus round 2 done")
             rounds.append(ModbusRound("round 2 (re-push to all at once)", list(got),
                                       time.perf_counter() - t0, time.process_time() - cpu0,
-                                      healthy))
+                                      cpu_of(pid) - pcpu0, healthy))
             cpu0 = time.process_time()
             await asyncio.sleep(QUIET_S)
             quiet = (time.process_time() - cpu0) / QUIET_S
             progress("closing the center")
+            watchdog = asyncio.create_task(_tell_stuck(20.0))
+        watchdog.cancel()
         progress("closing the PMCs")
         done = await child.finish()
     return size, rounds, done, quiet
 
 
 QUIET_S = 10.0
+PROFILE: cProfile.Profile | None = None
+"""``--profile FILE``: the center over the Modbus round 2 (its figures are then slower)."""
+
+
+async def _tell_stuck(after_s: float) -> None:
+    """Print every task's stack if still running after ``after_s`` (a shutdown hanging)."""
+    await asyncio.sleep(after_s)
+    progress(f"still closing after {after_s:g} s; the tasks:")
+    for task in asyncio.all_tasks():
+        task.print_stack(limit=6, file=sys.stderr)
 
 
 def progress(what: str) -> None:
@@ -363,12 +386,14 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
         print(f"  Modbus {r.label}: {len(r.applied())} of {healthy} applied in "
               f"{r.wall_s:.1f} s; write->verdict p50 {p50 * 1000:.0f} ms, p99 "
               f"{p99 * 1000:.0f} ms; center CPU {r.cpu_s:.1f} s "
-              f"({r.cpu_per_push_s * 1000:.1f} ms per push); {r.failed()} failed deliveries "
+              f"({r.cpu_per_push_s * 1000:.1f} ms per push), PMCs' CPU {r.pmc_cpu_s:.1f} s; "
+              f"{r.failed()} failed deliveries "
               f"to healthy machines, "
               f"{sum(d.machine not in r.healthy for d in r.deliveries)} to failing")
     for e in ednc:
         print(f"  EDNC {e.label}: {e.applied} applied in {e.wall_s:.1f} s; center CPU "
-              f"{e.cpu_s:.1f} s ({e.cpu_per_push_s * 1000:.1f} ms per push)")
+              f"{e.cpu_s:.1f} s ({e.cpu_per_push_s * 1000:.1f} ms per push), fleet's CPU "
+              f"{e.fleet_cpu_s:.1f} s")
     print(f"  after round 2, {QUIET_S:.0f} s without pushes: center CPU "
           f"{quiet * 1000:.0f} ms/s (status polls, failing links' retries); the failing "
           f"relays saw {done.get('failing_connects', 0)} connects, "
@@ -508,6 +533,8 @@ if __name__ == "__main__":
                    help="fleet: busy-looping processes holding the machine meanwhile")
     p.add_argument("--failing", type=int, default=0,
                    help="fleet: machines behind fault relays, failing in mixed ways")
+    p.add_argument("--profile", type=Path, default=None,
+                   help="fleet: cProfile of the center over the Modbus round 2, to this file")
     p.add_argument("--round-timeout", type=float, default=300.0,
                    help="fleet: longest wait for a round's maps, s")
     a = p.parse_args()
@@ -518,6 +545,14 @@ if __name__ == "__main__":
     elif a.what == "delivery":
         asyncio.run(delivery(a.delay_ms, a.repeats))
     elif a.what == "fleet":
+        if a.profile is not None:
+            PROFILE = cProfile.Profile()
+            try:
+                asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
+                                  a.round_timeout))
+            finally:
+                PROFILE.dump_stats(a.profile)
+            sys.exit(0)
         asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
                           a.round_timeout))
     else:

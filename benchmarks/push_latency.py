@@ -30,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from center_connections import (
     Fleet,
     center,
+    cpu_of,
     description,
     name_of,
     percentiles,
@@ -63,14 +64,16 @@ class Round:
     wall_s : float
         From the round's start to the last answer, s.
     cpu_s : float
-        This process's CPU time over the round (the center; the fleet is another
-        process), s.
+        This process's CPU time over the round (the center), s.
+    fleet_cpu_s : float
+        The fleet's process's CPU time over the round, s.
     """
 
     label: str
     deliveries: list[Delivery]
     wall_s: float
     cpu_s: float
+    fleet_cpu_s: float
 
     @property
     def applied(self) -> int:
@@ -104,21 +107,24 @@ async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[i
             got: list[Delivery] = []
             services.push.observers.append(got.append)
             fleet = Fleet(services.server.port, count)
-            t0, cpu0 = time.perf_counter(), time.process_time()
+            pid = fleet.proc.pid
+            t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
             ready = await fleet.ready()
             while len(got) < ready:
                 await asyncio.sleep(0.01)
             results = [Round("round 1 (at Welcome, all connecting)", list(got),
-                             time.perf_counter() - t0, time.process_time() - cpu0)]
+                             time.perf_counter() - t0, time.process_time() - cpu0,
+                             cpu_of(pid) - fcpu0)]
             for r in range(2, rounds + 1):
                 got.clear()
-                t0, cpu0 = time.perf_counter(), time.process_time()
+                t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
                 for name in list(services.push.connected()):
                     services.push.request(name, "benchmark", resend=True)
                 while len(got) < ready:
                     await asyncio.sleep(0.01)
                 results.append(Round(f"round {r} (re-push to all at once)", list(got),
-                                     time.perf_counter() - t0, time.process_time() - cpu0))
+                                     time.perf_counter() - t0, time.process_time() - cpu0,
+                                     cpu_of(pid) - fcpu0))
             await fleet.finish()
     return size, results
 
@@ -133,7 +139,8 @@ async def main(count: int, rounds: int, tolerance_um: float) -> None:
         p50, p99, pmax = percentiles(lat, 50, 99, 100)
         print(f"{r.label}: {len(lat)} acks in {r.wall_s:.2f} s, MapBegin->MapAck "
               f"p50 {1000 * p50:.1f} ms, p99 {1000 * p99:.1f} ms, max {1000 * pmax:.1f} ms; "
-              f"center CPU {r.cpu_s:.2f} s ({1000 * r.cpu_per_push_s:.2f} ms per push)"
+              f"center CPU {r.cpu_s:.2f} s ({1000 * r.cpu_per_push_s:.2f} ms per push), "
+              f"fleet CPU {r.fleet_cpu_s:.2f} s"
               f"{f', {bad} not applied' if bad else ''}")
 
 
