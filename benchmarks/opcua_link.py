@@ -228,7 +228,7 @@ async def center(n: int, workers: int, cycle_ms: float, peer_first: bool = False
               f"{total:.2f} s ({'met' if total <= 30.0 else 'MISSED'}: 30 s); "
               f"CPU per push SignAndEncrypt / None: "
               f"{secured['cpu_per_push_ms'] / peer['cpu_per_push_ms']:.2f}; retries "
-              f"{sum(m.retries for m in mems + plain)}")
+              f"{sum(m.busy_retries for m in mems + plain)}")
     finally:
         await asyncio.gather(*(m.close() for m in mems + plain))
         for p in procs:  # nothing left to measure: no orderly stop of 100 servers

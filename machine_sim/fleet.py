@@ -258,12 +258,15 @@ class Fleet:
         Controller cycle for every machine (their own by default; a coarser one lets a
         large fleet run on one core).
     backoff : Backoff, optional
+    state_dir : Path, optional
+        Where the Modbus-served PMCs keep their windows across restarts (one
+        ``<name>.pmc`` file each: the nonvolatile D area of protocol/README.md §13.1).
     """
 
     def __init__(self, entries: Sequence[FleetEntry],
                  center: tuple[str, int] | Sequence[tuple[str, int]] | None, *,
                  mqtt: MqttTarget | None = None, cycle_s: float | None = None,
-                 backoff: Backoff | None = None) -> None:
+                 backoff: Backoff | None = None, state_dir: Path | None = None) -> None:
         self.machines: list[SimulatedCNC] = []
         self.served: list[WindowCNC] = []
         for e in entries:
@@ -275,7 +278,7 @@ class Fleet:
                                                   seed=e.seed, mqtt=mqtt, cycle_s=cycle_s,
                                                   backoff=backoff))
             else:
-                self.served.append(served_machine(e, cycle_s))
+                self.served.append(served_machine(e, cycle_s, state_dir))
         self._stack = contextlib.AsyncExitStack()
 
     async def __aenter__(self) -> Fleet:
@@ -312,9 +315,11 @@ class Fleet:
         }
 
 
-def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
+def served_machine(e: FleetEntry, cycle_s: float | None = None,
+                   state_dir: Path | None = None) -> WindowCNC:
     """The simulated machine of an entry whose controller serves its window (a modbus or
-    opcua link): it listens at its own address (the entry's ``ip`` or the machine's)."""
+    opcua link): it listens at its own address (the entry's ``ip`` or the machine's). A
+    PMC keeps its window in ``state_dir/<name>.pmc`` when a directory is given."""
     link = dict(e.link or {})
     host = e.ip or e.machine.ip
     if e.link_kind == "modbus":
@@ -326,9 +331,12 @@ def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
         if order not in ("little", "big"):
             raise FleetSpecError(f"{e.machine.name}: byte_order little or big, got {order!r}")
 
+        nonvolatile = None if state_dir is None else state_dir / f"{e.machine.name}.pmc"
+
         def modbus(cnc: WindowCNC) -> ControllerServer:
             return PmcModbusServer(cnc, host=host, port=port, register=register,
-                                   byte_order=order)  # type: ignore[arg-type]
+                                   byte_order=order,  # type: ignore[arg-type]
+                                   nonvolatile=nonvolatile)
 
         return WindowCNC(e.machine, modbus, seed=e.seed, cycle_s=cycle_s)
     from .opcua_server import PLC_WRITER, OpcuaUser, sinumerik_server

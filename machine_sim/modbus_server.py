@@ -35,9 +35,10 @@ the center's switch word and slots) survives a power cycle (§13.1), and the PLC
 finds its last verdict and active buffer there at start-up (§13.3). ``nonvolatile``
 names a file that plays that memory for one machine: its contents are put into the
 window when the server is built (before the PLC program boots), and the window is
-written back to it (atomically) at most every ``flush_s`` while it changes, after every
-write request, and when the server stops. Without it the window starts empty at every
-start, as the memory of a fresh PMC.
+written back to it (atomically) when what a restart needs changed (anything but the
+heartbeat, positions and corrections, which change every scan), checked every
+``flush_s``, after every write request and when the server stops. Without it the
+window starts empty at every start, as the memory of a fresh PMC.
 
 The server is a small asyncio Modbus/TCP server of its own (MBAP framing is a 7-byte
 header): the stack it replaced answered only the first of pipelined requests and gave
@@ -51,6 +52,7 @@ import contextlib
 import logging
 import os
 import struct
+import zlib
 from pathlib import Path
 from typing import Final
 
@@ -188,7 +190,8 @@ class PmcModbusServer:
     nonvolatile : Path, optional
         The file that keeps the window across a power cycle (module docstring).
     flush_s : float
-        How often a changing window is written to ``nonvolatile`` at most, s.
+        How often the window is checked for a change worth keeping (anything but the
+        heartbeat, positions and corrections) and then written to ``nonvolatile``, s.
     """
 
     def __init__(self, cnc: WindowCNC, *, host: str = "127.0.0.1", port: int = 502,
@@ -204,7 +207,7 @@ class PmcModbusServer:
         self.area = PmcArea(cnc.window, register, byte_order, unit_id)
         self.nonvolatile = nonvolatile
         self.flush_s = float(flush_s)
-        self._saved = b""
+        self._saved_digest = -1
         if nonvolatile is not None:
             self._load(nonvolatile)
         self._server: asyncio.Server | None = None
@@ -228,19 +231,28 @@ class PmcModbusServer:
                         "layout changed starts empty)", path, len(data), len(window))
             return
         window[:] = data
-        self._saved = data
+        self._saved_digest = self._digest()
+
+    def _digest(self) -> int:
+        """CRC-32 of what a restart needs: the window but the heartbeat (bytes 64-67),
+        positions and applied corrections (84-147), which change every scan."""
+        w = self.area.window
+        crc = zlib.crc32(w[:64])
+        crc = zlib.crc32(w[68:84], crc)
+        return zlib.crc32(w[148:], crc)
 
     def flush(self) -> None:
-        """Write the window to the nonvolatile file if it changed (atomically)."""
+        """Write the window to the nonvolatile file if what a restart needs changed
+        (atomically: a file is always a whole window)."""
         if self.nonvolatile is None:
             return
-        data = bytes(self.area.window)
-        if data == self._saved:
+        digest = self._digest()
+        if digest == self._saved_digest:
             return
         tmp = self.nonvolatile.with_name(self.nonvolatile.name + ".tmp")
-        tmp.write_bytes(data)
+        tmp.write_bytes(bytes(self.area.window))
         os.replace(tmp, self.nonvolatile)
-        self._saved = data
+        self._saved_digest = digest
 
     async def _flush_loop(self) -> None:
         while True:

@@ -210,10 +210,20 @@ def sim_certificate(root: Path | None = None) -> tuple[bytes, bytes]:
     controller of a process: an RSA key costs ~0.1 CPU-s, a fleet of 100 would spend 10 s
     making keys no center tells apart (it keeps certificates per endpoint)."""
     root = root if root is not None else sim_pki_dir()
-    cert_path, key_path = root / "server.der", root / "server.key.pem"
+    path = root / "server.pem"  # certificate and key in one file: one atomic replace
     try:
-        return cert_path.read_bytes(), key_path.read_bytes()
-    except OSError:
+        return _split_pem(path.read_bytes())
+    except (OSError, ValueError):
+        pass
+    try:  # kept by an earlier version as two files: the same certificate, centers trust it
+        old = (root / "server.der").read_bytes(), (root / "server.key.pem").read_bytes()
+        cert = x509.load_der_x509_certificate(old[0])
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_bytes(cert.public_bytes(Encoding.PEM) + old[1])
+        tmp.chmod(0o600)
+        tmp.replace(path)
+        return _split_pem(path.read_bytes())
+    except (OSError, ValueError):
         pass
     key = cert_gen.generate_private_key()
     cert = cert_gen.generate_self_signed_app_certificate(
@@ -224,16 +234,22 @@ def sim_certificate(root: Path | None = None) -> tuple[bytes, bytes]:
     der, pem = cert.public_bytes(Encoding.DER), cert_gen.dump_private_key_as_pem(key)
     try:
         root.mkdir(parents=True, exist_ok=True)
-        tmp = key_path.with_suffix(f".{os.getpid()}.tmp")
-        tmp.write_bytes(pem)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_bytes(cert.public_bytes(Encoding.PEM) + pem)
         tmp.chmod(0o600)
-        cert_tmp = cert_path.with_suffix(f".{os.getpid()}.tmp")
-        cert_tmp.write_bytes(der)
-        cert_tmp.replace(cert_path)  # certificate first: a reader finding the key has both
-        tmp.replace(key_path)
-        return cert_path.read_bytes(), key_path.read_bytes()  # another process's, if it won
-    except OSError:
+        tmp.replace(path)
+        return _split_pem(path.read_bytes())  # another process's, if it won the race
+    except (OSError, ValueError):
         return der, pem  # not kept: this process's controllers still share it
+
+
+def _split_pem(data: bytes) -> tuple[bytes, bytes]:
+    """(certificate DER, private key PEM) of a file holding both, PEM."""
+    at = data.find(b"-----BEGIN PRIVATE KEY-----")
+    if at < 0:
+        raise ValueError("no private key")
+    cert = x509.load_pem_x509_certificate(data[:at])
+    return cert.public_bytes(Encoding.DER), data[at:]
 
 
 @dataclass(frozen=True)

@@ -33,7 +33,8 @@ __all__ = ["ST_SOURCES", "ST_VARIABLES", "WINDOW_CAPACITY", "StPlc", "StWindowCN
 PLC_DIR = ROOT / "plc"
 ST_SOURCES = tuple(PLC_DIR / f for f in (
     "ednc_types.st", "ednc_bytes.st", "ednc_names.st", "ednc_factored.st", "ednc_f64.st",
-    "ednc_grid.st", "ednc_thermal.st", "ednc_window.st", "ednc_program.st"))
+    "ednc_grid.st", "ednc_tables.st", "ednc_thermal.st", "ednc_window.st",
+    "ednc_program.st"))
 WINDOW_CAPACITY = 16_384
 """Payload bytes per buffer the program is built for (T_Window, T_Copy)."""
 MAX_AXES = 8

@@ -7,8 +7,8 @@ the y screw and an expansion on the column came out as an expansion on the y scr
 a drift on the column, each with the other's size), and a drift on the y screw beside
 a column expansion named on the spindle's sensor at a fifth of its size, the expansion
 left out; a drift and an expansion of opposite signs, which cancel over the middle of
-the travel, named as nothing at all. ``benchmarks/diagnosis_hit_rate.py
---thermal-pairs`` runs such pairs by the dozen.
+the travel, named as nothing at all. ``benchmarks/diagnosis_hit_rate.py --thermal-pairs``
+runs such pairs by the dozen.
 """
 
 from __future__ import annotations

@@ -33,6 +33,7 @@ from tests.support.integration import (
     diagnosed_spindle,
     follow_temperatures,
     spec,
+    until,
 )
 
 pytestmark = pytest.mark.slow
@@ -133,3 +134,40 @@ async def test_the_center_links_securely_by_default_and_warns_of_security_none(
         assert "security None" in clear and "clear text" in clear
         st = await plant.status(s2.name)
         assert st["connected"] is True
+
+
+async def test_a_mistyped_password_is_seen_within_seconds_without_a_login_storm(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """Issue 30: a plant engineer who mistypes the OPC UA password sees why within 10 s
+    (the link refused, reason login, the text naming the user) and the center does not
+    hammer the controller with logins meanwhile."""
+    monkeypatch.setenv("EDNC_TEST_OPCUA_WRONG", "plc-writer-pw-0124")
+    base = spec("vmc-06")
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        plant = await stack.enter_async_context(center(f"sqlite:///{tmp_path / 'c.db'}"))
+        cnc = await stack.enter_async_context(nc(base))
+        s = linked(base, cnc.server.port, password_ref="env:EDNC_TEST_OPCUA_WRONG")
+        internal = cnc.server._internal  # type: ignore[attr-defined]
+        logins: list[str] = []
+        check = internal.user_manager.get_user
+
+        def counted(*args: Any, **kw: Any) -> Any:
+            logins.append(str(kw.get("username")))
+            return check(*args, **kw)
+
+        internal.user_manager.get_user = counted
+        loop = asyncio.get_running_loop()
+        t0 = loop.time()
+        await plant.register(s)
+
+        async def refused() -> bool:
+            st = await plant.status(s.name)
+            return bool(st["link_state"] == "refused" and st["link_reason"] == "login")
+
+        async with asyncio.timeout(10.0):
+            await until(refused, 0.2)
+        seen = loop.time() - t0
+        st = await plant.status(s.name)
+        assert "login as 'ednc' refused" in st["link_text"], st
+        await asyncio.sleep(max(0.0, 20.0 - seen))
+        assert 1 <= logins.count("ednc") <= 4, logins  # paced: not a login per second

@@ -121,3 +121,12 @@ async def test_a_map_the_plc_reports_applied_is_not_sent_again(tmp_path: Path) -
         await asyncio.sleep(2.0)  # the push worker's first look at the new session
         assert faults.switch_writes == switches, "the applied map was sent again"
         assert len(await plant.deliveries(s.name)) == 1
+
+
+def test_pushes_count_against_the_budget_too() -> None:
+    pacer = Pacer(rng=random.Random(3))
+    for k in range(ATTEMPTS_PER_MINUTE):  # a healthy session pushing, failing, again
+        pacer.pushed(10.0 * k)
+    assert pacer.delay(35.0) == pytest.approx(25.0)  # 60 s after the oldest of the four
+    pacer.pushed(61.0)
+    assert pacer.delay(61.0) == pytest.approx(9.0)

@@ -14,6 +14,7 @@ from pathlib import Path
 
 import pytest
 
+from machine_sim.fleet import generated_fleet, served_machine
 from machine_sim.modbus_server import PmcArea, PmcModbusServer
 from machine_sim.windowcnc import WindowCNC
 from protocol.ctrlmem import (
@@ -166,3 +167,13 @@ async def test_a_restart_applies_the_active_buffer_again(tmp_path: Path) -> None
     nv.write_bytes(b"\0" * 10)
     async with _pmc(nv) as (cnc, _srv):
         assert cnc.runtime.controller.store.version == 0
+
+
+def test_a_fleet_gives_each_pmc_its_nonvolatile_file(tmp_path: Path) -> None:
+    """``ednc sim --state-dir DIR``: each Modbus-served PMC keeps its window in
+    DIR/<name>.pmc."""
+    entries = generated_fleet(2, "a-secret-of-16-bytes", link="modbus")
+    served = [served_machine(e, None, tmp_path) for e in entries]
+    paths = [getattr(cnc.server, "nonvolatile", None) for cnc in served]
+    assert paths == [tmp_path / f"{e.machine.name}.pmc" for e in entries]
+    assert getattr(served_machine(entries[0]).server, "nonvolatile", 1) is None

@@ -27,58 +27,12 @@ from server.links.window.memory import LinkError
 from server.schemas.link import OpcuaLink
 from tests.support.cli import ednc
 from tests.support.integration import spec
+from tests.support.relay import Relay, appears
 
 pytestmark = pytest.mark.timeout(300)
 
 PASSWORD = "Plc-Writer-7f3a9c"  # distinctive: found only where it really is
 USERS = {"ednc": OpcuaUser(PASSWORD, PLC_WRITER)}
-
-
-class Relay:
-    """A TCP relay to ``upstream`` keeping what passes each way (``to_server``,
-    ``to_client``); ``upstream`` may be changed between connections."""
-
-    def __init__(self, upstream: int) -> None:
-        self.upstream = upstream
-        self.to_server = bytearray()
-        self.to_client = bytearray()
-        self.port = 0
-        self._server: asyncio.Server | None = None
-        self._tasks: set[asyncio.Task[None]] = set()
-
-    async def __aenter__(self) -> Relay:
-        self._server = await asyncio.start_server(self._serve, "127.0.0.1", 0)
-        self.port = self._server.sockets[0].getsockname()[1]
-        return self
-
-    async def __aexit__(self, *exc: object) -> None:
-        assert self._server is not None
-        self._server.close()
-        for t in list(self._tasks):
-            t.cancel()
-        await asyncio.gather(*self._tasks, return_exceptions=True)
-
-    @property
-    def endpoint(self) -> str:
-        return f"opc.tcp://127.0.0.1:{self.port}"
-
-    async def _serve(self, reader: asyncio.StreamReader, writer: asyncio.StreamWriter
-                     ) -> None:
-        up_r, up_w = await asyncio.open_connection("127.0.0.1", self.upstream)
-
-        async def pipe(r: asyncio.StreamReader, w: asyncio.StreamWriter,
-                       keep: bytearray) -> None:
-            with contextlib.suppress(ConnectionError):
-                while data := await r.read(65536):
-                    keep += data
-                    w.write(data)
-                    await w.drain()
-            w.close()
-
-        for t in (asyncio.create_task(pipe(reader, up_w, self.to_server)),
-                  asyncio.create_task(pipe(up_r, writer, self.to_client))):
-            self._tasks.add(t)
-            t.add_done_callback(self._tasks.discard)
 
 
 @pytest.fixture(autouse=True)
@@ -97,10 +51,6 @@ async def controller(**kw: object) -> AsyncIterator[WindowCNC]:
 def link(endpoint: str, **kw: object) -> OpcuaLink:
     return OpcuaLink.model_validate({"kind": "opcua", "endpoint": endpoint, "user": "ednc",
                                      "password_ref": "env:OPCUA_SEC_PW", **kw})
-
-
-def appears(secret: str, data: bytes) -> bool:
-    return any(secret.encode(enc) in data for enc in ("utf-8", "utf-16-le", "utf-16-be"))
 
 
 async def test_the_password_never_crosses_the_wire_in_clear_by_default() -> None:
@@ -193,6 +143,7 @@ async def test_a_changed_controller_certificate_is_refused_until_trusted(
         with pytest.raises(LinkError, match=r"certificate changed.*refused") as err:
             await mem.connect()
         assert thumbprint(cert_b.read_bytes()) in str(err.value)
+        assert (err.value.state, err.value.reason) == ("refused", "server_certificate")
         (rejected,) = pki.rejected_dir.iterdir()
         assert rejected.read_bytes() == cert_b.read_bytes()
         pki.trusted_dir.mkdir(parents=True, exist_ok=True)
@@ -241,7 +192,7 @@ async def test_sessions_never_activated_do_not_lock_the_center_out() -> None:
                     await m.connect()
                 with pytest.raises(LinkError, match="BadTooManySessions"):
                     await full[10].connect()
-                assert full[10].retries == 1  # asked again once, then refused
+                assert full[10].busy_retries == 1  # asked again once, then refused
             finally:
                 for m in full:
                     await m.close()
@@ -261,7 +212,7 @@ async def test_busy_answers_are_retried_within_the_session() -> None:
                 await mem.write(256, data)
                 assert await mem.read(256, 4) == data
             internal = cnc.server._internal  # type: ignore[attr-defined]
-            assert internal.busy_answers > 5 and mem.retries >= internal.busy_answers - 2
+            assert internal.busy_answers > 5 and mem.busy_retries >= internal.busy_answers - 2
             client = mem._client
             assert client is not None  # the same session throughout
         finally:
@@ -275,7 +226,7 @@ async def test_busy_answers_are_retried_within_the_session() -> None:
         try:
             with pytest.raises(LinkError, match=r"busy.*BadResourceUnavailable"):
                 await mem.read(0, 4)
-            assert mem.retries == 3
+            assert mem.busy_retries == 3
         finally:
             await mem.close()
 
@@ -362,9 +313,9 @@ async def test_each_transient_answer_is_asked_again_and_others_are_not() -> None
                 raise ua.UaStatusCodeError(got)
             return got
 
-        before = mem.retries
+        before = mem.busy_retries
         assert await mem._call(request, "read", 0, 4, lambda _: []) == "ok"
-        assert mem.retries - before == 2, name
+        assert mem.busy_retries - before == 2, name
     # a node answered busy inside a good response is asked again too
     busy = ua.StatusCode(ua.StatusCodes.BadResourceUnavailable)
     codes = [[busy, ua.StatusCode()], [ua.StatusCode(), ua.StatusCode()]]
@@ -404,8 +355,10 @@ async def test_a_controller_busy_for_30_percent_of_its_answers_applies_every_map
                         controller="siemens")
     async with controller(busy=0.3, seed=11) as cnc:
         mem = OpcuaMemory.from_link(link(f"opc.tcp://127.0.0.1:{cnc.server.port}"))
+        told: list[tuple[str, str]] = []
         session = ControllerSession(m.name, "127.0.0.1", Controller.SIEMENS, m.axis_names,
-                                    mem, link="opcua", chain=m.chain, poll_s=0.1)
+                                    mem, link="opcua", chain=m.chain, poll_s=0.1,
+                                    on_condition=lambda c: told.append((c.reason, c.text)))
         await session.open()
         runner = asyncio.create_task(session.run())
         try:
@@ -415,7 +368,10 @@ async def test_a_controller_busy_for_30_percent_of_its_answers_applies_every_map
                 assert verdict.applied and verdict.version == version
             assert session.closed_because is None  # one session throughout
             internal = cnc.server._internal  # type: ignore[attr-defined]
-            assert internal.busy_answers >= 30 and mem.retries >= internal.busy_answers - 2
+            assert internal.busy_answers >= 30 and mem.busy_retries >= internal.busy_answers - 2
+            # shown, not hidden: the link connected with reason busy, what was answered
+            busy = [text for reason, text in told if reason == "busy"]
+            assert busy and "BadResourceUnavailable" in busy[0], told
         finally:
             session.abort(None, "test over")
             await runner
@@ -446,3 +402,52 @@ async def test_a_server_that_does_not_resolve_the_path_is_named_as_such() -> Non
                 await mem.read(0, 64)
         finally:
             await mem.close()
+
+
+def test_the_simulated_controllers_keep_one_certificate(tmp_path: Path) -> None:
+    from cryptography import x509
+    from cryptography.hazmat.primitives import serialization
+
+    from machine_sim.opcua_server import sim_certificate
+
+    der, pem = sim_certificate(tmp_path / "sim")
+    assert (tmp_path / "sim" / "server.pem").exists()
+    sim_certificate.cache_clear()  # another process: reads the same back
+    assert sim_certificate(tmp_path / "sim") == (der, pem)
+    key = serialization.load_pem_private_key(pem, None)
+    public = serialization.Encoding.DER, serialization.PublicFormat.SubjectPublicKeyInfo
+    assert key.public_key().public_bytes(*public) == \
+        x509.load_der_x509_certificate(der).public_key().public_bytes(*public)
+
+
+async def test_each_failure_says_its_state_and_reason(tmp_path: Path) -> None:
+    """The classification the link state shows (server/links/state.py), given where the
+    failure is known."""
+    users = {**USERS, "viewer": OpcuaUser("view-pw", frozenset({"SinuReadAll"}))}
+    m = spec("vmc-06").machine
+    async with WindowCNC(m, sinumerik_server(users), cycle_s=0.02) as cnc:
+        url = f"opc.tcp://127.0.0.1:{cnc.server.port}"
+
+        async def failure(mem: OpcuaMemory, *, write: bool = False) -> tuple[str, str]:
+            with pytest.raises(LinkError) as err:
+                await mem.connect()
+                try:
+                    if write:
+                        await mem.write(256, b"\x00\x01")
+                finally:
+                    await mem.close()
+            return err.value.state, err.value.reason
+
+        wrong = OpcuaMemory(url, "ednc", "env:OPCUA_SEC_PW", password="not-it")
+        assert await failure(wrong) == ("refused", "login")
+        unset = OpcuaMemory(url, "ednc", "env:OPCUA_UNSET_PW")
+        assert await failure(unset) == ("refused", "password_ref")
+        viewer = OpcuaMemory(url, "viewer", "env:X", password="view-pw")
+        assert await failure(viewer, write=True) == ("refused", "rights")
+        nobody = OpcuaMemory("opc.tcp://127.0.0.1:9", "ednc", "env:OPCUA_SEC_PW",
+                             timeout_s=2.0)
+        assert await failure(nobody) == ("unreachable", "connect")
+    async with controller(security_modes=("None",)) as cnc:
+        only_none = OpcuaMemory(f"opc.tcp://127.0.0.1:{cnc.server.port}", "ednc",
+                                "env:OPCUA_SEC_PW")
+        assert await failure(only_none) == ("refused", "security")

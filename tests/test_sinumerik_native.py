@@ -40,6 +40,7 @@ from server.links.sdwrites import (
 from server.links.sinumerik_sd import SdFollower, SdSession
 from tests.support import cec_eval
 from tests.support.integration import center
+from tests.support.relay import Relay, appears
 from volumetric.compensate.cec import cec_export
 from volumetric.compensate.cec_check import tool_tip
 from volumetric.compensate.cec_text import CecFile, cec_text
@@ -265,6 +266,29 @@ def test_the_nc_applies_sd4390x_as_md32750_enables_them_at_md32760s_rate() -> No
     with pytest.raises(SiemensAlarm, match="outside"):
         nc.write_sd(SD_ABS_VALUE, "x", 0.6)
     assert [r.accepted for r in nc.sd_log] == [True] * 3 + [False] * 4
+
+
+async def test_the_sd_password_never_crosses_the_wire_in_clear_by_default() -> None:
+    """The setting-data link logs in as the window link does: Basic256Sha256
+    SignAndEncrypt by default (a relay between center and NC sees no password, nor the
+    values written); security None only when asked, and then the relay sees it."""
+    m = parse_machine({"name": "vmc", "controller": "siemens", "ip": "127.0.0.1",
+                       "chain": "w X Y b Z t", "tool_length_mm": 100.0,
+                       "travel_mm": {"x": [0, 800], "y": [0, 500], "z": [-500, 0]}})
+    password = "Sea-Writer-4b9e1d"  # distinctive: found only where it really is
+    async with NativeSinumerik(m, {"ednc": OpcuaUser(password, SEA_WRITER)}) as cnc:
+        port = int(cnc.endpoint.rsplit(":", 1)[1])
+        for mode, seen in (("SignAndEncrypt", False), (None, True)):
+            async with Relay(port) as relay:
+                session = SdSession(relay.endpoint, "ednc", password, m.axis_names,
+                                    security_mode=mode)
+                await session.connect()
+                try:
+                    await session.read()
+                finally:
+                    await session.close()
+                assert len(relay.to_server) > 1000  # the login went through the relay
+                assert appears(password, bytes(relay.to_server)) is seen, mode
 
 
 async def test_over_opc_ua_refusals_say_what_to_fix_and_the_rest_is_written() -> None:

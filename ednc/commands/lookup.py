@@ -272,9 +272,10 @@ def register(app: typer.Typer) -> None:
             check_travel(q, axes, given, map_travel(p, axes))
         unread = unread_sensors(p, temperatures)
         if unread:
+            them, their = ("it", "its") if len(unread) == 1 else ("them", "their")
             typer.echo(f"note: no temperature of {', '.join(unread)}: the machine never read "
-                       "it, so its thermal records add 0 (--temperature SENSOR=°C to give "
-                       "one)", err=True)
+                       f"{them}, so {their} thermal records add 0 (--temperature "
+                       "SENSOR=°C to give one)", err=True)
         corr = evaluate(p, q, axes, temperatures, neg if directed else None)
         keys = [a.lower() for a in axes]
         if as_json:

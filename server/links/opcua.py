@@ -117,16 +117,17 @@ def read_password(ref: str, user: str) -> str:
         value = os.environ.get(where)
         if value is None:
             raise LinkError(f"password of OPC UA user {user!r}: environment variable "
-                            f"{where} is not set")
+                            f"{where} is not set", state="refused", reason="password_ref")
         return value
     if kind == "file":
         try:
             return Path(where).read_text(encoding="utf-8").rstrip("\r\n")
         except (OSError, UnicodeDecodeError) as e:
             raise LinkError(f"password of OPC UA user {user!r}: cannot read {where} "
-                            f"({e.__class__.__name__})") from None
+                            f"({e.__class__.__name__})", state="refused",
+                            reason="password_ref") from None
     raise LinkError(f"password of OPC UA user {user!r}: reference {ref!r} is neither "
-                    "env:NAME nor file:/path")
+                    "env:NAME nor file:/path", state="refused", reason="password_ref")
 
 
 def _mode(mode: str) -> ua.MessageSecurityMode:
@@ -167,7 +168,8 @@ async def secure_client(client: Client, endpoint: str, *, mode: str = "SignAndEn
             key = await uacrypto.load_private_key(private_key)
         except (OSError, ValueError) as e:
             raise LinkError(f"{endpoint}: client_certificate or client_private_key cannot "
-                            f"be read ({e.__class__.__name__})") from None
+                            f"be read ({e.__class__.__name__})",
+                            reason="center_certificate") from None
     else:
         # made or read once per process (a thread: 0.1-1 s of key generation, once)
         identity = await asyncio.to_thread(pki.identity) if pki.pending else pki.identity()
@@ -200,7 +202,7 @@ async def _server_certificate(client: Client, endpoint: str, mode: str, uri: str
                                  f"{e.SecurityMode.name.rstrip('_')}" for e in endpoints}))
         raise LinkError(f"{endpoint}: the controller does not offer Basic256Sha256 {mode} "
                         f"(it offers {have or 'nothing'}): enable it on the controller, or "
-                        "set the link's security_mode")
+                        "set the link's security_mode", state="refused", reason="security")
     der = uacrypto.x509_from_der(  # type: ignore[no-untyped-call]
         offered[0].ServerCertificate)  # the first of a chain
     return bytes(der.public_bytes(serialization.Encoding.DER))
@@ -257,11 +259,12 @@ def _status_name(e: BaseException) -> str | None:
 
 
 class _Transient(Exception):
-    """A busy answer (:data:`TRANSIENT`): ask again after a while."""
+    """A busy answer (:data:`TRANSIENT`): ask again after a while; ``error`` if not."""
 
-    def __init__(self, text: str) -> None:
-        super().__init__(text)
-        self.text = text
+    def __init__(self, error: LinkError) -> None:
+        super().__init__(str(error))
+        self.text = str(error)
+        self.error = error
 
 
 def _jittered(delay_s: float) -> float:
@@ -346,8 +349,11 @@ class OpcuaMemory:
         self.timeout_s = float(timeout_s)
         self.block = block
         self.retry_delays_s = tuple(retry_delays_s)
-        self.retries = 0
-        """Requests asked again after a transient answer (for tests and metrics)."""
+        self.busy_retries = 0
+        """Requests asked again after a transient answer (the window session shows the
+        link busy while this grows)."""
+        self.busy_note = ""
+        """The last transient answer, for the operator."""
         self._notices: list[str] = []
         self._client: Client | None = None
         if insecure and (endpoint, user) not in _warned_insecure:
@@ -412,8 +418,9 @@ class OpcuaMemory:
                 return
             except _Transient as e:
                 if attempt == len(self.retry_delays_s):
-                    raise LinkError(e.text) from None
-                self.retries += 1
+                    raise e.error from None
+                self.busy_retries += 1
+                self.busy_note = e.text
                 await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
 
     async def _connect_once(self, password: str) -> Client:
@@ -441,11 +448,11 @@ class OpcuaMemory:
                     and await self._recheck_certificate():
                 # the kept certificate is not the controller's any more, and its new one
                 # is trusted (the refusal of an untrusted one was raised): again with it
-                raise _Transient(f"{self.endpoint}: the controller's certificate was "
-                                 "renewed") from None
+                raise _Transient(LinkError(f"{self.endpoint}: the controller's certificate "
+                                           "was renewed", transient=True)) from None
             if name in TRANSIENT:
                 raise _Transient(self._login_error(e)) from None
-            raise LinkError(self._login_error(e)) from None
+            raise self._login_error(e) from None
         return client
 
     async def _secure(self, client: Client) -> bool:
@@ -462,19 +469,27 @@ class OpcuaMemory:
                                          trust=self.trust, pki=self.pki,
                                          timeout_s=self.timeout_s)
 
-    def _login_error(self, e: BaseException) -> str:
+    def _login_error(self, e: BaseException) -> LinkError:
+        """A failed login as a classified :class:`LinkError` (state and reason for the
+        operator: a status code's name is its reason)."""
         name = _status_name(e)
         where = self.endpoint
         if name == "BadUserAccessDenied":
-            return (f"{where}: login as {self.user!r} refused (BadUserAccessDenied): wrong "
-                    "user or password")
+            return LinkError(f"{where}: login as {self.user!r} refused (BadUserAccessDenied): "
+                             "wrong user or password", state="refused", reason="login")
+        if name in TRANSIENT:
+            return LinkError(f"{where}: {_HINTS.get(name, 'busy')} ({name})", state="failed",
+                             reason=name, transient=True)
         if name is not None:
-            return f"{where}: {_HINTS.get(name, 'refused')} ({name})"
+            return LinkError(f"{where}: {_HINTS.get(name, 'refused')} ({name})",
+                             state="refused", reason=name)
         if isinstance(e, TimeoutError):
-            return f"{where}: no answer within {self.timeout_s * 2:g} s"
+            return LinkError(f"{where}: no answer within {self.timeout_s * 2:g} s",
+                             state="unreachable", reason="no_answer")
         if isinstance(e, OSError):
-            return f"{where}: cannot connect ({e.strerror or e.__class__.__name__})"
-        return f"{where}: {e.__class__.__name__}: {e}"
+            return LinkError(f"{where}: cannot connect ({e.strerror or e.__class__.__name__})",
+                             state="unreachable", reason="connect")
+        return LinkError(f"{where}: {e.__class__.__name__}: {e}", reason="login_failed")
 
     async def close(self) -> None:
         """End the session (never raises)."""
@@ -491,7 +506,8 @@ class OpcuaMemory:
 
     def _session(self) -> Client:
         if self._client is None:
-            raise LinkError(f"{self.endpoint}: not connected")
+            raise LinkError(f"{self.endpoint}: not connected", state="unreachable",
+                            reason="connection_lost")
         return self._client
 
     # -- the window
@@ -592,12 +608,14 @@ class OpcuaMemory:
                 answer = await self._call_once(request, what, offset, size)
             except _Transient as e:
                 if last:
-                    raise LinkError(e.text) from None
+                    raise e.error from None
+                self.busy_note = e.text
             else:
                 busy = [c.name for c in codes(answer) if c is not None and c.name in TRANSIENT]
                 if not busy or last:
                     return answer
-            self.retries += 1
+                self.busy_note = str(self._refused(busy[0], what, offset, size))
+            self.busy_retries += 1
             await asyncio.sleep(_jittered(self.retry_delays_s[attempt]))
         raise AssertionError("unreachable")  # the last attempt returned or raised
 
@@ -613,23 +631,31 @@ class OpcuaMemory:
             if name in TRANSIENT:
                 raise _Transient(self._refused(name, what, offset, size)) from None
             if name is not None:
-                raise LinkError(self._refused(name, what, offset, size)) from None
+                raise self._refused(name, what, offset, size) from None
             if isinstance(e, TimeoutError):
                 raise LinkError(f"{self.endpoint}: {what} of {self._db} byte {offset}: no "
-                                f"answer within {self.timeout_s:g} s") from None
+                                f"answer within {self.timeout_s:g} s", state="unreachable",
+                                reason="no_answer") from None
             raise LinkError(f"{self.endpoint}: {what} of {self._db} byte {offset}: "
-                            f"connection lost ({e.__class__.__name__})") from None
+                            f"connection lost ({e.__class__.__name__})", state="unreachable",
+                            reason="connection_lost") from None
 
     def _good(self, code: ua.StatusCode | None, what: str, offset: int, size: int) -> None:
         if code is not None and not code.is_good():
-            raise LinkError(self._refused(code.name, what, offset, size))
+            raise self._refused(code.name, what, offset, size)
 
-    def _refused(self, name: str, what: str, offset: int, size: int) -> str:
+    def _refused(self, name: str, what: str, offset: int, size: int) -> LinkError:
+        """A request answered with status ``name``, classified: a missing right and the
+        controller's other refusals are ``refused``, busy answers ``failed`` and
+        transient."""
         where = f"{self.endpoint}: {what} of {self._db} bytes {offset}..{offset + size - 1}"
         if name == "BadUserAccessDenied":
             right = "PlcWrite" if what == "write" else "SinuReadAll"
-            return f"{where}: user {self.user!r} lacks {right} (BadUserAccessDenied)"
-        return f"{where}: {_HINTS.get(name, 'refused')} ({name})"
+            return LinkError(f"{where}: user {self.user!r} lacks {right} "
+                             "(BadUserAccessDenied)", state="refused", reason="rights")
+        busy = name in TRANSIENT
+        return LinkError(f"{where}: {_HINTS.get(name, 'refused')} ({name})",
+                         state="failed" if busy else "refused", reason=name, transient=busy)
 
     # -- telemetry
 
@@ -664,7 +690,9 @@ class OpcuaMemory:
                     name = dv.StatusCode.name
                     hint = (f"user {self.user!r} lacks SinuReadAll"
                             if name == "BadUserAccessDenied" else _HINTS.get(name, "refused"))
-                    raise LinkError(f"{self.endpoint}: read of {node}: {hint} ({name})")
+                    raise LinkError(f"{self.endpoint}: read of {node}: {hint} ({name})",
+                                    state="refused",
+                                    reason="rights" if name == "BadUserAccessDenied" else name)
                 v = dv.Value.Value if dv.Value is not None else None
                 if not isinstance(v, (int, float)) or isinstance(v, bool):
                     raise LinkError(f"{self.endpoint}: {node} holds {type(v).__name__}, "

@@ -217,10 +217,10 @@ class Pki:
             except (OSError, ValueError, TypeError) as e:
                 raise LinkError(f"the center's OPC UA certificate in {self.own_dir} cannot "
                                 f"be read ({e.__class__.__name__}): move the folder away "
-                                "to make a new one (controllers must then trust it again)"
-                                ) from None
+                                "to make a new one (controllers must then trust it again)",
+                                reason="center_certificate") from None
             if not isinstance(key, rsa.RSAPrivateKey):
-                raise LinkError(f"{key_path}: not an RSA key")
+                raise LinkError(f"{key_path}: not an RSA key", reason="center_certificate")
             return CenterIdentity(cert, key, der, cert_path, False)
         host = socket.gethostname() or "localhost"
         key, cert = _make_certificate(CENTER_URI, host)
@@ -236,7 +236,7 @@ class Pki:
         except OSError as e:
             raise LinkError(f"cannot keep the center's OPC UA certificate in "
                             f"{self.own_dir}: {e.strerror}; set {PKI_ENV} to a writable "
-                            "folder") from None
+                            "folder", reason="center_certificate") from None
         log.info("made the center's OPC UA certificate %s (thumbprint %s): add it to "
                     "each controller's trusted clients", cert_path, thumbprint(der))
         return CenterIdentity(cert, key, der, cert_path, True)
@@ -296,7 +296,8 @@ class Pki:
             where = self._reject(endpoint, der)
             raise LinkError(f"{endpoint}: the controller's certificate (thumbprint "
                             f"{print_}) is not in the trust list {self.trusted_dir}; if it "
-                            f"is the controller's, move {where} there")
+                            f"is the controller's, move {where} there", state="refused",
+                            reason="server_certificate")
         kept = self.pinned(endpoint)
         if kept is not None:
             if kept == der:
@@ -307,7 +308,8 @@ class Pki:
                 f"trusted on first use: {thumbprint(kept)}); refused, it may be another "
                 f"machine or an interception. If the controller's certificate was renewed, "
                 f"move {where} into {self.trusted_dir} or delete "
-                f"{self.servers_dir / (_endpoint_file(endpoint) + '.der')}")
+                f"{self.servers_dir / (_endpoint_file(endpoint) + '.der')}",
+                state="refused", reason="server_certificate")
         self._pin(endpoint, der)
         return True
 
@@ -317,7 +319,8 @@ class Pki:
             (self.servers_dir / f"{_endpoint_file(endpoint)}.der").write_bytes(der)
         except OSError as e:
             raise LinkError(f"{endpoint}: cannot keep the controller's certificate in "
-                            f"{self.servers_dir}: {e.strerror}") from None
+                            f"{self.servers_dir}: {e.strerror}",
+                            reason="server_certificate") from None
 
     def _reject(self, endpoint: str, der: bytes) -> Path:
         path = self.rejected_dir / f"{_endpoint_file(endpoint)}-{thumbprint(der)[:16]}.der"

@@ -240,7 +240,10 @@ class NativeSdLinks:
         # asyncua is imported only where OPC UA is used (as server.links.window.service does)
         from server.links.sinumerik_sd import SdFollower, SdSession
 
-        session = SdSession(spec.endpoint, spec.user, password, axes, sd_nodes=spec.sd_nodes)
+        secure = "None" not in (spec.security_policy, spec.security_mode)
+        session = SdSession(spec.endpoint, spec.user, password, axes, sd_nodes=spec.sd_nodes,
+                            security_mode=spec.security_mode if secure else None,
+                            trust=spec.trust)
         terms = await self.center.db.run(_terms, machine_id)
         follower = SdFollower(name, session, terms,
                               limits=TempCompLimits(spec.max_offset_mm, spec.max_slope),

@@ -43,6 +43,8 @@ from asyncua.client.client import Client
 from asyncua.ua.attribute_ids import AttributeIds
 
 from protocol.backoff import Backoff
+from server.links.opcua import secure_client
+from server.links.opcuapki import TrustMode
 from server.links.sdwrites import (
     SD_ABS_VALUE,
     SD_REF_POSITION,
@@ -119,12 +121,24 @@ class SdSession:
     namespace : int
         Namespace index of the BTSS paths (2 on a SINUMERIK).
     timeout_s : float
+    security_mode : {"SignAndEncrypt", "Sign"} or None
+        Basic256Sha256 with the center's certificate (as the window link,
+        :func:`server.links.opcua.secure_client`); None only when the link asks for
+        security None: the password then crosses the network in clear (warned).
+    trust : {"first_use", "list"}
+        How the controller's certificate is trusted.
     """
 
     def __init__(self, endpoint: str, user: str, password: str, axes: Sequence[str], *,
                  sd_nodes: Mapping[str, str] | None = None, namespace: int = 2,
-                 timeout_s: float = 5.0) -> None:
+                 timeout_s: float = 5.0, security_mode: str | None = "SignAndEncrypt",
+                 trust: TrustMode = "first_use") -> None:
         self.endpoint = endpoint
+        self.security_mode = security_mode
+        self.trust: TrustMode = trust
+        if security_mode is None:
+            log.warning("%s: security None: the password of %r crosses the network in "
+                        "clear", endpoint, user)
         self.user = user
         self._password = password
         self.axes = [a.upper() for a in axes]
@@ -151,7 +165,13 @@ class SdSession:
         client.set_password(self._password)
         try:
             async with asyncio.timeout(self.timeout_s * 2):
+                if self.security_mode is not None:
+                    await secure_client(client, self.endpoint, mode=self.security_mode,
+                                        trust=self.trust)
                 await client.connect()
+        except LinkError:
+            client.disconnect_socket()
+            raise
         except Exception as e:  # asyncua raises many kinds; each becomes one line
             client.disconnect_socket()
             name = _status_name(e)

@@ -116,6 +116,13 @@ class SinumerikSdLink(BaseModel):
     model_config = ConfigDict(extra="forbid")
     kind: Literal["sinumerik_sd"]
     endpoint: Annotated[str, Field(pattern=r"^opc\.tcp://[^\s]+$", max_length=300)]
+    security_policy: Literal["None", "Basic256Sha256"] = Field(
+        default="Basic256Sha256", description="None (either field) only if asked: the "
+        "password then crosses the network in clear, with a warning")
+    security_mode: Literal["None", "Sign", "SignAndEncrypt"] = "SignAndEncrypt"
+    trust: Literal["first_use", "list"] = Field(
+        default="first_use", description="the controller's certificate: kept on first use, "
+        "or only those in the center's trust list (server/links/opcuapki.py)")
     user: Annotated[str, Field(min_length=1, max_length=64,
                                description="an OPC UA user with SeaWrite and SinuReadAll")]
     password_ref: Annotated[str, Field(

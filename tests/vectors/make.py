@@ -1,6 +1,6 @@
 """Writes the test vectors of protocol/README.md section 6 (run from the repository root):
 
-    PYTHONPATH=. .venv/bin/python tests/vectors/make.py
+    PYTHONPATH=. .venv/bin/python tests/vectors/make.py [NAME ...]   # all, or: tables
 
 Each ``<name>.bin`` is a map payload as the machine receives it; ``<name>.json`` gives the
 temperatures, the points (in mm or degrees and in counts), the approach direction of each
@@ -373,12 +373,46 @@ def window() -> None:
     (HERE / "window.json").write_text(json.dumps(body, indent=1) + "\n")
 
 
+def tables() -> None:
+    """The factored vector's machine and errors as a tables map (format version 2), the
+    center's build re-encoded in int32 counts of 0.001 mm (the center sends tables maps
+    as float32; a PLC writing counts to its NC takes them as int32): the counts are
+    ``ednc lookup``'s (machine_sim/chaineval.py), rounded half up."""
+    from dataclasses import replace
+
+    from machine_sim.lookup import TablesMap
+    from protocol import OutputAxis as Out
+    from protocol.maptables import decode_tables, encode_tables
+    from server.mapcodec import build_for
+    m = parse_machine({**TRUNNION, "name": "trunnion-t", "controller": "fanuc"})
+    geo = errors(m, np.random.default_rng(2024), 5.0)
+    model = MachineModel(m.name, geo, (*THERMAL, BacklashTerm("x", 6.0),
+                                       BacklashTerm("y", 4.0)))  # rotary: not in tables
+    built = decode_tables(encode(build_for(m, model, None, kind="tables", tolerance_um=0.5,
+                                           formats=MapEncoding.FLOAT32_MM
+                                           | MapEncoding.TABLES)))
+    p = replace(built, encoding=MapEncoding.INT32_INCREMENTS, increment_mm=0.001,
+                outputs=tuple(Out(o.name, None if o.reversal is None
+                                  else round(o.reversal / 0.001)) for o in built.outputs))
+    payload = encode_tables(p)
+    tm = TablesMap.from_payload(decode_tables(payload), TEMPERATURES)
+    axes = list(tm.grid)
+    reversal = np.array([0 if o.reversal is None else o.reversal for o in p.outputs])
+    q = _points(m.travel_lo, m.travel_hi, np.random.default_rng(3), 40)
+    order = [m.axis_names.index(a.lower()) if a.lower() in m.axis_names
+             else m.axis_names.index(a) for a in axes]
+    q = q[:, order]
+    _write("tables_5axis", payload, axes, 1000, q,
+           lambda x: np.rint(tm.lookup(x) / 0.001).astype(np.int64), reversal, "tables",
+           "the factored vector's 5-axis trunnion as an int32 tables map, two thermal "
+           "records, reversal on X and Y", {a: _travel(m)[a] for a in axes})
+
+
 def main() -> None:
-    factored()
-    grid()
-    grid_ties()
-    rules()
-    window()
+    makers = {"factored": factored, "grid": grid, "grid_ties": grid_ties, "rules": rules,
+              "window": window, "tables": tables}
+    for name in sys.argv[1:] or list(makers):
+        makers[name]()
 
 
 if __name__ == "__main__":

@@ -89,7 +89,12 @@ Procedure (``ednc diagnose``):
    candidate gains well under 1 %; a real effect of the smallest realistic size gains tens
    of per cent. Sensors whose temperatures move together cannot be told apart by any data:
    the runners-up of the same effect and axis within ``TIE`` of the best are listed as
-   ``alternatives``.
+   ``alternatives``. On a forward split, the model saved for a thermal drift named by its
+   static candidate is chosen on future splits (each fitted before a judged block and
+   judged on every later one, :mod:`~volumetric.diagnose.choice`): the static drift or
+   its lagged refinement, the plain least squares on every sensor when that predicts
+   better on average, a richer model on every sensor only when it predicts better in
+   every future split and by ``RICHER_MARGIN`` on average.
 5. **Estimate** (:mod:`~volumetric.diagnose.estimate`; a lagged drift's in
    :mod:`~volumetric.diagnose.lagged`). The named effect is fitted together with the base
    model on all readings; its coefficient and standard uncertainty are reported in physical

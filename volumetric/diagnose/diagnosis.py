@@ -156,7 +156,8 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
         details["blocks"] = block_table(sp.folds, judged, base_heldout, sp.fold_ids)
     # step 4: ranking and gates
     pick = prefer_physical(scored) if scored else None
-    best = named_thermal(pick, dyn, scored, sp.order_judge)
+    best = named_thermal(pick, dyn, scored, sp.order_judge,
+                         decided=sp.name in ("forward", "chronological"))
     if best is not None:
         static = best.candidate
         if "lagged" in static.extra:

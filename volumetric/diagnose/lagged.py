@@ -10,13 +10,14 @@ The rule of the choice: the gates (gain, significance against the rigid base, th
 estimate's T) name a thermal drift by its static candidate, one sensor's level; the
 model saved for that drift is then chosen among its models by comparing them with each
 other on the same held-out readings of the forward split, not each with the rigid base
-alone: the one with the lowest held-out RMS, except that one sensor is kept over a model
-of every sensor only when its paired gain over that model stands ``Z_MIN`` standard
-errors clear. A model of many collinear sensors gains noisily over the base and can
-fail the significance gate where it predicts as well as, or better than, the one sensor
-(ch2 of the real test cut at 70 %); where the split cannot tell them apart, the model
-that uses what every sensor saw is the safer prediction of later time. When the static
-drift fails the gates, only the many-column models that pass them are offered, so a
+alone, block by block (:mod:`volumetric.diagnose.choice`: a richer model only when it
+wins in every judged block; never one that holds out worse than the plain model on
+every sensor). On a split of interleaved runs, the one with the lowest held-out RMS,
+except that one sensor is kept over a model of every sensor only when its paired gain
+over that model stands ``Z_MIN`` standard errors clear. A model of many collinear
+sensors gains noisily over the base and can fail the significance gate where it
+predicts as well as, or better than, the one sensor (ch2 of the real test cut at 70 %).
+When the static drift fails the gates, only the many-column models that pass them are offered, so a
 campaign without a thermal effect is judged as before.
 """
 
@@ -30,6 +31,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from volumetric.diagnose.candidates import Candidate, temperature_columns
+from volumetric.diagnose.choice import Future, forward_choice, future_rms, static_future
 from volumetric.diagnose.estimate import offsets_of
 from volumetric.diagnose.gates import MAX_EFFECTS, Z_MIN, Scored, passes, score, significance
 from volumetric.diagnose.splits import BaseGrams, Judge, combined, rms_of, solve_normal
@@ -290,7 +292,11 @@ def lagged_scored(m: Measurements, scored: list[Scored], judge: Judge, resid: F6
     static drift names the effect, these are ways to model it (:func:`named_thermal`);
     and, as before them, the dynamic (lagged) refinement of the best static thermal
     drift of ``scored``, its terms selected again in every fold, unless it fails the
-    screening. The one with the lowest held-out RMS is returned.
+    screening. On a forward (or chronological) split where the static drift passes the
+    gates, the block-by-block rule of :func:`volumetric.diagnose.choice.forward_choice`
+    chooses among the static drift, its refinement and the all-sensor models, and None
+    is returned when it keeps the static drift; elsewhere the one with the lowest
+    held-out RMS is returned.
 
     ``resid`` is the base's residual fitted on every training reading, ``base`` its
     held-out residuals, shape (N,) each.
@@ -304,22 +310,45 @@ def lagged_scored(m: Measurements, scored: list[Scored], judge: Judge, resid: F6
     out = [s for s in all_sensor_scored(m, best_drift.candidate, judge, resid, base,
                                         rms_before) if named or passes(s)]
     dyn = dynamic_drift(m, best_drift.candidate, resid, sp.train, sp.order)
+    # on a forward split the lagged refinement is the simple model the richer ones must
+    # beat block by block (volumetric.diagnose.choice): it is screened against the
+    # one-sensor candidates alone, not against the richer models it is weighed against
+    forward = sp.name in ("forward", "chronological") and named
+    rivals = scored if forward else scored + out
     if (dyn is not None and sp.name != "chronological"
             and rms_of(judge.heldout(combined(a0, [dyn]), y - dyn.known())[sp.judge])
-            >= min(s.rms_after_um for s in scored + out)):
+            >= min(s.rms_after_um for s in rivals)):
         # screening: judged with its lags and sensors chosen on every reading, which
         # favours it, it does not beat the best candidate; chosen again per fold (the
         # costly honest figure, five or three more selections) it would not either
         dyn = None
+    dyn_scored = None
     if dyn is not None:
         # the lags and sensors are chosen again in every fold from its training readings
         dyn = per_fold_dynamic(m, best_drift.candidate, dyn, judge.grams, sp.train, sp.order)
-        out.append(score(dyn, judge.of([dyn]), base, rms_before, sp.judge, sp.order_judge))
+        dyn_scored = score(dyn, judge.of([dyn]), base, rms_before, sp.judge, sp.order_judge)
+    if forward:
+        ranked = [s.candidate for s in drift if s.candidate.axis == best_drift.candidate.axis]
+        static = Future(best_drift, static_future(ranked, judge))
+        simple = [static] + ([Future(dyn_scored, future_rms(dyn_scored.candidate, judge))]
+                             if dyn_scored is not None else [])
+        richer = [Future(s, future_rms(s.candidate, judge)) for s in out]
+        plain = next((f for f in richer if _is_plain(f.scored.candidate)), None)
+        choice = forward_choice(simple, plain, richer)
+        return None if choice is static else choice.scored
+    if dyn_scored is not None:
+        out.append(dyn_scored)
     return min(out, key=lambda s: s.rms_after_um) if out else None
 
 
+def _is_plain(c: Candidate) -> bool:
+    """True for the plain least squares on every sensor's level (no rates, no shrinkage)."""
+    every = c.extra.get("description", {}).get("all_sensors")
+    return every is not None and every.get("rate_tau_s") is None and not c.fixed
+
+
 def named_thermal(pick: Scored | None, dyn: Scored | None, scored: list[Scored],
-                  order_judge: NDArray[np.intp]) -> Scored | None:
+                  order_judge: NDArray[np.intp], decided: bool = False) -> Scored | None:
     """The candidate the diagnosis names and saves, from ``pick``, the top of the ranking
     (:func:`~volumetric.diagnose.gates.prefer_physical`), and ``dyn``, the thermal model
     with many columns of :func:`lagged_scored` (or None); ``scored`` holds every
@@ -342,6 +371,11 @@ def named_thermal(pick: Scored | None, dyn: Scored | None, scored: list[Scored],
       sensor from a model of every sensor, the one sensor is not taken as the cause, and
       the model that uses what every sensor saw is saved (its uncertainty is carried).
 
+    With ``decided`` (a forward or chronological split, whose block-by-block rule,
+    :func:`volumetric.diagnose.choice.forward_choice`, chose ``dyn`` over the static
+    drift, or gave None when it kept the static drift), ``dyn`` is saved whenever the
+    static drift passes the gates.
+
     Elsewhere the ranking's top is named when it passes the gates, as for every effect.
     """
     if pick is None:
@@ -354,6 +388,8 @@ def named_thermal(pick: Scored | None, dyn: Scored | None, scored: list[Scored],
     if pick is dyn:
         return dyn
     if pick is static:
+        if decided:
+            return dyn  # the forward split's block-by-block choice (choice.forward_choice)
         touched = np.any(static.candidate.columns != 0, axis=1) | np.any(
             dyn.candidate.columns != 0, axis=1)
         if significance(dyn.heldout, static.heldout, order_judge, touched) < Z_MIN:
