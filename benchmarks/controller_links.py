@@ -39,6 +39,7 @@ import argparse
 import asyncio
 import contextlib
 import cProfile
+import itertools
 import json
 import os
 import subprocess
@@ -102,7 +103,9 @@ def fault_of(k: int) -> Any:
 
 
 async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float = 0.0,
-                     five_axis: bool = False, failing: int = 0) -> None:
+                     five_axis: bool = False, failing: int = 0, first: int = 0,
+                     total: int = 0) -> None:
+    """PMCs ``first`` .. ``first + count - 1`` of a fleet of ``total`` (0: ``count``)."""
     from machine_sim.faultrelay import FaultRelay
     from machine_sim.modbus_server import PmcModbusServer
     from machine_sim.plcmap import PlcMapProgram
@@ -123,11 +126,11 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
                 TEMPS.extend((name, v, t) for v in values[:len(self._slots)]
                              if v != NO_TEMPERATURE)
 
-    bad = failing_indices(count, failing)
+    bad = failing_indices(total or count, failing)
     async with AsyncExitStack() as stack:
         cncs = []
         relays = []
-        for i in range(count):
+        for i in range(first, first + count):
             if five_axis:
                 from machine_sim.fanuc import FanucConfig
                 from tests.support.integration import FANUC_5AX
@@ -147,10 +150,10 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
             if i in bad:
                 relays.append(await stack.enter_async_context(FaultRelay(
                     ("127.0.0.1", int(cnc.server.port)), port=base_port + i,
-                    faults=fault_of(len(relays)), seed=i)))
+                    faults=fault_of(bad.index(i)), seed=i)))
         print(json.dumps({"ready": len(cncs)}), flush=True)
         await asyncio.get_running_loop().run_in_executor(None, sys.stdin.read)
-        healthy = [c for i, c in enumerate(cncs) if i not in bad]
+        healthy = [c for i, c in enumerate(cncs, start=first) if i not in bad]
         print(json.dumps({"applied": sum(c.program.applied_switches for c in healthy),
                           "machines_applied": sum(c.program.applied_switches > 0
                                                   for c in healthy),
@@ -161,11 +164,13 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
 
 class ChildFleet:
     def __init__(self, count: int, base_port: int, cycle_s: float, *, delay_ms: float = 0.0,
-                 five_axis: bool = False, failing: int = 0) -> None:
+                 five_axis: bool = False, failing: int = 0, first: int = 0,
+                 total: int = 0) -> None:
         self.proc = subprocess.Popen(
             [sys.executable, __file__, "child", "--machines", str(count), "--base-port",
              str(base_port), "--cycle-s", str(cycle_s), "--delay-ms", str(delay_ms),
-             "--failing", str(failing), *(["--five-axis"] if five_axis else [])],
+             "--failing", str(failing), "--first", str(first), "--total", str(total),
+             *(["--five-axis"] if five_axis else [])],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
 
     async def ready(self) -> int:
@@ -179,6 +184,32 @@ class ChildFleet:
         line = await asyncio.to_thread(self.proc.stdout.readline)
         await asyncio.to_thread(self.proc.wait, 60)
         return dict(json.loads(line)) if line else {}
+
+
+class PmcProcesses:
+    """The fleet's simulated PMCs spread over ``procs`` child processes (consecutive
+    slices): one Python process stalls with some hundreds of PMCs on a loaded machine
+    (its status answers late, the center times them out), which a plant's PMCs, each its
+    own device, never do."""
+
+    def __init__(self, count: int, procs: int, cycle_s: float, failing: int) -> None:
+        edges = [round(k * count / procs) for k in range(procs + 1)]
+        self.children = [ChildFleet(b - a, BASE_PORT, cycle_s, failing=failing, first=a,
+                                    total=count)
+                         for a, b in itertools.pairwise(edges) if b > a]
+
+    def cpu_s(self) -> float:
+        return sum(cpu_of(c.proc.pid) for c in self.children)
+
+    async def ready(self) -> int:
+        return sum(await asyncio.gather(*(c.ready() for c in self.children)))
+
+    async def finish(self) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for done in await asyncio.gather(*(c.finish() for c in self.children)):
+            for k, v in done.items():
+                out[k] = out.get(k, 0 if isinstance(v, int) else []) + v
+        return out
 
 
 def register(session: Any, count: int, base_port: int, model: dict[str, Any],
@@ -263,11 +294,12 @@ class ModbusRound:
         return self.cpu_s / max(len(self.applied()), 1)
 
 
-async def _modbus_rounds(count: int, cycle_s: float, failing: int,
+async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
                          timeout_s: float) -> tuple[int, list[ModbusRound], dict[str, Any],
-                                                    float]:
+                                                    tuple[float, float]]:
     """Round 1 (connect and push) and round 2 (re-push to all) over Modbus; the child's
-    report; center CPU per second over 10 s without pushes after round 2."""
+    report; center CPU per second over 10 s without pushes after round 2 (all threads, the
+    event loop's)."""
     from server.push import Delivery
 
     model = fitted_model()
@@ -287,23 +319,22 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int,
 
     rounds = []
     with tempfile.TemporaryDirectory() as tmp:
-        child = ChildFleet(count, BASE_PORT, cycle_s, failing=failing)
+        child = PmcProcesses(count, procs, cycle_s, failing)
         await child.ready()
         async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
             got: list[Delivery] = []
             services.push.observers.append(got.append)
-            pid = child.proc.pid
-            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
+            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), child.cpu_s()
             await c.db.run(register, count, BASE_PORT, model, payload)
             await until_applied(got, t0)
             progress("Modbus round 1 done")
             rounds.append(ModbusRound("round 1 (connect and push)", list(got),
                                       time.perf_counter() - t0, time.process_time() - cpu0,
-                                      cpu_of(pid) - pcpu0, healthy))
+                                      child.cpu_s() - pcpu0, healthy))
             got.clear()
             if PROFILE is not None:
                 PROFILE.enable()
-            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
+            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), child.cpu_s()
             for name in list(services.push.connected()):
                 services.push.request(name, "benchmark", resend=True)
             await until_applied(got, t0)
@@ -312,10 +343,11 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int,
             progress("Modbus round 2 done")
             rounds.append(ModbusRound("round 2 (re-push to all at once)", list(got),
                                       time.perf_counter() - t0, time.process_time() - cpu0,
-                                      cpu_of(pid) - pcpu0, healthy))
-            cpu0 = time.process_time()
+                                      child.cpu_s() - pcpu0, healthy))
+            cpu0, loop0 = time.process_time(), time.thread_time()
             await asyncio.sleep(QUIET_S)
-            quiet = (time.process_time() - cpu0) / QUIET_S
+            quiet = ((time.process_time() - cpu0) / QUIET_S,
+                     (time.thread_time() - loop0) / QUIET_S)
             progress("closing the center")
             watchdog = asyncio.create_task(_tell_stuck(20.0))
         watchdog.cancel()
@@ -357,7 +389,8 @@ def load_held(n: int) -> Iterator[None]:
             proc.wait()
 
 
-async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: float) -> None:
+async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: float,
+                procs: int = 1) -> None:
     from push_latency import measure
 
     load0 = os.getloadavg()
@@ -368,15 +401,17 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
         ednc_size, ednc = await measure(count, 2)
         load1 = os.getloadavg()
         progress("Modbus fleet")
-        size, rounds, done, quiet = await _modbus_rounds(count, cycle_s, failing, timeout_s)
+        size, rounds, done, quiet = await _modbus_rounds(count, cycle_s, failing, procs,
+                                                           timeout_s)
     load2 = os.getloadavg()
     healthy = count - len(failing_indices(count, failing))
     print(f"machines {count} ({healthy} healthy, {count - healthy} failing: "
           f"{', '.join(FAULT_KINDS)} in turn), busy-looping processes {load}; load average "
           f"(1 min) {load0[0]:.2f} at start, {load1[0]:.2f} after the EDNC link, "
           f"{load2[0]:.2f} at the end")
-    print(f"Modbus: simulated Fanuc PMCs in a child process (PLC cycle {cycle_s * 1000:.0f} "
-          f"ms, status polled every 1 s), factored map {size} bytes, {done.get('applied')} "
+    print(f"Modbus: simulated Fanuc PMCs in {procs} child process(es) (PLC cycle "
+          f"{cycle_s * 1000:.0f} ms, status polled every 1 s), factored map {size} bytes, "
+          f"{done.get('applied')} "
           f"switches applied by {done.get('machines_applied')} healthy PLCs; EDNC: "
           f"push_latency.py's fleet, grid map {ednc_size} bytes")
     for r in rounds:
@@ -395,7 +430,9 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
               f"{e.cpu_s:.1f} s ({e.cpu_per_push_s * 1000:.1f} ms per push), fleet's CPU "
               f"{e.fleet_cpu_s:.1f} s")
     print(f"  after round 2, {QUIET_S:.0f} s without pushes: center CPU "
-          f"{quiet * 1000:.0f} ms/s (status polls, failing links' retries); the failing "
+          f"{quiet[0] * 1000:.0f} ms/s, {quiet[1] * 1000:.0f} ms/s of it in the event loop's "
+          f"thread, the rest in the database's (status polls, live links written, failing "
+          f"links' retries); the failing "
           f"relays saw {done.get('failing_connects', 0)} connects, "
           f"{done.get('failing_requests', 0)} requests over the run")
 
@@ -535,13 +572,17 @@ if __name__ == "__main__":
                    help="fleet: machines behind fault relays, failing in mixed ways")
     p.add_argument("--profile", type=Path, default=None,
                    help="fleet: cProfile of the center over the Modbus round 2, to this file")
+    p.add_argument("--pmc-procs", type=int, default=1,
+                   help="fleet: child processes the simulated PMCs are spread over")
+    p.add_argument("--first", type=int, default=0, help=argparse.SUPPRESS)
+    p.add_argument("--total", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--round-timeout", type=float, default=300.0,
                    help="fleet: longest wait for a round's maps, s")
     a = p.parse_args()
     os.environ.setdefault("EDNC_NODE_ID", "bench")
     if a.what == "child":
         asyncio.run(fleet_main(a.machines, a.base_port, a.cycle_s, a.delay_ms / 1000,
-                               a.five_axis, a.failing))
+                               a.five_axis, a.failing, a.first, a.total))
     elif a.what == "delivery":
         asyncio.run(delivery(a.delay_ms, a.repeats))
     elif a.what == "fleet":
@@ -549,11 +590,11 @@ if __name__ == "__main__":
             PROFILE = cProfile.Profile()
             try:
                 asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
-                                  a.round_timeout))
+                                  a.round_timeout, a.pmc_procs))
             finally:
                 PROFILE.dump_stats(a.profile)
             sys.exit(0)
         asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
-                          a.round_timeout))
+                          a.round_timeout, a.pmc_procs))
     else:
         asyncio.run(temperature(a.machines or 20, a.rate, a.seconds))
