@@ -3,7 +3,7 @@ temperature's way to the applied compensation. Run by hand:
 
     .venv/bin/python benchmarks/controller_links.py delivery [--delay-ms 2]
     .venv/bin/python benchmarks/controller_links.py fleet [--machines 1000] [--load 2]
-        [--failing 100]
+        [--failing 100] [--pmc-procs 4] [--profile center.prof]
     .venv/bin/python benchmarks/controller_links.py temperature [--machines 20] [--rate 200]
 
 * ``delivery``: a Fanuc-style five-axis machine (the test fleet's 5ax-09) gets its
@@ -26,6 +26,9 @@ temperature's way to the applied compensation. Run by hand:
   start in four ways in turn (:data:`FAULT_KINDS`): round 2's wall time is until every
   healthy machine has its map again (target 10 s). After round 2, the center's CPU per
   second over 10 s without pushes (status polls and the failing links' retries).
+  ``--pmc-procs n`` spreads the PMCs over n child processes: one Python process with
+  several hundred of them stalls on a loaded machine (its answers come later than the
+  center's 2 s time-out, which a plant's PMCs, each its own device, do not cause).
 * ``temperature``: N machines with a spindle-growth map; temperatures go into the center's
   intake (as MQTT or REST readings do) at ``rate`` per second across the machines; the
   child process stamps when each PLC program took each value from its slots
