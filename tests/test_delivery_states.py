@@ -22,6 +22,7 @@ from server.db import history as history_repo
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.db.tables import AppliedRow
+from server.links.ednc.session import LinkClosed
 from server.links.modbus import ModbusMemory
 from server.links.window.session import ControllerSession
 from tests.support.integration import center, spec, until
@@ -103,14 +104,16 @@ async def test_a_torn_header_is_written_again_once(torn: int) -> None:
         await s.open()
         runner = asyncio.create_task(s.run())
         try:
-            verdict = await s.push_map(1, payload(1), 10.0)
-            assert s.torn_rewrites == 1 and len(s.push_times) == 2
             if torn == 1:
+                verdict = await s.push_map(1, payload(1), 10.0)
                 assert verdict.applied and cnc.runtime.controller.store.version == 1
-            else:  # torn again: the PLC's verdict stands, with its code
-                assert not verdict.applied and "PLC code 100" in verdict.text, verdict
+            else:  # torn again: still no verdict on the map (§13.2), so no rejection
+                # either: the push fails (a failed delivery), with the PLC's code
+                with pytest.raises(LinkClosed, match="PLC code 100"):
+                    await s.push_map(1, payload(1), 10.0)
                 assert cnc.runtime.controller.store.version is None or \
                     cnc.runtime.controller.store.version != 1
+            assert s.torn_rewrites == 1 and len(s.push_times) == 2
         finally:
             s.abort(None, "test over")
             await runner

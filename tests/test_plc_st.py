@@ -176,6 +176,61 @@ def test_the_loaders_f64_conversion_is_exact(tmp_path: Path) -> None:
                for x, y, d in cases)
 
 
+F32 = """
+PROGRAM PRG_F32
+VAR
+  bits : DWORD;
+  v : LREAL;
+  finite : BOOL;
+  buf : T_Copy;
+END_VAR
+buf[40] := DWORD_TO_BYTE(bits);
+buf[41] := DWORD_TO_BYTE(SHR(bits, 8));
+buf[42] := DWORD_TO_BYTE(SHR(bits, 16));
+buf[43] := DWORD_TO_BYTE(SHR(bits, 24));
+finite := TRUE;
+v := F_F32(buf, finite, 40);
+END_PROGRAM
+"""
+
+
+def test_the_loaders_f32_conversion_is_exact(tmp_path: Path) -> None:
+    """F_F32 (a tables map's float32 values, read from the IEEE-754 bits by sign, exponent
+    and mantissa) gives the float32's exact value as LREAL for every kind of bit pattern:
+    signed zeros, subnormals, the normal range's ends, random patterns; infinities and
+    NaNs are not finite."""
+    from machine_sim.stplc import PLC_DIR
+
+    src = tmp_path / "f32.st"
+    src.write_text(F32)
+    names = [StVar("bits", ctypes.c_uint32), StVar("v", ctypes.c_double),
+             StVar("finite", ctypes.c_uint8)]
+    sources = [PLC_DIR / f for f in ("ednc_types.st", "ednc_bytes.st", "ednc_names.st",
+                                      "ednc_factored.st", "ednc_f64.st", "ednc_grid.st",
+                                      "ednc_tables.st")]
+    prog = StProgram(build_program([*sources, src], "PRG_F32", names), names)
+    prog.init()
+    rng = np.random.default_rng(11)
+    edges = [0x00000000, 0x80000000, 0x00000001, 0x807FFFFF, 0x00800000, 0x7F7FFFFF,
+             0xFF7FFFFF, 0x3F800000, 0x3F800001, 0xBEAAAAAB, 0x33800000]
+    patterns = edges + [int(b) for b in rng.integers(0, 1 << 32, 20_000, dtype=np.uint64)]
+    wrong = []
+    for bits in patterns:
+        prog.var("bits")[0] = bits
+        prog.scan()
+        want = float(np.array([bits], dtype=np.uint32).view(np.float32)[0])
+        finite = bool(prog.var("finite")[0])
+        got = float(prog.var("v")[0])
+        if finite != math.isfinite(want) or (finite and (
+                got != want or math.copysign(1.0, got) != math.copysign(1.0, want))):
+            wrong.append((hex(bits), got, want, finite))
+    assert not wrong, f"{len(wrong)} of {len(patterns)} differ, first {wrong[0]}"
+    # the random patterns held non-finite ones, subnormals and both signs
+    values = np.array(patterns, dtype=np.uint32).view(np.float32)
+    assert (~np.isfinite(values)).any() and ((values != 0) & (np.abs(values) < 2.0**-126)).any()
+    assert (values < 0).any() and (values > 0).any()
+
+
 def test_the_program_runs_the_rules_scenario() -> None:
     """tests/vectors/rules.json scan by scan through the window: maps A then B switched
     in, readings through the slots (null: -2^31, the held reading stays), positions;

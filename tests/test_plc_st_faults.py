@@ -235,6 +235,13 @@ def test_a_restart_with_the_window_kept_applies_the_active_buffer_again(pair: Pa
     assert pair.verdict() == (2, 0, 2, 2, 9)
     # and the next switch is a new one
     assert pair.push(1, version(MAP, 3), 3, 3) == (3, 0, 1, 3, 9)
+    # slots stamped for another map are not taken; a restart then leaves temp_ack 0
+    # until the first take (§13.1), not the sequence the status last held
+    pair.write([plan_temperatures([23.0, 21.0], 11, map_version=7)])
+    pair.scan()
+    assert pair.verdict() == (3, 0, 1, 3, 9)
+    pair.restart()
+    assert pair.verdict() == (3, 0, 1, 3, 0)
 
 
 RULES_A = (VECTORS / "rules_a.bin").read_bytes()
@@ -293,13 +300,15 @@ def test_slots_by_sequence_and_stamp_screen_and_swap_as_the_python_plc() -> None
     assert pair.verdict()[4] == 4 and pair.refused() == 0b10
     pair.slots([None, 25.0], 9, version=1)
     assert pair.refused() == 0
-    # a swap keeps temp_ack (the last taken) but forgets the sequence for the next take
-    assert pair.push(2, RULES_B, 2, 2) == (2, 0, 2, 2, 9)
+    # a swap sets temp_ack to 0 until the first take (§13.1) and forgets the sequence
+    assert pair.push(2, RULES_B, 2, 2) == (2, 0, 2, 2, 0)
     before = pair.st.thermal_constants
-    pair.slots([None, 19.0], 9, version=1)                  # A's stamp: not B's slots
+    # B's slots are air, spindle (A's spindle, x_screw, coolant): slot 0 is B's air
+    pair.slots([19.0, None], 9, version=1)                  # A's stamp: not B's slots
     assert "air" not in pair.ctl.temperatures.readings()
+    assert pair.verdict()[4] == 0
     assert pair.st.thermal_constants == before
-    pair.slots([None, 19.0], 9, version=2)                  # B's: taken, same sequence
+    pair.slots([19.0, None], 9, version=2)                  # B's: taken, same sequence
     assert "air" in pair.ctl.temperatures.readings()
     assert pair.st.thermal_constants != before and pair.verdict()[4] == 9
     # a header whose map version is not the payload's

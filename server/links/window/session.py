@@ -41,10 +41,11 @@ from protocol.ctrlmem import (
     Identity,
     Layout,
     Status,
+    ack_is_verdict,
     decode_buffer_header,
     decode_identity,
     decode_status,
-    next_sequence,
+    next_switch_sequence,
     plan_map_write,
     plan_temperatures,
     sensor_slots,
@@ -214,8 +215,12 @@ class ControllerSession:
         self.secret_digest = b""
         self.last_heard = asyncio.get_running_loop().time()
         self._seq = 0
+        """The switch word's sequence: the last this session wrote, or read at open."""
         self._pending: tuple[int, int, float, asyncio.Future[Verdict]] | None = None
         self._slots: dict[str, int] = {}
+        self._slots_version = 0
+        """The map version whose thermal records ``_slots`` follows (stamped on the slots,
+        §13.1 byte 388, so the PLC never reads them in another map's order)."""
         self._temps: dict[str, float] = {}
         self._temp_seq = 0
         self._temp_dirty = asyncio.Event()
@@ -252,8 +257,9 @@ class ControllerSession:
         st = await self._read_status()
         (word,) = struct.unpack("<H", await self.memory.read(SWITCH_AT, 2))
         written, buffer = unpack_switch(word)
-        self._seq = max(written, st.ack_seq)
-        if written and st.ack_seq == written and buffer in (1, 2):
+        self._seq = written
+        if (written and st.ack_seq == written and buffer in (1, 2)
+                and ack_is_verdict(st.ack_code)):  # code 100 says nothing of the map
             # the verdict on the last switch, whoever wrote it: the buffer's header says
             # which map version it was about (the status has only the applied one)
             at = self.layout.buffer_at(buffer)
@@ -383,7 +389,8 @@ class ControllerSession:
         TimeoutError
             No verdict within ``timeout_s`` (writing included).
         LinkClosed
-            The link failed or the session ended.
+            The link failed, the session ended, or the PLC answered code 100 (a torn
+            header, no verdict on the map) to the map written twice.
         """
         if self.layout is None:
             raise LinkClosed("the session is not open")
@@ -394,15 +401,19 @@ class ControllerSession:
         except (MapFormatError, ControllerMemoryError) as exc:
             raise LinkClosed(f"map version {version} cannot be written: {exc}") from None
         verdict = await self._write_and_wait(version, payload, timeout_s)
-        if not verdict.applied and self.last_code == AckCode.BAD_HEADER:
+        if not verdict.applied and not ack_is_verdict(self.last_code or 0):
             # a torn header is no verdict on the map (§13.2): written again, once
             self.torn_rewrites += 1
             log.info("%s: map version %d: buffer header torn (code 100), written again",
                      self._name, version)
             verdict = await self._write_and_wait(version, payload, timeout_s)
+            if not verdict.applied and not ack_is_verdict(self.last_code or 0):
+                # torn twice: still no verdict on the map, so none is stored (a failed
+                # delivery, the map goes again), never a rejection
+                raise LinkClosed(f"map version {version}: {verdict.text}, twice")
         if verdict.applied:
             self.healthy = True
-            self._slots = slots
+            self._slots, self._slots_version = slots, version
             self._temp_dirty.set()  # the new map's sensors get their readings at once
         return verdict
 
@@ -417,7 +428,7 @@ class ControllerSession:
             async with asyncio.timeout(timeout_s):
                 st = await self._read_status()
                 target = 2 if st.active == 1 else 1
-                seq = next_sequence(self._seq)
+                seq = next_switch_sequence(self._seq, st.ack_seq)
                 writes = plan_map_write(self.layout, target, payload, version, seq,
                                         block=self.memory.block)
                 self._pending = (seq, version, loop.time(), future)
@@ -473,7 +484,7 @@ class ControllerSession:
             for sensor, i in self._slots.items():
                 values[i] = self._temps.get(sensor)
             self._temp_seq = self._temp_seq % 0xFFFF + 1
-            w = plan_temperatures(values, self._temp_seq)
+            w = plan_temperatures(values, self._temp_seq, map_version=self._slots_version)
             try:
                 for k in range(0, len(w.data), self.memory.block):
                     await self.memory.write(w.offset + k, w.data[k:k + self.memory.block])
