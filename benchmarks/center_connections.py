@@ -83,6 +83,12 @@ def rss_mb() -> float:
     return float("nan")
 
 
+def cpu_of(pid: int) -> float:
+    """CPU time (user + system) of another process so far, s (Linux ``/proc``)."""
+    fields = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()
+    return (int(fields[11]) + int(fields[12])) / os.sysconf("SC_CLK_TCK")
+
+
 def percentiles(values: list[float], *qs: float) -> list[float]:
     s = sorted(values)
     if not s:

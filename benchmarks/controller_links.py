@@ -2,7 +2,8 @@
 temperature's way to the applied compensation. Run by hand:
 
     .venv/bin/python benchmarks/controller_links.py delivery [--delay-ms 2]
-    .venv/bin/python benchmarks/controller_links.py fleet [--machines 1000]
+    .venv/bin/python benchmarks/controller_links.py fleet [--machines 1000] [--load 2]
+        [--failing 100] [--pmc-procs 4] [--profile center.prof]
     .venv/bin/python benchmarks/controller_links.py temperature [--machines 20] [--rate 200]
 
 * ``delivery``: a Fanuc-style five-axis machine (the test fleet's 5ax-09) gets its
@@ -10,11 +11,24 @@ temperature's way to the applied compensation. Run by hand:
   :class:`~server.links.window.session.ControllerSession` over Modbus/TCP, its PMC server
   waiting ``delay_ms`` per request (network and scan); the time from the first write to
   the PLC's verdict, against the same push with no delay, and the requests it took.
-* ``fleet``: ``ednc serve``'s services (SQLite) with N machines registered with a modbus
-  link and a stored map each; the simulated PMCs (WindowCNC + PmcModbusServer, one port
-  each on 127.0.0.1) run in a child process. Round 1 is every machine connected and
-  given its map; round 2 re-pushes to all at once. Center CPU per push is this process's
-  CPU time over the round divided by the pushes.
+* ``fleet``: issue 30's fleet targets in one run. First the EDNC link's fleet as
+  ``benchmarks/push_latency.py`` measures it (its :func:`measure`: round 1 at Welcome,
+  round 2 a re-push to all); then ``ednc serve``'s services (SQLite) with N machines
+  registered with a modbus link and a stored map each, the simulated PMCs (WindowCNC +
+  PmcModbusServer, one port each on 127.0.0.1) in a child process. Round 1 is every
+  machine connected and given its map; round 2 re-pushes to all at once. Center CPU per
+  push is this process's CPU time over the round divided by the maps applied, for both
+  links. The table gives round 2's ratios Modbus/EDNC (targets <= 1.5x). ``--load n``:
+  n busy-looping processes hold the machine from 5 s before the EDNC fleet to the end
+  (both links measured under it): failed deliveries (each try) and machines without
+  their map in either round (targets 0). ``--failing k``: k of the N PMCs (spread over
+  the ports) sit behind :class:`~machine_sim.faultrelay.FaultRelay` s failing from the
+  start in four ways in turn (:data:`FAULT_KINDS`): round 2's wall time is until every
+  healthy machine has its map again (target 10 s). After round 2, the center's CPU per
+  second over 10 s without pushes (status polls and the failing links' retries).
+  ``--pmc-procs n`` spreads the PMCs over n child processes: one Python process with
+  several hundred of them stalls on a loaded machine (its answers come later than the
+  center's 2 s time-out, which a plant's PMCs, each its own device, do not cause).
 * ``temperature``: N machines with a spindle-growth map; temperatures go into the center's
   intake (as MQTT or REST readings do) at ``rate`` per second across the machines; the
   child process stamps when each PLC program took each value from its slots
@@ -26,13 +40,18 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import contextlib
+import cProfile
+import itertools
 import json
 import os
 import subprocess
 import sys
 import tempfile
 import time
+from collections.abc import Iterator
 from contextlib import AsyncExitStack
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -42,7 +61,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from center_connections import center, percentiles  # noqa: E402
+from center_connections import center, cpu_of, percentiles  # noqa: E402
 
 BASE_PORT = 21000
 TEMPS: list[tuple[str, int, float]] = []
@@ -59,8 +78,38 @@ def fleet_description(i: int, port: int) -> dict[str, Any]:
 
 # -- the child process: the simulated PMCs
 
+def failing_indices(count: int, failing: int) -> list[int]:
+    """Which machines fail: ``failing`` of ``count``, spread evenly over the ports."""
+    return sorted({int((k + 0.5) * count / failing) for k in range(failing)}) if failing else []
+
+
+FAULT_KINDS = ("busy-90pct", "writes-02", "drop-after-6", "no-answer")
+"""How the failing machines fail, in turn: 90 % of requests answered with exception 06
+(busy); writes into the map buffers answered with exception 02; the connection closed
+after 6 answers; requests never answered."""
+
+
+def fault_of(k: int) -> Any:
+    """The k-th failing machine's faults (:data:`FAULT_KINDS` in turn)."""
+    from machine_sim.faultrelay import Faults
+    from machine_sim.windowcnc import DEFAULT_CAPACITY
+    from protocol.ctrlmem import BUFFERS_AT, Layout
+
+    kind = FAULT_KINDS[k % len(FAULT_KINDS)]
+    if kind == "busy-90pct":
+        return Faults(exception_fraction=0.9, exception_code=6)
+    if kind == "writes-02":
+        return Faults(refuse_writes=((BUFFERS_AT // 2, Layout(DEFAULT_CAPACITY).size // 2),))
+    if kind == "drop-after-6":
+        return Faults(drop_after=6)
+    return Faults(swallow=True)
+
+
 async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float = 0.0,
-                     five_axis: bool = False) -> None:
+                     five_axis: bool = False, failing: int = 0, first: int = 0,
+                     total: int = 0) -> None:
+    """PMCs ``first`` .. ``first + count - 1`` of a fleet of ``total`` (0: ``count``)."""
+    from machine_sim.faultrelay import FaultRelay
     from machine_sim.modbus_server import PmcModbusServer
     from machine_sim.plcmap import PlcMapProgram
     from machine_sim.runtime import MachineRuntime
@@ -80,9 +129,11 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
                 TEMPS.extend((name, v, t) for v in values[:len(self._slots)]
                              if v != NO_TEMPERATURE)
 
+    bad = failing_indices(total or count, failing)
     async with AsyncExitStack() as stack:
         cncs = []
-        for i in range(count):
+        relays = []
+        for i in range(first, first + count):
             if five_axis:
                 from machine_sim.fanuc import FanucConfig
                 from tests.support.integration import FANUC_5AX
@@ -92,23 +143,36 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
                 m = parse_machine(fleet_description(i, base_port + i))
                 fanuc = None
             rt = MachineRuntime(m, seed=i, own_sensors=False, fanuc=fanuc)
-            cnc = WindowCNC(m, lambda c, p=base_port + i: PmcModbusServer(
+            # a failing machine's PMC listens on any port, its relay on the machine's
+            port = 0 if i in bad else base_port + i
+            cnc = WindowCNC(m, lambda c, p=port: PmcModbusServer(
                 c, port=p, delay_s=delay_s), runtime=rt, cycle_s=cycle_s)
             cnc.program = Stamping(cnc.window, cnc.layout, rt.controller,
                                    formats=cnc.program.formats)
             cncs.append(await stack.enter_async_context(cnc))
+            if i in bad:
+                relays.append(await stack.enter_async_context(FaultRelay(
+                    ("127.0.0.1", int(cnc.server.port)), port=base_port + i,
+                    faults=fault_of(bad.index(i)), seed=i)))
         print(json.dumps({"ready": len(cncs)}), flush=True)
         await asyncio.get_running_loop().run_in_executor(None, sys.stdin.read)
-        applied = sum(c.program.applied_switches for c in cncs)
-        print(json.dumps({"applied": applied, "temps": TEMPS}), flush=True)
+        healthy = [c for i, c in enumerate(cncs, start=first) if i not in bad]
+        print(json.dumps({"applied": sum(c.program.applied_switches for c in healthy),
+                          "machines_applied": sum(c.program.applied_switches > 0
+                                                  for c in healthy),
+                          "failing_connects": sum(r.connects for r in relays),
+                          "failing_requests": len([s for r in relays for s in r.seen]),
+                          "temps": TEMPS}), flush=True)
 
 
 class ChildFleet:
     def __init__(self, count: int, base_port: int, cycle_s: float, *, delay_ms: float = 0.0,
-                 five_axis: bool = False) -> None:
+                 five_axis: bool = False, failing: int = 0, first: int = 0,
+                 total: int = 0) -> None:
         self.proc = subprocess.Popen(
             [sys.executable, __file__, "child", "--machines", str(count), "--base-port",
              str(base_port), "--cycle-s", str(cycle_s), "--delay-ms", str(delay_ms),
+             "--failing", str(failing), "--first", str(first), "--total", str(total),
              *(["--five-axis"] if five_axis else [])],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
 
@@ -123,6 +187,32 @@ class ChildFleet:
         line = await asyncio.to_thread(self.proc.stdout.readline)
         await asyncio.to_thread(self.proc.wait, 60)
         return dict(json.loads(line)) if line else {}
+
+
+class PmcProcesses:
+    """The fleet's simulated PMCs spread over ``procs`` child processes (consecutive
+    slices): one Python process stalls with some hundreds of PMCs on a loaded machine
+    (its status answers late, the center times them out), which a plant's PMCs, each its
+    own device, never do."""
+
+    def __init__(self, count: int, procs: int, cycle_s: float, failing: int) -> None:
+        edges = [round(k * count / procs) for k in range(procs + 1)]
+        self.children = [ChildFleet(b - a, BASE_PORT, cycle_s, failing=failing, first=a,
+                                    total=count)
+                         for a, b in itertools.pairwise(edges) if b > a]
+
+    def cpu_s(self) -> float:
+        return sum(cpu_of(c.proc.pid) for c in self.children)
+
+    async def ready(self) -> int:
+        return sum(await asyncio.gather(*(c.ready() for c in self.children)))
+
+    async def finish(self) -> dict[str, Any]:
+        out: dict[str, Any] = {}
+        for done in await asyncio.gather(*(c.finish() for c in self.children)):
+            for k, v in done.items():
+                out[k] = out.get(k, 0 if isinstance(v, int) else []) + v
+        return out
 
 
 def register(session: Any, count: int, base_port: int, model: dict[str, Any],
@@ -182,46 +272,200 @@ THERMAL_MODEL = {**MODEL, "terms": [{"effect": "thermal_drift", "axis": "z",
                                      "t_ref_C": 20.0, "q_min": 0.0}]}
 
 
-async def fleet(count: int, cycle_s: float) -> None:
+@dataclass
+class ModbusRound:
+    """One round of the Modbus fleet (push_latency's :class:`Round` for the EDNC link)."""
+
+    label: str
+    deliveries: list[Any]
+    wall_s: float
+    cpu_s: float
+    pmc_cpu_s: float
+    """The simulated PMCs' process's CPU over the round, s."""
+    healthy: set[str]
+
+    def applied(self) -> set[str]:
+        return {d.machine for d in self.deliveries
+                if d.outcome == "applied" and d.machine in self.healthy}
+
+    def failed(self) -> int:
+        """Deliveries to healthy machines that were not applied (each try counted)."""
+        return sum(d.outcome != "applied" for d in self.deliveries if d.machine in self.healthy)
+
+    @property
+    def cpu_per_push_s(self) -> float:
+        return self.cpu_s / max(len(self.applied()), 1)
+
+
+async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
+                         timeout_s: float) -> tuple[int, list[ModbusRound], dict[str, Any],
+                                                    tuple[float, float]]:
+    """Round 1 (connect and push) and round 2 (re-push to all) over Modbus; the child's
+    report; center CPU per second over 10 s without pushes after round 2 (all threads, the
+    event loop's)."""
     from server.push import Delivery
 
     model = fitted_model()
     payload = _factored("mb-0000", model)
     size = len(payload("mb-0000"))
+    bad = set(failing_indices(count, failing))
+    healthy = {fleet_description(i, 0)["name"] for i in range(count) if i not in bad}
+
+    async def until_applied(got: list[Delivery], t0: float) -> None:
+        while not healthy <= {d.machine for d in got if d.outcome == "applied"}:
+            await asyncio.sleep(0.02)
+            if time.perf_counter() - t0 > timeout_s:
+                missing = healthy - {d.machine for d in got if d.outcome == "applied"}
+                progress(f"{len(missing)} healthy machines without their map after "
+                         f"{timeout_s:g} s: {', '.join(sorted(missing)[:10])}")
+                break
+
+    rounds = []
     with tempfile.TemporaryDirectory() as tmp:
-        child = ChildFleet(count, BASE_PORT, cycle_s)
-        ready = await child.ready()
+        child = PmcProcesses(count, procs, cycle_s, failing)
+        await child.ready()
         async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
             got: list[Delivery] = []
             services.push.observers.append(got.append)
-            t0, cpu0 = time.perf_counter(), time.process_time()
+            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), child.cpu_s()
             await c.db.run(register, count, BASE_PORT, model, payload)
-            while len({d.machine for d in got if d.outcome == "applied"}) < count:
-                await asyncio.sleep(0.05)
-                if time.perf_counter() - t0 > 600:
-                    break
-            rounds = [("round 1 (connect and push)", list(got), time.perf_counter() - t0,
-                       time.process_time() - cpu0)]
+            await until_applied(got, t0)
+            progress("Modbus round 1 done")
+            rounds.append(ModbusRound("round 1 (connect and push)", list(got),
+                                      time.perf_counter() - t0, time.process_time() - cpu0,
+                                      child.cpu_s() - pcpu0, healthy))
             got.clear()
-            t0, cpu0 = time.perf_counter(), time.process_time()
+            if PROFILE is not None:
+                PROFILE.enable()
+            t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), child.cpu_s()
             for name in list(services.push.connected()):
                 services.push.request(name, "benchmark", resend=True)
-            while len(got) < count and time.perf_counter() - t0 < 600:
-                await asyncio.sleep(0.05)
-            rounds.append(("round 2 (re-push to all at once)", list(got),
-                           time.perf_counter() - t0, time.process_time() - cpu0))
+            await until_applied(got, t0)
+            if PROFILE is not None:
+                PROFILE.disable()
+            progress("Modbus round 2 done")
+            rounds.append(ModbusRound("round 2 (re-push to all at once)", list(got),
+                                      time.perf_counter() - t0, time.process_time() - cpu0,
+                                      child.cpu_s() - pcpu0, healthy))
+            cpu0, loop0 = time.process_time(), time.thread_time()
+            await asyncio.sleep(QUIET_S)
+            quiet = ((time.process_time() - cpu0) / QUIET_S,
+                     (time.thread_time() - loop0) / QUIET_S)
+            progress("closing the center")
+            watchdog = asyncio.create_task(_tell_stuck(20.0))
+        watchdog.cancel()
+        progress("closing the PMCs")
         done = await child.finish()
-    print(f"machines {count} ({ready} PMC servers in a child process, PLC cycle "
+    return size, rounds, done, quiet
+
+
+QUIET_S = 10.0
+PROFILE: cProfile.Profile | None = None
+"""``--profile FILE``: the center over the Modbus round 2 (its figures are then slower)."""
+
+
+async def _tell_stuck(after_s: float) -> None:
+    """Print every task's stack if still running after ``after_s`` (a shutdown hanging)."""
+    await asyncio.sleep(after_s)
+    progress(f"still closing after {after_s:g} s; the tasks:")
+    for task in asyncio.all_tasks():
+        task.print_stack(limit=6, file=sys.stderr)
+
+
+def progress(what: str) -> None:
+    print(f"{time.strftime('%H:%M:%S')} {what} (load {os.getloadavg()[0]:.2f})",
+          file=sys.stderr, flush=True)
+
+TARGET_RATIO = 1.5
+TARGET_HEALTHY_S = 10.0
+
+
+@contextlib.contextmanager
+def load_held(n: int) -> Iterator[None]:
+    """``n`` child processes busy-looping while the block runs (the machine at load n)."""
+    procs = [subprocess.Popen([sys.executable, "-c", "while True: pass"]) for _ in range(n)]
+    try:
+        yield
+    finally:
+        for proc in procs:
+            proc.kill()
+            proc.wait()
+
+
+async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: float,
+                procs: int = 1) -> None:
+    from push_latency import measure
+
+    load0 = os.getloadavg()
+    with load_held(load):
+        if load:
+            await asyncio.sleep(5.0)  # the busy loops running before anything is timed
+        progress("EDNC link's fleet")
+        ednc_size, ednc = await measure(count, 2)
+        load1 = os.getloadavg()
+        progress("Modbus fleet")
+        size, rounds, done, quiet = await _modbus_rounds(count, cycle_s, failing, procs,
+                                                           timeout_s)
+    load2 = os.getloadavg()
+    healthy = count - len(failing_indices(count, failing))
+    print(f"machines {count} ({healthy} healthy, {count - healthy} failing: "
+          f"{', '.join(FAULT_KINDS)} in turn), busy-looping processes {load}; load average "
+          f"(1 min) {load0[0]:.2f} at start, {load1[0]:.2f} after the EDNC link, "
+          f"{load2[0]:.2f} at the end")
+    print(f"Modbus: simulated Fanuc PMCs in {procs} child process(es) (PLC cycle "
           f"{cycle_s * 1000:.0f} ms, status polled every 1 s), factored map {size} bytes, "
-          f"{done.get('applied')} switches applied by the PLCs")
-    for label, ds, wall, cpu in rounds:
-        lat = [d.latency_s for d in ds if d.latency_s is not None]
-        bad = sum(d.outcome != "applied" for d in ds)
+          f"{done.get('applied')} "
+          f"switches applied by {done.get('machines_applied')} healthy PLCs; EDNC: "
+          f"push_latency.py's fleet, grid map {ednc_size} bytes")
+    for r in rounds:
+        lat = [d.latency_s for d in r.deliveries
+               if d.latency_s is not None and d.machine in r.healthy]
         p50, p99 = percentiles(lat, 50, 99)
-        failed = f", {bad} failed" if bad else ""
-        print(f"{label}: {len(lat)} applied in {wall:.1f} s; write->verdict p50 "
-              f"{p50 * 1000:.0f} ms, p99 {p99 * 1000:.0f} ms; center CPU {cpu:.1f} s "
-              f"({cpu / max(len(lat), 1) * 1000:.1f} ms per push){failed}")
+        print(f"  Modbus {r.label}: {len(r.applied())} of {healthy} applied in "
+              f"{r.wall_s:.1f} s; write->verdict p50 {p50 * 1000:.0f} ms, p99 "
+              f"{p99 * 1000:.0f} ms; center CPU {r.cpu_s:.1f} s "
+              f"({r.cpu_per_push_s * 1000:.1f} ms per push), PMCs' CPU {r.pmc_cpu_s:.1f} s; "
+              f"{r.failed()} failed deliveries "
+              f"to healthy machines, "
+              f"{sum(d.machine not in r.healthy for d in r.deliveries)} to failing")
+    for e in ednc:
+        print(f"  EDNC {e.label}: {e.applied} applied in {e.wall_s:.1f} s; center CPU "
+              f"{e.cpu_s:.1f} s ({e.cpu_per_push_s * 1000:.1f} ms per push), fleet's CPU "
+              f"{e.fleet_cpu_s:.1f} s")
+    print(f"  after round 2, {QUIET_S:.0f} s without pushes: center CPU "
+          f"{quiet[0] * 1000:.0f} ms/s, {quiet[1] * 1000:.0f} ms/s of it in the event loop's "
+          f"thread, the rest in the database's (status polls, live links written, failing "
+          f"links' retries); the failing "
+          f"relays saw {done.get('failing_connects', 0)} connects, "
+          f"{done.get('failing_requests', 0)} requests over the run")
+
+    m2, e2 = rounds[1], ednc[1]
+    rows: list[tuple[str, str, str, str, bool]] = []
+    wall_ratio = m2.wall_s / e2.wall_s
+    cpu_ratio = m2.cpu_per_push_s / e2.cpu_per_push_s
+    rows.append(("re-push to all, wall", f"{m2.wall_s:.2f} s", f"{e2.wall_s:.2f} s",
+                 f"{wall_ratio:.2f}x <= {TARGET_RATIO}x", wall_ratio <= TARGET_RATIO))
+    rows.append(("center CPU per push", f"{m2.cpu_per_push_s * 1000:.2f} ms",
+                 f"{e2.cpu_per_push_s * 1000:.2f} ms", f"{cpu_ratio:.2f}x <= {TARGET_RATIO}x",
+                 cpu_ratio <= TARGET_RATIO))
+    if load:
+        failed = sum(r.failed() for r in rounds)
+        every = all(len(r.applied()) == healthy for r in rounds)
+        rows.append((f"load {load}: failed pushes", str(failed), "-", "0", failed == 0))
+        rows.append((f"load {load}: every map applied",
+                     f"{min(len(r.applied()) for r in rounds)} of {healthy}", "-", "all",
+                     every))
+    if failing:
+        rows.append((f"{failing} failing: healthy {healthy} re-pushed",
+                     f"{m2.wall_s:.2f} s ({len(m2.applied())})", "-",
+                     f"<= {TARGET_HEALTHY_S:.0f} s",
+                     m2.wall_s <= TARGET_HEALTHY_S and len(m2.applied()) == healthy))
+    width = max(len(r[0]) for r in rows)
+    head = f"{'target':<{width}}  {'Modbus':>14}  {'EDNC':>10}  {'goal':>14}  met"
+    print(head)
+    print("-" * len(head))
+    for what, mb, ed, goal, met in rows:
+        print(f"{what:<{width}}  {mb:>14}  {ed:>10}  {goal:>14}  {'yes' if met else 'NO'}")
 
 
 async def temperature(count: int, rate: float, seconds: float) -> None:
@@ -325,14 +569,35 @@ if __name__ == "__main__":
     p.add_argument("--base-port", type=int, default=BASE_PORT)
     p.add_argument("--cycle-s", type=float, default=1.0)
     p.add_argument("--five-axis", action="store_true")
+    p.add_argument("--load", type=int, default=0,
+                   help="fleet: busy-looping processes holding the machine meanwhile")
+    p.add_argument("--failing", type=int, default=0,
+                   help="fleet: machines behind fault relays, failing in mixed ways")
+    p.add_argument("--profile", type=Path, default=None,
+                   help="fleet: cProfile of the center over the Modbus round 2, to this file")
+    p.add_argument("--pmc-procs", type=int, default=1,
+                   help="fleet: child processes the simulated PMCs are spread over")
+    p.add_argument("--first", type=int, default=0, help=argparse.SUPPRESS)
+    p.add_argument("--total", type=int, default=0, help=argparse.SUPPRESS)
+    p.add_argument("--round-timeout", type=float, default=300.0,
+                   help="fleet: longest wait for a round's maps, s")
     a = p.parse_args()
     os.environ.setdefault("EDNC_NODE_ID", "bench")
     if a.what == "child":
         asyncio.run(fleet_main(a.machines, a.base_port, a.cycle_s, a.delay_ms / 1000,
-                               a.five_axis))
+                               a.five_axis, a.failing, a.first, a.total))
     elif a.what == "delivery":
         asyncio.run(delivery(a.delay_ms, a.repeats))
     elif a.what == "fleet":
-        asyncio.run(fleet(a.machines or 1000, a.cycle_s))
+        if a.profile is not None:
+            PROFILE = cProfile.Profile()
+            try:
+                asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
+                                  a.round_timeout, a.pmc_procs))
+            finally:
+                PROFILE.dump_stats(a.profile)
+            sys.exit(0)
+        asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
+                          a.round_timeout, a.pmc_procs))
     else:
         asyncio.run(temperature(a.machines or 20, a.rate, a.seconds))

@@ -10,7 +10,9 @@ SHA-256, decode) before acking. Round 1 is the push every machine gets at Welcom
 1,000 connecting at once; further rounds re-push to all at once (``PushScheduler.request``
 ``resend=True``). Latency is what the center's session
 measures (``Verdict.latency_s``): it includes the machine's checks and the center's event
-loop being busy with the 999 other pushes.
+loop being busy with the 999 other pushes. Center CPU per push is this process's CPU
+time over the round divided by the maps applied (:func:`measure`, which
+``controller_links.py fleet`` runs too, for its ratios against the EDNC link).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from center_connections import (
     Fleet,
     center,
+    cpu_of,
     description,
     name_of,
     percentiles,
@@ -49,7 +52,48 @@ MODEL = {"format": "ednc-model/1", "machine": name_of(0),
          "locations": {}, "terms": [], "info": {}}
 
 
-async def main(count: int, rounds: int, tolerance_um: float) -> None:
+@dataclasses.dataclass
+class Round:
+    """One round of pushes as the center saw it.
+
+    Attributes
+    ----------
+    label : str
+    deliveries : list of Delivery
+        What the push scheduler told its observers during the round.
+    wall_s : float
+        From the round's start to the last answer, s.
+    cpu_s : float
+        This process's CPU time over the round (the center), s.
+    fleet_cpu_s : float
+        The fleet's process's CPU time over the round, s.
+    """
+
+    label: str
+    deliveries: list[Delivery]
+    wall_s: float
+    cpu_s: float
+    fleet_cpu_s: float
+
+    @property
+    def applied(self) -> int:
+        return sum(d.outcome == "applied" for d in self.deliveries)
+
+    @property
+    def cpu_per_push_s(self) -> float:
+        """Center CPU per map applied, s."""
+        return self.cpu_s / max(self.applied, 1)
+
+
+async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[int, list[Round]]:
+    """Push a map to ``count`` EDNC machines ``rounds`` times (the first at Welcome).
+
+    Returns
+    -------
+    size : int
+        Map payload, bytes.
+    rounds : list of Round
+    """
     built = build_map(parse_machine(description(0)), MachineModel.from_json(MODEL),
                       tolerance_um=tolerance_um)
 
@@ -63,30 +107,40 @@ async def main(count: int, rounds: int, tolerance_um: float) -> None:
             got: list[Delivery] = []
             services.push.observers.append(got.append)
             fleet = Fleet(services.server.port, count)
-            t0 = time.perf_counter()
+            pid = fleet.proc.pid
+            t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
             ready = await fleet.ready()
             while len(got) < ready:
                 await asyncio.sleep(0.01)
-            results = [("round 1 (at Welcome, all connecting)", list(got),
-                        time.perf_counter() - t0)]
+            results = [Round("round 1 (at Welcome, all connecting)", list(got),
+                             time.perf_counter() - t0, time.process_time() - cpu0,
+                             cpu_of(pid) - fcpu0)]
             for r in range(2, rounds + 1):
                 got.clear()
-                t0 = time.perf_counter()
+                t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
                 for name in list(services.push.connected()):
                     services.push.request(name, "benchmark", resend=True)
                 while len(got) < ready:
                     await asyncio.sleep(0.01)
-                results.append((f"round {r} (re-push to all at once)", list(got),
-                                time.perf_counter() - t0))
+                results.append(Round(f"round {r} (re-push to all at once)", list(got),
+                                     time.perf_counter() - t0, time.process_time() - cpu0,
+                                     cpu_of(pid) - fcpu0))
             await fleet.finish()
-    print(f"machines {count}, map payload {size} bytes ({len(built.grid)} grid axes), "
+    return size, results
+
+
+async def main(count: int, rounds: int, tolerance_um: float) -> None:
+    size, results = await measure(count, rounds, tolerance_um)
+    print(f"machines {count}, map payload {size} bytes, "
           f"center on one event loop, fleet in another process")
-    for label, deliveries, wall in results:
-        lat = [d.latency_s for d in deliveries if d.latency_s is not None]
-        bad = sum(d.outcome != "applied" for d in deliveries)
+    for r in results:
+        lat = [d.latency_s for d in r.deliveries if d.latency_s is not None]
+        bad = sum(d.outcome != "applied" for d in r.deliveries)
         p50, p99, pmax = percentiles(lat, 50, 99, 100)
-        print(f"{label}: {len(lat)} acks in {wall:.2f} s, MapBegin->MapAck "
-              f"p50 {1000 * p50:.1f} ms, p99 {1000 * p99:.1f} ms, max {1000 * pmax:.1f} ms"
+        print(f"{r.label}: {len(lat)} acks in {r.wall_s:.2f} s, MapBegin->MapAck "
+              f"p50 {1000 * p50:.1f} ms, p99 {1000 * p99:.1f} ms, max {1000 * pmax:.1f} ms; "
+              f"center CPU {r.cpu_s:.2f} s ({1000 * r.cpu_per_push_s:.2f} ms per push), "
+              f"fleet CPU {r.fleet_cpu_s:.2f} s"
               f"{f', {bad} not applied' if bad else ''}")
 
 

@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import hashlib
 import logging
 import struct
 import time
@@ -60,7 +61,7 @@ from server.temperatures import column_of
 
 from .memory import LinkError, MemoryClient
 
-__all__ = ["ControllerSession", "LinkAck", "identity_of"]
+__all__ = ["ControllerSession", "LinkAck", "identity_of", "map_slots"]
 
 log = logging.getLogger(__name__)
 
@@ -100,6 +101,36 @@ def reason_of(code: int) -> tuple[MapRejectReason, str]:
     return reason, f"PLC code {code}: {reason.name.lower().replace('_', ' ')}"
 
 
+SLOTS_KEPT: Final = 4096
+"""Maps whose sensor slots :func:`map_slots` remembers (a digest and a few names each)."""
+_slots_of: dict[bytes, dict[str, int]] = {}
+
+
+def map_slots(payload: bytes) -> dict[str, int]:
+    """The temperature slot of each sensor of a map, by model column (a record may name
+    ``spindle`` or ``T_spindle_C``).
+
+    Remembered by the payload's digest: a decode of a factored map costs about 2 ms of
+    the center's CPU, and the same map goes to the same machine again and again (at each
+    session start, on a re-push), so a fleet re-push would decode it once per machine.
+    A map that does not decode is not remembered (it raises each time).
+
+    Raises
+    ------
+    MapFormatError, ControllerMemoryError
+        The payload does not decode, or it names more sensors than there are slots.
+    """
+    key = hashlib.blake2b(payload, digest_size=16).digest()
+    slots = _slots_of.get(key)
+    if slots is None:
+        slots = {column_of(s): i for s, i in sensor_slots(
+            [r.sensor for r in decode_payload(payload).thermal]).items()}
+        if len(_slots_of) >= SLOTS_KEPT:
+            _slots_of.pop(next(iter(_slots_of)))  # the oldest
+        _slots_of[key] = slots
+    return dict(slots)  # the session's own: the remembered one stays as it is
+
+
 def identity_of(raw: bytes, address: str) -> Identity:
     """The identity block read at ``address``, or a :class:`LinkError` saying what is
     wrong with it: ``magic`` (no EDNC program there, or the window's start is wrong),
@@ -116,13 +147,6 @@ def identity_of(raw: bytes, address: str) -> Identity:
                 "controller's", state="refused", reason="byte_order") from None
         reason = "magic" if magic != IDENTITY_MAGIC else "layout"
         raise LinkError(f"{address}: {exc}", state="refused", reason=reason) from None
-
-
-def _slots_of(payload: bytes) -> dict[str, int]:
-    """The temperature slot of each model column a map's thermal records read (a record
-    may name ``spindle`` or ``T_spindle_C``); raises what decoding raises."""
-    return {column_of(s): i for s, i in sensor_slots(
-        [r.sensor for r in decode_payload(payload).thermal]).items()}
 
 
 class ControllerSession:
@@ -373,7 +397,7 @@ class ControllerSession:
         if self._pending is not None:
             raise RuntimeError(f"{self._name}: a map push is already in progress")
         try:
-            slots = _slots_of(payload)
+            slots = map_slots(payload)
         except (MapFormatError, ControllerMemoryError) as exc:
             raise LinkClosed(f"map version {version} cannot be written: {exc}") from None
         verdict = await self._write_and_wait(version, payload, timeout_s)
@@ -398,7 +422,7 @@ class ControllerSession:
         not written again): its temperature slots follow that map's thermal records from
         now on, as after a push, so a restarted center feeds them at once."""
         try:
-            slots = _slots_of(payload)
+            slots = map_slots(payload)
         except (MapFormatError, ControllerMemoryError) as exc:
             log.warning("%s: map version %d: thermal records not read: %s", self._name,
                         version, exc)
