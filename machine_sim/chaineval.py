@@ -636,29 +636,33 @@ class ChainBatch:
         return self.finish(idx, self.corrections(idx, q, start), directions)
 
     def finish(self, idx: I64, c: F64, directions: NDArray[np.generic] | None = None) -> F64:
-        """Corrections ``c`` (N, K) as applied: clamped, rounded, reversal added."""
+        """Corrections ``c`` (N, K) as applied (protocol/README.md §6.3 step 6): rounded
+        to the encoding, the reversal added where ``directions`` (N, K) < 0, then clamped
+        to ±limit (int32: ±floor(limit / increment) counts), a float32 map's values
+        finally the nearest float32."""
         key = idx.tobytes()  # a PLC fleet finishes the same row sets cycle after cycle
         limit = self._limits.get(key)
         if limit is None:
             if len(self._limits) >= ROW_SETS:
                 self._limits.clear()
             limit = self._limits[key] = self.limit[idx]
-        c = np.minimum(np.maximum(c, -limit), limit)
+        neg = (None if directions is None
+               else np.asarray(directions, dtype=float) < 0)
         if not self.int32.any():  # float32 maps only (Siemens-style): no increments
+            if neg is not None:
+                c = c + np.where(neg, self.reversal[idx], 0.0)
+            c = np.minimum(np.maximum(c, -limit), limit)
             out: F64 = c.astype(np.float32).astype(np.float64)
-            if directions is not None:
-                out += np.where(np.asarray(directions, dtype=float) < 0,
-                                self.reversal[idx], 0.0)
             return out
         inc = self.increment[idx][:, None]
         int32 = self.int32[idx][:, None]
         # int32: halves up, the one tie rule of protocol/README.md section 6
-        rounded = np.where(int32, np.floor(c / inc + 0.5),
-                           c.astype(np.float32).astype(np.float64))
-        if directions is not None:
-            neg = np.asarray(directions, dtype=float) < 0
+        rounded = np.where(int32, np.floor(c / inc + 0.5), c)
+        if neg is not None:
             rounded = rounded + np.where(neg, self.reversal[idx], 0.0)
-        out = np.where(int32, rounded * inc, rounded)
+        lim = np.where(int32, np.floor(limit / inc), limit)
+        rounded = np.minimum(np.maximum(rounded, -lim), lim)
+        out = np.where(int32, rounded * inc, rounded.astype(np.float32).astype(np.float64))
         return out
 
     def _check(self, idx: I64 | None, q: F64) -> tuple[I64, F64]:

@@ -146,12 +146,21 @@ class Compensator:
         if m is None:
             return wanted
         q = np.array([pos[self.axes.index(g)] for g in m.inputs])
-        values = m.lookup(q[None, :])[0]
         dirs = (np.zeros(len(self.axes)) if directions is None
                 else self._vector(directions, float))
+        negative = np.array([dirs[self.axes.index(name)] < 0 for name in m.outputs])
+        directed = getattr(m, "lookup_directed", None)
+        if directed is not None:
+            # a map with its own limits (factored, §6.5 step 6): the reversal goes in
+            # before its final clamp, so the applied value never exceeds the limit
+            values = directed(q[None, :], negative[None, :])[0]
+            for k, name in enumerate(m.outputs):
+                wanted[self.axes.index(name)] = values[k]
+            return wanted
+        values = m.lookup(q[None, :])[0]
         for k, name in enumerate(m.outputs):
-            j = self.axes.index(name)
-            wanted[j] = values[k] + (m.reversal[k] if dirs[j] < 0 else 0.0)
+            wanted[self.axes.index(name)] = values[k] + (m.reversal[k] if negative[k]
+                                                         else 0.0)
         return wanted
 
     def _vector(self, values: Mapping[str, float] | Mapping[str, int] | NDArray[np.generic],

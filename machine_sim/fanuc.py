@@ -8,7 +8,7 @@ addresses the EMZPS function reads. A change larger than ``max_step_counts`` in 
 is split over several scans (``on_jump="ramp"``), or latches an alarm and holds the shift
 (``on_jump="alarm"``) until :meth:`FanucPMC.reset_alarm`.
 
-Factored maps (format version 4, protocol/README.md §6.5): the ladder looks its 1-D
+Factored maps (format version 5, protocol/README.md §6.5): the ladder looks its 1-D
 tables up, multiplies and adds them into the correction and sensitivity fields, and rounds
 the rotary corrections first, letting the linear axes absorb what that rounding leaves
 (:class:`machine_sim.lookup.FactoredLadder`); it declares ``MapEncoding.FACTORED``.
@@ -227,7 +227,9 @@ class FanucPMC(Compensator):
             self._expired_seen = True
         if self.store.active is not None:
             self._expired_seen = False
-        target = np.rint(wanted / c.increment_mm).astype(np.int64)
+        # halves up, the one tie rule of protocol/README.md §6 (np.rint would round a half
+        # to even)
+        target = np.floor(wanted / c.increment_mm + 0.5).astype(np.int64)
         clamped = bool(np.any(np.abs(target) > c.limit_counts))
         target = np.clip(target, -c.limit_counts, c.limit_counts)
         current = self.shifts()
@@ -244,7 +246,7 @@ class FanucPMC(Compensator):
             struct.pack_into("<i", self.r, self._addr(lay.shift, k), int(new[k]))
             struct.pack_into("<i", self.r, self._addr(lay.target, k), int(target[k]))
             struct.pack_into("<i", self.r, self._addr(lay.position, k),
-                             int(np.rint(pos[k] / c.increment_mm)))
+                             int(np.floor(pos[k] / c.increment_mm + 0.5)))
         status = (1 if self.store.active is not None else 0)
         status |= 2 if np.any(new != target) else 0
         status |= 4 if self.releasing else 0

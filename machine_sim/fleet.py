@@ -192,14 +192,27 @@ def loopback_address(i: int, block: int = 0) -> str:
     return f"127.{block}.{1 + i // 250}.{1 + i % 250}"
 
 
+OPCUA_SECURITY = {"sign-and-encrypt": ("Basic256Sha256", "SignAndEncrypt"),
+                  "sign": ("Basic256Sha256", "Sign"), "none": ("None", "None")}
+"""``ednc sim --opcua-security``: the (security_policy, security_mode) of the links."""
+
+
 def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int = 0,
-                    link: str = "ednc", port: int | None = None) -> list[FleetEntry]:
+                    link: str = "ednc", port: int | None = None,
+                    opcua_security: str = "sign-and-encrypt", plc_class: str = "s7-300"
+                    ) -> list[FleetEntry]:
     """``n`` vertical machining centres (module docstring); ``link`` modbus or opcua:
     each serves its controller's window at its own address and ``port`` (502 Modbus,
     4840 OPC UA by default), and the controller follows the link (Fanuc-style over Modbus,
-    Siemens-style over OPC UA)."""
+    Siemens-style over OPC UA). An opcua link gets ``opcua_security`` (a key of
+    :data:`OPCUA_SECURITY`) and ``plc_class`` (``s7-300`` or ``s7-1500``)."""
     if link not in ("ednc", "modbus", "opcua"):
         raise FleetSpecError(f"link must be ednc, modbus or opcua, got {link!r}")
+    if opcua_security not in OPCUA_SECURITY:
+        raise FleetSpecError(f"OPC UA security must be {', '.join(OPCUA_SECURITY)}, got "
+                             f"{opcua_security!r}")
+    if plc_class not in ("s7-300", "s7-1500"):
+        raise FleetSpecError(f"PLC class must be s7-300 or s7-1500, got {plc_class!r}")
     if link != "ednc":
         want = "fanuc" if link == "modbus" else "siemens"
         if controller not in ("mixed", want):
@@ -223,8 +236,11 @@ def generated_fleet(n: int, secret: str, *, controller: str = "mixed", seed: int
         if link == "modbus":
             spec = {"kind": "modbus", "host": m.ip, "port": port or 502}
         elif link == "opcua":
+            policy, mode = OPCUA_SECURITY[opcua_security]
             spec = {"kind": "opcua", "endpoint": f"opc.tcp://{m.ip}:{port or 4840}",
-                    "user": "ednc", "password_ref": "env:EDNC_OPCUA_PASSWORD"}
+                    "user": "ednc", "password_ref": "env:EDNC_OPCUA_PASSWORD",
+                    "security_policy": policy, "security_mode": mode,
+                    "plc_class": plc_class}
         out.append(FleetEntry(m, key, seed + i, link=spec))
     return out
 
@@ -242,12 +258,15 @@ class Fleet:
         Controller cycle for every machine (their own by default; a coarser one lets a
         large fleet run on one core).
     backoff : Backoff, optional
+    state_dir : Path, optional
+        Where the Modbus-served PMCs keep their windows across restarts (one
+        ``<name>.pmc`` file each: the nonvolatile D area of protocol/README.md §13.1).
     """
 
     def __init__(self, entries: Sequence[FleetEntry],
                  center: tuple[str, int] | Sequence[tuple[str, int]] | None, *,
                  mqtt: MqttTarget | None = None, cycle_s: float | None = None,
-                 backoff: Backoff | None = None) -> None:
+                 backoff: Backoff | None = None, state_dir: Path | None = None) -> None:
         self.machines: list[SimulatedCNC] = []
         self.served: list[WindowCNC] = []
         for e in entries:
@@ -259,7 +278,7 @@ class Fleet:
                                                   seed=e.seed, mqtt=mqtt, cycle_s=cycle_s,
                                                   backoff=backoff))
             else:
-                self.served.append(served_machine(e, cycle_s))
+                self.served.append(served_machine(e, cycle_s, state_dir))
         self._stack = contextlib.AsyncExitStack()
 
     async def __aenter__(self) -> Fleet:
@@ -296,9 +315,11 @@ class Fleet:
         }
 
 
-def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
+def served_machine(e: FleetEntry, cycle_s: float | None = None,
+                   state_dir: Path | None = None) -> WindowCNC:
     """The simulated machine of an entry whose controller serves its window (a modbus or
-    opcua link): it listens at its own address (the entry's ``ip`` or the machine's)."""
+    opcua link): it listens at its own address (the entry's ``ip`` or the machine's). A
+    PMC keeps its window in ``state_dir/<name>.pmc`` when a directory is given."""
     link = dict(e.link or {})
     host = e.ip or e.machine.ip
     if e.link_kind == "modbus":
@@ -310,9 +331,12 @@ def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
         if order not in ("little", "big"):
             raise FleetSpecError(f"{e.machine.name}: byte_order little or big, got {order!r}")
 
+        nonvolatile = None if state_dir is None else state_dir / f"{e.machine.name}.pmc"
+
         def modbus(cnc: WindowCNC) -> ControllerServer:
             return PmcModbusServer(cnc, host=host, port=port, register=register,
-                                   byte_order=order)  # type: ignore[arg-type]
+                                   byte_order=order,  # type: ignore[arg-type]
+                                   nonvolatile=nonvolatile)
 
         return WindowCNC(e.machine, modbus, seed=e.seed, cycle_s=cycle_s)
     from .opcua_server import PLC_WRITER, OpcuaUser, sinumerik_server
@@ -328,6 +352,14 @@ def served_machine(e: FleetEntry, cycle_s: float | None = None) -> WindowCNC:
                              f"password its link names ({ref or 'password_ref'}): set it")
     endpoint = str(link.get("endpoint", f"opc.tcp://{host}:4840"))
     port = int(endpoint.rsplit(":", 1)[-1].split("/", 1)[0])
-    return WindowCNC(e.machine, sinumerik_server({user: OpcuaUser(password, PLC_WRITER)},
-                                                 host=host, port=port),
-                     seed=e.seed, cycle_s=cycle_s)
+    # a link without security stands for a controller configured without it (only None
+    # offered); otherwise the controller offers all three, as a SINUMERIK can
+    insecure = "None" in (link.get("security_policy"), link.get("security_mode"))
+    plc_class = str(link.get("plc_class", "s7-300"))
+    if plc_class not in ("s7-300", "s7-1500"):
+        raise FleetSpecError(f"{e.machine.name}: plc_class s7-300 or s7-1500, got "
+                             f"{plc_class!r}")
+    return WindowCNC(e.machine, sinumerik_server(
+        {user: OpcuaUser(password, PLC_WRITER)}, host=host, port=port,
+        security_modes=("None",) if insecure else ("None", "Sign", "SignAndEncrypt"),
+        plc_class=plc_class), seed=e.seed, cycle_s=cycle_s)

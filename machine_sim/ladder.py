@@ -26,8 +26,13 @@ from protocol.mapfactored import FactoredPayload, FactoredThermal
 from protocol.mapformat import THERMAL_DRIFT
 
 I64 = NDArray[np.int64]
-__all__ = ["FactoredProgram", "GridProgram", "factored_counts", "factored_program",
-           "grid_counts", "grid_program", "half_up_shift", "thermal_constants"]
+__all__ = ["DT_LIMIT_MC", "FactoredProgram", "GridProgram", "directions", "factored_counts",
+           "factored_program", "grid_counts", "grid_program", "half_up_shift",
+           "thermal_constants"]
+
+DT_LIMIT_MC = 1 << 17
+"""ΔT = T − t_ref is clamped to ±2^17 m°C (±131.072 K) before any product (§6): it
+bounds ``coefficient · ΔT`` below 2^48."""
 
 
 def half_up_shift(x: I64, s: int) -> I64:
@@ -115,7 +120,7 @@ def thermal_constants(records: Sequence[FactoredThermal], n_axes: int,
         t = readings_mC.get(rec.sensor)
         if t is None:
             continue
-        dt = t - rec.t_ref_mC
+        dt = min(max(t - rec.t_ref_mC, -DT_LIMIT_MC), DT_LIMIT_MC)
         if rec.kind == THERMAL_DRIFT:
             c0[rec.axis] -= (rec.coefficient * dt + (1 << 15)) >> 16
         else:
@@ -138,26 +143,44 @@ def factored_fields(prog: FactoredProgram, q: I64) -> I64:
     return acc
 
 
-def factored_counts(prog: FactoredProgram, q: I64, c0: I64, c1: I64) -> I64:
-    """§6.5: the counts the ladder writes for a positive approach at positions q (N, D)
-    counts, thermal constants c0, c1 (D,) → (N, D)."""
+def directions(previous: I64, q: I64, last: I64) -> I64:
+    """§6 "Direction and reversal": an axis moved in a scan when its commanded position
+    differs from the previous scan's; its direction is the sign of that move, else the
+    last one (+1 at start-up, before any move). previous, q, last: (..., D) → (..., D) of
+    ±1."""
+    out: I64 = np.where(q > previous, 1, np.where(q < previous, -1, last))
+    return out
+
+
+def factored_counts(prog: FactoredProgram, q: I64, c0: I64, c1: I64,
+                    negative: NDArray[np.bool_] | None = None) -> I64:
+    """§6.5: the counts the ladder writes at positions q (N, D) counts, thermal constants
+    c0, c1 (D,) → (N, D). ``negative`` (N, D) or (D,): the axes whose direction is
+    negative, which get their reversal value before the final clamp (step 6); None: a
+    positive approach on every axis."""
     d = len(prog.axes)
     acc = factored_fields(prog, q)
     lim = prog.limit
     c = np.clip(acc[:, :d] + c0 + half_up_shift(c1 * q, 16), -(lim << 16), lim << 16)
+    rev = (np.zeros((1, d), dtype=np.int64) if negative is None
+           else np.where(np.asarray(negative, dtype=bool), prog.reversal, 0))
     rot, lin = _i64(prog.rotary), _i64(prog.linear)
     if not rot.size or not lin.size:
-        plain: I64 = np.clip(half_up_shift(c, 16), -lim, lim)
+        plain: I64 = np.clip(half_up_shift(c, 16) + rev, -lim, lim)
         return plain
     n = q.shape[0]
     sens = acc[:, d:].reshape(n, len(lin), len(rot))
-    down = c[:, rot] >> 16
+    # step 5: each rotary axis's nearest count (halves up) and its other neighbour; choice
+    # 0 is all nearest, so equal costs (all sensitivities 0, say) round to nearest
+    cr = c[:, rot]
+    near = half_up_shift(cr, 16)
+    far = np.where((near << 16) > cr, near - 1, near + 1)
     best = np.zeros((n, d), dtype=np.int64)
     best_cost = np.zeros(n, dtype=np.int64)
     for choice in range(1 << len(rot)):
-        up = _i64([(choice >> (len(rot) - 1 - j)) & 1 for j in range(len(rot))])
-        r_counts = down + up
-        moved = (r_counts << 16) - c[:, rot]
+        pick = _i64([(choice >> (len(rot) - 1 - j)) & 1 for j in range(len(rot))])
+        r_counts = np.where(pick == 1, far, near)
+        moved = (r_counts << 16) - cr
         want = c[:, lin] + half_up_shift((sens * moved[:, None, :]).sum(axis=2), 16)
         l_counts = half_up_shift(want, 16)
         resid = want - (l_counts << 16)
@@ -166,7 +189,7 @@ def factored_counts(prog: FactoredProgram, q: I64, c0: I64, c1: I64) -> I64:
         best_cost[win] = cost[win]
         best[np.ix_(win, rot)] = r_counts[win]
         best[np.ix_(win, lin)] = l_counts[win]
-    out: I64 = np.clip(best, -lim, lim)
+    out: I64 = np.clip(best + rev, -lim, lim)
     return out
 
 
@@ -207,9 +230,13 @@ def grid_program(values: bytes, count: Sequence[int], start: Sequence[int],
         slope_cols=_i64([list(inputs).index(o) if o in inputs else -1 for o in names]))
 
 
-def grid_counts(prog: GridProgram, q: I64, c0: I64, c1: I64) -> I64:
-    """§6.1 and §6.4: the counts the ladder writes for a positive approach at positions
-    q (N, len(inputs)) counts, thermal constants c0, c1 (K,) → (N, K)."""
+def grid_counts(prog: GridProgram, q: I64, c0: I64, c1: I64,
+                negative: NDArray[np.bool_] | None = None, limit: int | None = None) -> I64:
+    """§6.1 and §6.4: the counts the ladder writes at positions q (N, len(inputs))
+    counts, thermal constants c0, c1 (K,) → (N, K). ``negative`` (N, K) or (K,): the
+    outputs whose direction is negative, which get their reversal value; ``limit``: the
+    controller's compensation range in counts, clamped to after the reversal (step 3);
+    None for both: a positive approach, unclamped."""
     d = prog.start.shape[0]
     x = np.clip(q[:, :d] - prog.start, 0, (prog.count - 1) * prog.step)
     i = np.minimum(x // prog.step, prog.count - 2)
@@ -228,4 +255,8 @@ def grid_counts(prog: GridProgram, q: I64, c0: I64, c1: I64) -> I64:
     cols = prog.slope_cols
     pos = np.where(cols >= 0, q[:, np.maximum(cols, 0)], 0)
     out: I64 = half_up_shift(g + c0 + half_up_shift(c1 * pos, 16), 16)
+    if negative is not None:
+        out = out + np.where(np.asarray(negative, dtype=bool), prog.reversal, 0)
+    if limit is not None:
+        out = np.clip(out, -limit, limit)
     return out

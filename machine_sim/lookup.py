@@ -278,6 +278,12 @@ class TablesMap:
         qa = np.atleast_2d(np.asarray(q, dtype=float))
         return self.batch.applied(None, qa)
 
+    def lookup_directed(self, q: F64, negative: NDArray[np.bool_]) -> F64:
+        """Applied corrections at positions q (N, A) with the outputs ``negative`` (N, K)
+        approaching negatively: rounded, the reversal added, then clamped (§6.3 step 6)."""
+        qa = np.atleast_2d(np.asarray(q, dtype=float))
+        return self.batch.applied(None, qa, np.where(negative, -1, 1))
+
     def corrections(self, q: F64) -> F64:
         """The solver's corrections (N, K) before clamping and rounding, mm or degrees."""
         return self.batch.corrections(None, np.atleast_2d(np.asarray(q, dtype=float)))
@@ -374,9 +380,18 @@ class FactoredLadder:
         acc[:, :len(self.grid)] *= self.inc
         return acc
 
-    def counts(self, q: F64) -> I64:
-        """What the ladder writes, counts (N, D), for a positive approach."""
-        return ladder.factored_counts(self.program, self._counts_in(q), self.c0, self.c1)
+    def counts(self, q: F64, negative: NDArray[np.bool_] | None = None) -> I64:
+        """What the ladder writes, counts (N, D): for a positive approach, or with the
+        reversal of the axes ``negative`` (N, D) added before the final clamp (§6.5
+        step 6)."""
+        return ladder.factored_counts(self.program, self._counts_in(q), self.c0, self.c1,
+                                      negative)
+
+    def lookup_directed(self, q: F64, negative: NDArray[np.bool_]) -> F64:
+        """Applied corrections at positions q (N, D) with the axes ``negative`` (N, D)
+        approaching negatively, mm or degrees (whole increments)."""
+        out: F64 = self.counts(q, negative).astype(np.float64) * self.inc
+        return out
 
     def lookup(self, q: F64) -> F64:
         """Applied corrections for a positive approach at positions q (N, D) → (N, D),
@@ -437,9 +452,10 @@ class GridLadder(GridMap):
         object.__setattr__(self, "consts", [c0, c1])
         object.__setattr__(self, "thermal_mm", _thermal_view(c0, c1, self.per_unit))
 
-    def counts(self, q: F64) -> I64:
-        """What the ladder writes, counts (N, K), for a positive approach at positions q
-        (N, len(inputs)) mm or degrees."""
+    def counts(self, q: F64, negative: NDArray[np.bool_] | None = None) -> I64:
+        """What the ladder writes, counts (N, K), at positions q (N, len(inputs)) mm or
+        degrees: for a positive approach, or with the reversal of the outputs
+        ``negative`` (N, K) added (before the controller's clamp, §6.1 step 3)."""
         assert self.program is not None
         qa = np.atleast_2d(np.asarray(q, dtype=float))
         if qa.shape[1] != len(self.inputs):
@@ -447,7 +463,7 @@ class GridLadder(GridMap):
                              f"{' '.join(self.inputs)}: shape (N, {len(self.inputs)}), got "
                              f"{qa.shape}")
         return ladder.grid_counts(self.program, positions_in_counts(qa, self.per_unit),
-                                  self.consts[0], self.consts[1])
+                                  self.consts[0], self.consts[1], negative)
 
     def lookup(self, q: F64) -> F64:
         """Applied corrections (whole increments), mm, (N, K)."""

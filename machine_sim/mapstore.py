@@ -200,13 +200,13 @@ class MapStore:
 
     def check_factored(self, p: FactoredPayload) -> str | None:
         """Why this controller refuses an otherwise valid factored map, or None: an axis
-        that is not this machine's (or out of its order), a reversal over the limit, or
-        tables that do not evaluate to finite corrections at the centre and corners of
-        the tables' span."""
-        names = tuple(a.name.upper() for a in p.axes)
-        if names != self.axes:
-            return (f"map axes {' '.join(names)} are not the axes of {self.machine} in its "
-                    f"order ({' '.join(self.axes)})")
+        that is not this machine's (axes are matched by name, never by place:
+        protocol/README.md §6.6), a reversal over the limit, or tables that do not
+        evaluate to finite corrections at the centre and corners of the tables' span."""
+        for a in p.axes:
+            if a.name.upper() not in self.axes:
+                return (f"map axis {a.name!r} is not an axis of {self.machine} "
+                        f"({' '.join(self.axes)})")
         for a in p.axes:
             if a.reversal is not None and abs(a.reversal * p.increment_mm) > self.limit_mm:
                 return (f"map reversal {a.reversal * p.increment_mm:.6g} for axis {a.name} "

@@ -63,10 +63,23 @@ These are nodes of the address space (browsable under ``Sinumerik``), their valu
 from the machine when asked and, for subscriptions, sampled every 100 ms. The window's
 paths are not sampled: the center polls the status with reads.
 
-With certificates the server offers Basic256Sha256 (Sign, SignAndEncrypt) beside None,
-and ``trusted_clients`` is its trust list: a client certificate not on it gets
-``BadCertificateUntrusted`` at CreateSession (as on the real server, where the center's
-certificate must be trusted once). Not simulated: the limit of 1,000 samples/s.
+**Security.** The server offers Basic256Sha256 Sign and SignAndEncrypt beside None
+(``security_modes``), with its own certificate: given, or the simulator's (made once and
+kept in ``EDNC_SIM_PKI_DIR``, else ``$XDG_CACHE_HOME/ednc/sim-opcua``, so a simulated
+controller shows the same certificate run after run, as a real one does and as a center
+trusting it on first use expects). ``trusted_clients`` is its trust list: a client
+certificate not on it gets ``BadCertificateUntrusted`` at CreateSession (as on the real
+server, where the center's certificate must be trusted once). On the None endpoint the
+password is taken as sent, in clear (an old controller's configuration: the worst case a
+center must not fall into silently); on Sign it is encrypted with the server's key.
+
+**Busy.** With ``busy`` > 0 that fraction of CreateSession requests answers
+``BadTooManySessions`` and of Read and Write requests ``BadResourceUnavailable`` (a
+controller whose server is loaded by the HMI and other clients). When its 10 sessions
+are taken, a CreateSession first closes the oldest session that was created and never
+activated (a real server frees such a session; asyncua would keep it until its
+timeout, so ten half-open logins would lock everyone out); only when all 10 are active
+does it answer ``BadTooManySessions``. Not simulated: the limit of 1,000 samples/s.
 
 The server runs in the machine's event loop (:class:`SinumerikOpcuaServer` is a
 ``ControllerServer``: ``port``, ``start()``, ``stop()``; port 0 binds a free port, read
@@ -82,7 +95,11 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import copy
+import functools
+import os
+import random
 import re
+import socket
 import struct
 from collections.abc import Callable, Iterator, Mapping, MutableMapping, Sequence
 from dataclasses import dataclass
@@ -91,7 +108,7 @@ from typing import TYPE_CHECKING, Any, Final
 
 from asyncua import ua
 from asyncua.common.utils import ServiceError
-from asyncua.crypto import uacrypto
+from asyncua.crypto import cert_gen, uacrypto
 from asyncua.crypto.permission_rules import User, UserRole
 from asyncua.server.address_space import NodeData
 from asyncua.server.internal_server import InternalServer
@@ -99,7 +116,9 @@ from asyncua.server.internal_session import InternalSession
 from asyncua.server.server import Server
 from asyncua.ua.attribute_ids import AttributeIds
 from asyncua.ua.status_codes import StatusCodes
+from cryptography import x509
 from cryptography.hazmat.primitives.serialization import Encoding
+from cryptography.x509.oid import ExtendedKeyUsageOID
 
 from .siemens import SD_ABS_VALUE, SD_REF_POSITION, SD_SLOPE, SiemensAlarm, SiemensNC
 
@@ -119,6 +138,18 @@ __all__ = [
 ]
 
 NAMESPACE: Final = "urn:ednc:sim:sinumerik"
+SERVER_URI: Final = "urn:ednc:sim:sinumerik:server"
+"""The simulated controllers' ApplicationUri (in their certificate's subjectAltName)."""
+SIM_PKI_ENV: Final = "EDNC_SIM_PKI_DIR"
+SECURITY_MODES: Final = ("None", "Sign", "SignAndEncrypt")
+PLC_WRITE_LIMIT: Final = {"s7-300": 240, "s7-1500": 960}
+"""PLC bytes one Write request may carry, by the PLC's class: the data of one PDU (an
+S7-300-class PLC, the 840D sl's, 240 bytes; an S7-1500, SINUMERIK ONE's, 960). The
+simulated server refuses more (``BadRequestTooLarge``) rather than splitting it into PDUs
+the PLC program could read between."""
+_POLICY: Final = {"None": ua.SecurityPolicyType.NoSecurity,
+                  "Sign": ua.SecurityPolicyType.Basic256Sha256_Sign,
+                  "SignAndEncrypt": ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt}
 """Registered first, so it is namespace 2 as on the real server."""
 MAX_SESSIONS: Final = 10
 MAX_SUBSCRIPTIONS: Final = 10
@@ -142,6 +173,7 @@ _STANDARD: dict[ua.NodeId, NodeData] | None = None
 server works on its own copies of the nodes it touches, :class:`_CopyOnAccess`)."""
 _S = StatusCodes
 _ANONYMOUS: Final = User(role=UserRole.Anonymous)
+_NONE_URI: Final = "http://opcfoundation.org/UA/SecurityPolicy#None"
 
 
 def plc_path(db: int, offset: int, width: int, count: int | None = None) -> str:
@@ -160,6 +192,64 @@ def sd_path(number: int, axis: int) -> str:
 def position_path(axis: int) -> str:
     """The BTSS path of machine axis ``axis``'s (1-based) position, mm."""
     return f"/Channel/MachineAxis/actToolBasePos[u1,{axis}]"
+
+
+def sim_pki_dir() -> Path:
+    """Where the simulated controllers keep their certificate (module docstring)."""
+    given = os.environ.get(SIM_PKI_ENV)
+    if given:
+        return Path(given)
+    cache = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(cache) / "ednc" / "sim-opcua"
+
+
+@functools.cache
+def sim_certificate(root: Path | None = None) -> tuple[bytes, bytes]:
+    """The simulated controllers' certificate (DER) and key (PEM): read from ``root``
+    (default :func:`sim_pki_dir`), or made there once. One for every simulated
+    controller of a process: an RSA key costs ~0.1 CPU-s, a fleet of 100 would spend 10 s
+    making keys no center tells apart (it keeps certificates per endpoint)."""
+    root = root if root is not None else sim_pki_dir()
+    path = root / "server.pem"  # certificate and key in one file: one atomic replace
+    try:
+        return _split_pem(path.read_bytes())
+    except (OSError, ValueError):
+        pass
+    try:  # kept by an earlier version as two files: the same certificate, centers trust it
+        old = (root / "server.der").read_bytes(), (root / "server.key.pem").read_bytes()
+        cert = x509.load_der_x509_certificate(old[0])
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_bytes(cert.public_bytes(Encoding.PEM) + old[1])
+        tmp.chmod(0o600)
+        tmp.replace(path)
+        return _split_pem(path.read_bytes())
+    except (OSError, ValueError):
+        pass
+    key = cert_gen.generate_private_key()
+    cert = cert_gen.generate_self_signed_app_certificate(
+        key, SERVER_URI, {"organizationName": "EDNC simulated SINUMERIK"},
+        [x509.UniformResourceIdentifier(SERVER_URI), x509.DNSName(socket.gethostname()),
+         x509.DNSName("localhost")],
+        [ExtendedKeyUsageOID.SERVER_AUTH, ExtendedKeyUsageOID.CLIENT_AUTH], days=3650)
+    der, pem = cert.public_bytes(Encoding.DER), cert_gen.dump_private_key_as_pem(key)
+    try:
+        root.mkdir(parents=True, exist_ok=True)
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_bytes(cert.public_bytes(Encoding.PEM) + pem)
+        tmp.chmod(0o600)
+        tmp.replace(path)
+        return _split_pem(path.read_bytes())  # another process's, if it won the race
+    except (OSError, ValueError):
+        return der, pem  # not kept: this process's controllers still share it
+
+
+def _split_pem(data: bytes) -> tuple[bytes, bytes]:
+    """(certificate DER, private key PEM) of a file holding both, PEM."""
+    at = data.find(b"-----BEGIN PRIVATE KEY-----")
+    if at < 0:
+        raise ValueError("no private key")
+    cert = x509.load_pem_x509_certificate(data[:at])
+    return cert.public_bytes(Encoding.DER), data[at:]
 
 
 @dataclass(frozen=True)
@@ -371,6 +461,8 @@ class _Session(InternalSession):
         return self.user if self.user is not None else User()
 
     async def read(self, params: ua.ReadParameters) -> list[ua.DataValue]:
+        if self.iserver.is_busy():  # type: ignore[attr-defined]
+            raise ServiceError(_S.BadResourceUnavailable)
         nc: _Sinumerik = self.iserver.sinumerik  # type: ignore[attr-defined]
         out: list[ua.DataValue | None] = []
         rest = ua.ReadParameters()
@@ -386,6 +478,17 @@ class _Session(InternalSession):
         return [v if v is not None else next(others) for v in out]
 
     async def write(self, params: ua.WriteParameters) -> list[ua.StatusCode]:
+        if self.iserver.is_busy():  # type: ignore[attr-defined]
+            raise ServiceError(_S.BadResourceUnavailable)
+        limit: int = self.iserver.plc_write_limit  # type: ignore[attr-defined]
+        plc = 0
+        for wv in params.NodesToWrite:
+            path = self._ours(wv.NodeId, wv.AttributeId)
+            m = _PLC.match(path) if path is not None else None
+            if m is not None:
+                plc += _WIDTH[m.group(2)] * int(m.group(4) or 1)
+        if plc > limit:  # more than one PDU of the PLC in one request
+            raise ServiceError(_S.BadRequestTooLarge)
         nc: _Sinumerik = self.iserver.sinumerik  # type: ignore[attr-defined]
         out: list[ua.StatusCode | None] = []
         rest = ua.WriteParameters()
@@ -469,10 +572,24 @@ class _Internal(InternalServer):
     """asyncua's internal server with the SINUMERIK's session limit (asyncua counts
     activated sessions over the whole process, so the limit per server is kept here)."""
 
-    def __init__(self, users: _Users, sinumerik: _Sinumerik, max_sessions: int) -> None:
+    def __init__(self, users: _Users, sinumerik: _Sinumerik, max_sessions: int,
+                 busy: float = 0.0, seed: int | None = None) -> None:
         super().__init__(user_manager=users)  # type: ignore[arg-type]
         self.sinumerik = sinumerik
         self.max_sessions = max_sessions
+        self.busy = busy
+        self._rng = random.Random(seed)
+        self.evicted = 0
+        """Sessions closed unactivated to make room (for tests)."""
+        self.plc_write_limit = PLC_WRITE_LIMIT["s7-1500"]
+        self.busy_answers = 0
+
+    def is_busy(self) -> bool:
+        """Whether this request gets a busy answer (``busy`` of them, at random)."""
+        if self.busy > 0.0 and self._rng.random() < self.busy:
+            self.busy_answers += 1
+            return True
+        return False
 
     async def load_standard_address_space(self, shelf_file: Path | None = None) -> None:
         global _STANDARD
@@ -483,8 +600,16 @@ class _Internal(InternalServer):
 
     def create_session(self, name: str, user: User = _ANONYMOUS,
                        external: bool = False) -> InternalSession:
-        if external and len(self._external_sessions) >= self.max_sessions:
+        if external and self.is_busy():
             raise ServiceError(_S.BadTooManySessions)
+        if external and len(self._external_sessions) >= self.max_sessions:
+            idle = [x for x in self._external_sessions.values() if not x.is_activated()]
+            if not idle:
+                raise ServiceError(_S.BadTooManySessions)
+            oldest = idle[0]  # the dict keeps creation order
+            self.unregister_external_session(oldest)  # its place is free now
+            asyncio.get_running_loop().create_task(oldest.close_session())
+            self.evicted += 1
         return _Session(self, self.aspace, self.subscription_service, name, user=user,
                         external=external)
 
@@ -507,10 +632,17 @@ class SinumerikOpcuaServer:
         A session idle this long is closed (every session gets this timeout, whatever it
         asks; asyncua does not go below 5 s).
     certificate, private_key : Path, optional
-        PEM or DER files; with them the server also offers Basic256Sha256 (Sign,
-        SignAndEncrypt) beside None.
+        PEM or DER files of the server's certificate; default :func:`sim_certificate`.
     trusted_clients : sequence of Path, optional
         Client certificates (PEM or DER) the server trusts; None trusts any.
+    security_modes : sequence of str
+        Endpoints offered: ``None`` (password in clear), ``Sign``, ``SignAndEncrypt``
+        (Basic256Sha256).
+    busy : float
+        Fraction of CreateSession, Read and Write requests answered busy (module
+        docstring); ``seed`` makes the draw repeatable.
+    plc_class : {"s7-300", "s7-1500"}
+        The PLC's class: PLC bytes per Write request (:data:`PLC_WRITE_LIMIT`).
     """
 
     def __init__(self, cnc: WindowCNC, users: Mapping[str, OpcuaUser], *,
@@ -519,7 +651,18 @@ class SinumerikOpcuaServer:
                  session_timeout_s: float = SESSION_TIMEOUT_MS / 1000,
                  certificate: Path | None = None,
                  private_key: Path | None = None,
-                 trusted_clients: Sequence[Path] | None = None) -> None:
+                 trusted_clients: Sequence[Path] | None = None,
+                 security_modes: Sequence[str] = SECURITY_MODES, busy: float = 0.0,
+                 seed: int | None = None, plc_class: str = "s7-1500") -> None:
+        if plc_class not in PLC_WRITE_LIMIT:
+            raise ValueError(f"plc_class: s7-300 or s7-1500, got {plc_class!r}")
+        unknown = set(security_modes) - set(SECURITY_MODES)
+        if unknown or not security_modes:
+            raise ValueError(f"security_modes: some of {', '.join(SECURITY_MODES)}, got "
+                             f"{list(security_modes)}")
+        if not 0.0 <= busy < 1.0:
+            raise ValueError(f"busy: a fraction in [0, 1), got {busy}")
+        self.security_modes = tuple(security_modes)
         self.cnc = cnc
         self.host = host
         self.port = port
@@ -528,7 +671,9 @@ class SinumerikOpcuaServer:
         self.session_timeout_ms = max(5_000.0, 1000 * float(session_timeout_s))
         self.trusted_clients = None if trusted_clients is None else list(trusted_clients)
         self.sinumerik = _Sinumerik(cnc, users, db)
-        self._internal = _Internal(_Users(users), self.sinumerik, max_sessions)
+        self._internal = _Internal(_Users(users), self.sinumerik, max_sessions, busy, seed)
+        self._internal.plc_write_limit = PLC_WRITE_LIMIT[plc_class]
+        self.plc_class = plc_class
         self.server: Server | None = None
         self._sampled: list[tuple[ua.NodeId, str]] = []
         self._sampler: asyncio.Task[None] | None = None
@@ -546,13 +691,15 @@ class SinumerikOpcuaServer:
         srv.set_endpoint(f"opc.tcp://{self.host}:{self.port}")
         srv.set_server_name(f"SINUMERIK {self.cnc.machine.name} (simulated)")
         srv.set_identity_tokens([ua.AnonymousIdentityToken, ua.UserNameIdentityToken])
-        policies = [ua.SecurityPolicyType.NoSecurity]
         if self.certificate is not None and self.private_key is not None:
             await srv.load_certificate(str(self.certificate))
             await srv.load_private_key(str(self.private_key))
-            policies += [ua.SecurityPolicyType.Basic256Sha256_Sign,
-                         ua.SecurityPolicyType.Basic256Sha256_SignAndEncrypt]
-        srv.set_security_policy(policies)
+        else:
+            der, pem = sim_certificate()
+            await srv.set_application_uri(SERVER_URI)
+            await srv.load_certificate(der, "der")
+            await srv.load_private_key(pem, None, "pem")
+        srv.set_security_policy([_POLICY[m] for m in self.security_modes])
         if self.trusted_clients is not None:
             trusted = {(await uacrypto.load_certificate(str(p))).public_bytes(Encoding.DER)
                        for p in self.trusted_clients}
@@ -570,6 +717,11 @@ class SinumerikOpcuaServer:
         ns = await srv.register_namespace(NAMESPACE)
         await self._nodes(srv, ns)
         await srv.start()
+        for edp in srv.iserver.endpoints:  # None takes the password in clear (docstring)
+            if edp.SecurityMode == ua.MessageSecurityMode.None_:
+                for token in edp.UserIdentityTokens:
+                    if token.TokenType == ua.UserTokenType.UserName:
+                        token.SecurityPolicyUri = _NONE_URI
         assert srv.bserver is not None
         self.port = srv.bserver.port  # the bound one when asked for 0
         self.server = srv

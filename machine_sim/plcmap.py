@@ -14,9 +14,15 @@ ladder or IPO cycle it feeds:
   store, which applies it with the same checks, evaluation and ramp rules as a map pushed
   over the EDNC protocol; then it writes its verdict (ack sequence and code) and, when
   applied, the active buffer;
-* it takes new temperature slots (a sequence that changed, read again after the slots)
-  into the controller's temperatures, named by the map's thermal records;
-* it writes its status: heartbeat, applied map version, positions and corrections.
+* it takes new temperature slots (a sequence not 0 and not the one last taken, stamped
+  with the applied map's version or 0, read again after the slots) into the controller's
+  held readings, named by the map's thermal records: a slot of -2^31 leaves its sensor's
+  held reading, a value the controller's screen refuses too (bit i of ``temp_refused``);
+  at a swap it keeps the held readings and forgets the sequence it last took, so the
+  slots written for the new map are taken as soon as their stamp matches;
+* it writes its status: heartbeat, the state bits of §13.1 (map in use, ramping,
+  releasing, alarm, clamped, expired), applied map version, the temperature sequence
+  taken and what was refused of it, positions and corrections.
 
 The window is a ``bytearray`` shared with the controller's server (it is the memory the
 server maps its registers or nodes onto); nothing here does I/O.
@@ -32,18 +38,18 @@ from numpy.typing import NDArray
 from protocol import MapAck, MapEncoding, decode_payload, split_into_chunks
 from protocol.ctrlmem import (
     IDENTITY_SIZE,
-    MAX_SENSORS,
     NO_TEMPERATURE,
     STATUS_AT,
     STATUS_SIZE,
     SWITCH_AT,
     TEMP_SEQ_AT,
-    TEMPERATURES_AT,
     AckCode,
     Identity,
     Layout,
+    State,
     Status,
     check_buffer,
+    decode_command,
     decode_status,
     encode_identity,
     encode_status,
@@ -85,6 +91,9 @@ class PlcMapProgram:
         self.heartbeat = 0
         self._handled_seq = 0
         self._temp_seq: int | None = None
+        """The temperature sequence last taken for the map in use (None: forgotten)."""
+        self._temp_ack = 0
+        self._temp_refused = 0
         self._slots: dict[int, str] = {}
         self.applied_switches = 0
         self.rejected_switches = 0
@@ -98,7 +107,8 @@ class PlcMapProgram:
         self.window[:IDENTITY_SIZE] = encode_identity(ident)
         st = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         self._handled_seq = st.ack_seq
-        self._temp_seq = None
+        self._temp_seq = None  # no held readings yet: take the slots the window holds
+        self._temp_ack = self._temp_refused = 0  # nothing taken since the start
         if st.active:
             checked = check_buffer(self.window, self.layout, st.active)
             applied = False
@@ -148,37 +158,71 @@ class PlcMapProgram:
             slots = sensor_slots([r.sensor for r in records])
             self._slots = {i: s for s, i in slots.items()}
             self._temp_seq = None  # read the slots again for the new map's sensors
+            self._temp_ack = 0  # none taken for this map yet (§13.1)
             return 0, ""
         if reply is None:
             return int(AckCode.BAD_HEADER), "no verdict"
         return int(reply.reason), reply.text
 
     def _take_temperatures(self, now_s: float) -> None:
-        (seq,) = struct.unpack_from("<H", self.window, TEMP_SEQ_AT)
-        if seq == self._temp_seq or seq == 0:
+        """§13.1: take the slots when their sequence is new (not 0, not the one last
+        taken), they follow the applied map's sensor order (stamp 0 or its version), and
+        the sequence reads the same after them."""
+        cmd = decode_command(self.window)
+        seq = cmd.temp_seq
+        if seq == 0 or seq == self._temp_seq:
             return
-        values = struct.unpack_from(f"<{MAX_SENSORS}i", self.window, TEMPERATURES_AT)
+        if cmd.slots_version not in (0, self.controller.store.version):
+            return  # written for another map: its slot order is another
         (again,) = struct.unpack_from("<H", self.window, TEMP_SEQ_AT)
         if again != seq:
             return  # written while read: take it next scan
-        self._temp_seq = seq
+        self._temp_seq = self._temp_ack = seq
         store = self.controller.temperatures
+        refused = 0
         for i, sensor in self._slots.items():
-            if values[i] != NO_TEMPERATURE:
-                store.update(sensor, values[i] / 1000.0, now_s, "center")
+            value = cmd.slots[i]
+            if value == NO_TEMPERATURE:
+                continue  # nothing to say: the held reading stays
+            if not store.update(sensor, value / 1000.0, now_s, "center"):
+                refused |= 1 << i  # the screen refused it: the held reading stays
+        self._temp_refused = refused
 
     def _write_status(self, *, active: int, ack_code: int | None = None,
                       positions: NDArray[np.float64] | None = None,
                       applied_mm: NDArray[np.float64] | None = None) -> None:
         old = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         c = self.controller
-        state = 1 if c.store.active is not None else 0
-        state |= 4 if c.releasing else 0
+        state = self._state_bits()
+        # counts as the position registers hold them, halves up (§6)
         pos = old.positions if positions is None else tuple(
-            int(v) for v in np.rint(positions / self.increment_mm))
+            int(v) for v in np.floor(positions / self.increment_mm + 0.5))
         app = old.applied if applied_mm is None else tuple(
-            int(v) for v in np.rint(applied_mm / self.increment_mm))
+            int(v) for v in np.floor(applied_mm / self.increment_mm + 0.5))
         st = Status(self.heartbeat, self._handled_seq,
                     old.ack_code if ack_code is None else ack_code, active, state,
-                    c.store.version, self._temp_seq or 0, pos, app)
+                    c.store.version, self._temp_ack, pos, app, self._temp_refused)
         self.window[STATUS_AT:STATUS_AT + STATUS_SIZE] = encode_status(st)
+
+    def _state_bits(self) -> int:
+        """The status state word (§13.1): a Fanuc-style ladder keeps exactly these bits
+        in its R status byte; otherwise they come from the controller's state."""
+        c = self.controller
+        state = State(0)
+        if c.store.active is not None:  # as of this scan's swap, not the ladder's last
+            state |= State.MAP_IN_USE
+        if c.releasing:
+            state |= State.RELEASING
+        r_status = getattr(c, "status", None)
+        if isinstance(r_status, int):
+            keep = State.RAMPING | State.ALARM | State.CLAMPED | State.EXPIRED
+            return int(state | (State(r_status & 0x3F) & keep))
+        label = getattr(c, "state", "")
+        if label == "ramping":
+            state |= State.RAMPING
+        if label == "alarm":
+            state |= State.ALARM
+        events = c.store.events
+        if c.store.active is None and events and events[-1].kind == "expired":
+            state |= State.EXPIRED
+        return int(state)

@@ -262,6 +262,10 @@ class SiemensNC(Compensator):
             else:
                 wanted = (wanted + self.thermal_offset_mm
                           + self._plc_slope * (pos - self._plc_ref_mm))
+            # the final clamp to the channel's range, after the reversal (§6: the applied
+            # correction never exceeds the limit)
+            lim = self.config.limit_mm
+            wanted = np.clip(wanted, -lim, lim)
             for j, axis in enumerate(self.axes):
                 if wanted[j] == self.sd[SD_ABS_VALUE][j]:
                     continue

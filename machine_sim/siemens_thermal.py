@@ -27,9 +27,9 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import NamedTuple
 
 from protocol.mapformat import THERMAL_DRIFT, ThermalRecord
+from volumetric.compensate.tempcomp import ActingTerm, cancelling_setting_data
 from volumetric.model.model import ThermalTerm
 
 from .chaineval import sensor_key
@@ -65,34 +65,11 @@ class TempCompData:
         return self.slope != 0.0
 
 
-class _Acting(NamedTuple):
-    """One drift or expansion term at its temperature, whichever side it comes from."""
-
-    axis: str
-    drift: bool
-    coefficient: float
-    """µm/K (drift) or µm/(m·K) about ``q_min`` (expansion)."""
-    dt_K: float
-    q_min: float
-
-
-def _setting_data(names: Sequence[str], acting: Iterable[_Acting]) -> dict[str, TempCompData]:
-    """Offset, slope and reference per axis that cancel ``acting`` (one rule for the
-    model's terms and the map's records)."""
-    offset = dict.fromkeys(names, 0.0)
-    slope = dict.fromkeys(names, 0.0)
-    ref: dict[str, float | None] = dict.fromkeys(names, None)
-    for a in acting:
-        if a.drift:
-            offset[a.axis] -= a.coefficient * a.dt_K * 1e-3  # µm → mm, cancelling the error
-            continue
-        s = -a.coefficient * a.dt_K * 1e-6  # µm/(m·K) · K → mm/mm, cancelling the error
-        r = ref[a.axis]
-        if r is None:
-            ref[a.axis] = r = a.q_min
-        slope[a.axis] += s
-        offset[a.axis] += s * (r - a.q_min)  # a slope about another reference (docstring)
-    return {n: TempCompData(offset[n], slope[n], ref[n] or 0.0) for n in names}
+def _setting_data(names: Sequence[str], acting: Iterable[ActingTerm]) -> dict[str, TempCompData]:
+    """Offset, slope and reference per axis that cancel ``acting``: the center's one rule
+    (:func:`~volumetric.compensate.tempcomp.cancelling_setting_data`) for the model's
+    terms and the map's records alike."""
+    return {n: TempCompData(*v) for n, v in cancelling_setting_data(names, acting).items()}
 
 
 def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, float],
@@ -119,7 +96,7 @@ def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, floa
         A term's axis is not one of ``axes``, or its sensor has no temperature.
     """
     names = [a.upper() for a in axes]
-    acting: list[_Acting] = []
+    acting: list[ActingTerm] = []
     for t in terms:
         axis = t.axis.upper()
         if axis not in names:
@@ -128,8 +105,8 @@ def temp_comp_data(terms: Iterable[ThermalTerm], temperatures: Mapping[str, floa
         if t.sensor not in temperatures:
             raise ValueError(f"{t.kind} term of axis {t.axis} needs {t.sensor}; have "
                              f"{sorted(temperatures)}")
-        acting.append(_Acting(axis, t.kind == "thermal_drift", t.coefficient,
-                              float(temperatures[t.sensor]) - t.t_ref_C, t.q_min))
+        acting.append(ActingTerm(axis, t.kind == "thermal_drift", t.coefficient,
+                                 float(temperatures[t.sensor]) - t.t_ref_C, t.q_min))
     return _setting_data(names, acting)
 
 
@@ -158,12 +135,12 @@ def record_setting_data(records: Iterable[ThermalRecord], temperatures: Mapping[
     """
     temps = {sensor_key(k): float(v) for k, v in temperatures.items()}
     names = [a.upper() for a in axes]
-    acting: list[_Acting] = []
+    acting: list[ActingTerm] = []
     for rec in records:
         axis = rec.axis.upper()
         t = temps.get(sensor_key(rec.sensor))
         if axis not in names or t is None or not math.isfinite(t):
             continue
-        acting.append(_Acting(axis, rec.kind == THERMAL_DRIFT, rec.coefficient,
-                              t - rec.t_ref_C, rec.q_min))
+        acting.append(ActingTerm(axis, rec.kind == THERMAL_DRIFT, rec.coefficient,
+                                 t - rec.t_ref_C, rec.q_min))
     return _setting_data(names, acting)

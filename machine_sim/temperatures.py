@@ -37,6 +37,7 @@ from dataclasses import dataclass
 from typing import Final, Literal
 
 from protocol.messages import Temperatures
+from volumetric.plausible.temperatures import TEMPERATURE
 
 __all__ = ["JUMP_ALLOWANCE_K", "MAX_RATE_K_PER_S", "PLAUSIBLE_C", "Reading", "Refusal",
            "TemperatureStore", "column_of"]
@@ -45,9 +46,10 @@ Source = Literal["sensor", "center"]
 Reason = Literal["not_finite", "out_of_range", "unknown_sensor", "too_fast"]
 log = logging.getLogger(__name__)
 
-PLAUSIBLE_C: Final = (-20.0, 100.0)
-"""A machine tool's temperatures in a shop; outside is a sensor or unit fault (as the
-center's intake)."""
+PLAUSIBLE_C: Final = (TEMPERATURE.lo, TEMPERATURE.hi)
+"""A machine tool's temperatures in a shop; outside is a sensor or unit fault: the one
+range every entry point of the center uses (:mod:`volumetric.plausible.temperatures`),
+so a reading the center takes is one the machine takes."""
 MAX_RATE_K_PER_S: Final = 1.0
 """A structure warms by hundredths of a kelvin per second, a spindle bearing by a tenth
 at most: 1 K/s is a fault."""

@@ -4,15 +4,18 @@ For controllers that cannot open a connection of their own (a Fanuc PMC behind t
 Modbus/TCP Server function, a SINUMERIK PLC behind its OPC UA server) the center writes
 the map into a window of the controller's memory and reads back what the PLC program
 acknowledges and applies. This module is the window's byte layout and the rules both
-sides follow, with no I/O: the center plans its writes (:func:`plan_map_write`), the PLC
+sides follow, with no I/O: the center plans its writes (:func:`plan_delivery`, §13.2
+steps 0-5, and :func:`plan_map_write`), the PLC
 side checks a buffer (:func:`check_buffer`) and writes its status (:func:`encode_status`).
 
 Every area has one writer, so no word is ever written by both sides:
 
 * **identity** (PLC, bytes 0-63): what the PLC program is and can take;
 * **status** (PLC, 64-191): heartbeat, the last switch it handled and its verdict, the
-  active buffer, the applied map version, positions and applied corrections;
-* **command** (center, 192-511): the switch word and the temperature slots;
+  active buffer, state bits, the applied map version, the temperature sequence taken and
+  what its screen refused, positions and applied corrections;
+* **command** (center, 192-511): the switch word, the temperature slots, their sequence
+  and the map version whose sensor order they follow;
 * **buffers 1 and 2** (center, from 512): each a 32-byte header and ``capacity`` bytes of
   payload (protocol/README.md §6).
 
@@ -22,26 +25,31 @@ All multi-byte fields are little-endian, like the payload; sizes and offsets are
 
 from __future__ import annotations
 
-import math
 import struct
 import zlib
 from collections.abc import Sequence
 from dataclasses import dataclass
-from enum import IntEnum
+from enum import IntEnum, IntFlag
 from typing import Final, Literal
 
 from .codes import MapEncoding, MapRejectReason
+from .mapfactored import milli_celsius
 
 __all__ = [
     "BUFFERS_AT",
     "BUFFER_HEADER_SIZE",
     "COMMAND_AT",
+    "COMMAND_END",
     "IDENTITY_MAGIC",
     "IDENTITY_SIZE",
     "LAYOUT_VERSION",
     "MAX_AXES",
     "MAX_SENSORS",
+    "MODBUS_BLOCK",
     "NO_TEMPERATURE",
+    "S7_300_BLOCK",
+    "S7_1500_BLOCK",
+    "SLOTS_VERSION_AT",
     "STATUS_AT",
     "STATUS_SIZE",
     "SWITCH_AT",
@@ -50,20 +58,28 @@ __all__ = [
     "AckCode",
     "BufferHeader",
     "ByteOrder",
+    "Command",
     "ControllerMemoryError",
     "Identity",
     "Layout",
+    "State",
     "Status",
     "Write",
+    "ack_is_verdict",
     "check_buffer",
+    "decode_command",
     "decode_identity",
     "decode_status",
     "encode_buffer_header",
     "encode_identity",
     "encode_status",
     "from_registers",
+    "needs_push",
     "next_sequence",
+    "next_switch_sequence",
+    "next_temperature_sequence",
     "pack_switch",
+    "plan_delivery",
     "plan_map_write",
     "plan_temperatures",
     "sensor_slots",
@@ -85,11 +101,17 @@ SWITCH_AT: Final = 192
 TEMPERATURES_AT: Final = 256
 """32 temperature slots, int32 milli-°C each (bytes 256-383)."""
 TEMP_SEQ_AT: Final = 384
-"""u16 sequence the center writes after (above) the slots, in the same write."""
+"""u16 sequence the center writes after (above) the slots, in the same write: 1..65535,
+then 1 again; 0 = no slots written yet."""
+SLOTS_VERSION_AT: Final = 388
+"""u32 map version whose thermal records the slot order follows (0: the map in use)."""
+COMMAND_END: Final = 392
+"""End of the temperature write (slots, sequence, reserved, slots' map version)."""
 BUFFERS_AT: Final = 512
 BUFFER_HEADER_SIZE: Final = 32
 NO_TEMPERATURE: Final = -0x80000000
-"""Slot value of a sensor the center has no reading of: the PLC's terms then add 0."""
+"""Slot value with nothing to say: the PLC keeps the reading it holds for that sensor (a
+sensor never read adds 0, protocol/README.md §6 "Readings")."""
 
 
 class ControllerMemoryError(ValueError):
@@ -105,6 +127,28 @@ class AckCode(IntEnum):
     """The buffer header's magic or its own CRC is wrong (a header torn or never written)."""
     BAD_BUFFER = 101
     """The switch word names no buffer (not 1 or 2)."""
+
+
+def ack_is_verdict(code: int) -> bool:
+    """Whether an ack code is the PLC's verdict on the map (§13.2 step 6). Code 100 is
+    not: a header torn or never written says nothing of the map, and the center writes
+    the map again, once. Every other code (0 applied, a MapReject reason, 101) is final
+    for that map: it is not written again."""
+    return code != AckCode.BAD_HEADER
+
+
+class State(IntFlag):
+    """Bits of the status ``state`` word (§13.1)."""
+
+    MAP_IN_USE = 1
+    RAMPING = 2
+    """An applied correction is short of its target (the step limit of §13.3 step 4)."""
+    RELEASING = 4
+    ALARM = 8
+    CLAMPED = 16
+    """A target exceeded the limit."""
+    EXPIRED = 32
+    """The map's validity ran out."""
 
 
 ByteOrder = Literal["little", "big"]
@@ -234,6 +278,9 @@ class Status:
     positions, applied : tuple of int
         Per controlled axis: machine coordinate and the applied correction, counts of
         the increment.
+    temp_refused : int
+        Bit i set when the program's screen refused slot i's value at the last take
+        (u32); that sensor keeps its held reading.
     """
 
     heartbeat: int
@@ -245,9 +292,10 @@ class Status:
     temp_ack: int
     positions: tuple[int, ...]
     applied: tuple[int, ...]
+    temp_refused: int = 0
 
 
-_STATUS: Final = struct.Struct("<IHHHHIHH8i8i44x")
+_STATUS: Final = struct.Struct("<IHHHHIHH8i8iI40x")
 
 
 def encode_status(s: Status) -> bytes:
@@ -255,7 +303,8 @@ def encode_status(s: Status) -> bytes:
     pos = (tuple(s.positions) + (0,) * MAX_AXES)[:MAX_AXES]
     app = (tuple(s.applied) + (0,) * MAX_AXES)[:MAX_AXES]
     return _STATUS.pack(s.heartbeat & 0xFFFFFFFF, s.ack_seq, s.ack_code, s.active, s.state,
-                        s.applied_version, s.temp_ack, 0, *pos, *app)
+                        s.applied_version, s.temp_ack, 0, *pos, *app,
+                        s.temp_refused & 0xFFFFFFFF)
 
 
 def decode_status(data: bytes | bytearray | memoryview, axes: int = MAX_AXES) -> Status:
@@ -266,7 +315,44 @@ def decode_status(data: bytes | bytearray | memoryview, axes: int = MAX_AXES) ->
     if v[3] not in (0, 1, 2):
         raise ControllerMemoryError(f"status at byte 72: active buffer {v[3]}, 0..2")
     return Status(v[0], v[1], v[2], v[3], v[4], v[5], v[6], tuple(v[8:8 + axes]),
-                  tuple(v[16:16 + axes]))
+                  tuple(v[16:16 + axes]), v[24])
+
+
+# -- command (center-written)
+
+@dataclass(frozen=True, slots=True)
+class Command:
+    """The center's command area (bytes 192-391), as the PLC reads it.
+
+    Attributes
+    ----------
+    switch_seq, switch_buffer : int
+        The switch word's sequence (0: none) and buffer.
+    temp_seq : int
+        Temperature sequence, 0 = no slots written yet.
+    slots : tuple of int
+        32 slots, m°C, :data:`NO_TEMPERATURE` = nothing to say.
+    slots_version : int
+        The map version whose records the slot order follows; 0 = the map in use.
+    """
+
+    switch_seq: int
+    switch_buffer: int
+    temp_seq: int
+    slots: tuple[int, ...]
+    slots_version: int
+
+
+def decode_command(window: bytes | bytearray | memoryview) -> Command:
+    """Read the command area out of the window's bytes (at least 392 of them)."""
+    if len(window) < COMMAND_END:
+        raise ControllerMemoryError(f"command: {len(window)} bytes, {COMMAND_END} needed")
+    (word,) = struct.unpack_from("<H", window, SWITCH_AT)
+    seq, buffer = unpack_switch(word)
+    slots = struct.unpack_from(f"<{MAX_SENSORS}i", window, TEMPERATURES_AT)
+    (tseq,) = struct.unpack_from("<H", window, TEMP_SEQ_AT)
+    (version,) = struct.unpack_from("<I", window, SLOTS_VERSION_AT)
+    return Command(seq, buffer, tseq, tuple(slots), version)
 
 
 # -- the switch word and sequences
@@ -288,6 +374,26 @@ def unpack_switch(word: int) -> tuple[int, int]:
 def next_sequence(seq: int) -> int:
     """The sequence after ``seq``: 1..16383, wrapping to 1 (0 means none)."""
     return seq % 0x3FFF + 1
+
+
+def next_switch_sequence(switch_seq: int, ack_seq: int) -> int:
+    """The sequence of the next switch (§13.2 step 5): one that differs from both the
+    switch word's and ack_seq's, ``next(switch_seq)``, or the one after it when that
+    equals ``ack_seq`` (a PLC that handled a switch this center does not know of, or the
+    same sequence after a wrap, would otherwise take the new switch for an old one)."""
+    s = next_sequence(switch_seq)
+    return next_sequence(s) if s == ack_seq else s
+
+
+def next_temperature_sequence(seq: int) -> int:
+    """The temperature sequence after ``seq``: 1..65535, then 1 again (0: none yet)."""
+    return seq % 0xFFFF + 1
+
+
+def needs_push(status: Status, version: int) -> bool:
+    """§13.2 step 0: a map is written unless the PLC reports that version applied (a
+    center that starts, or a session that opens, does not re-send it)."""
+    return not (status.applied_version == version and status.active in (1, 2))
 
 
 # -- buffers
@@ -341,8 +447,11 @@ def check_buffer(window: bytes | bytearray | memoryview, layout: Layout, buffer:
 
     The PLC first copies the buffer out of the window into its own working area and
     checks that copy (so a center writing meanwhile can change the window, never the map
-    in use). Returns (payload, header) when the header and the payload's CRC are right,
-    else (ack code, why).
+    in use), in the order of §13.3 step 2: the buffer named (101), the header's magic and
+    CRC (100), the length (WRONG_SIZE), the payload's CRC-32 (CHECKSUM_MISMATCH), the
+    payload's magic and format version against the header's (DECODE_ERROR), the payload's
+    map version (offset 48) against the header's (WRONG_VERSION). Returns (payload,
+    header) when all pass, else (ack code, why).
     """
     if buffer not in (1, 2):
         return AckCode.BAD_BUFFER, f"switch names buffer {buffer}, not 1 or 2"
@@ -362,6 +471,11 @@ def check_buffer(window: bytes | bytearray | memoryview, layout: Layout, buffer:
             header.format_version:
         return (MapRejectReason.DECODE_ERROR,
                 f"buffer {buffer}: payload magic or format version differs from the header")
+    (payload_version,) = struct.unpack_from("<I", payload, 48) if len(payload) >= 52 else (0,)
+    if payload_version != header.map_version:
+        return (MapRejectReason.WRONG_VERSION,
+                f"buffer {buffer}: the payload's map version {payload_version} differs "
+                f"from the header's {header.map_version}")
     return payload, header
 
 
@@ -406,6 +520,27 @@ def plan_map_write(layout: Layout, buffer: int, payload: bytes, map_version: int
     return writes
 
 
+MODBUS_BLOCK: Final = 246
+"""Bytes per payload write on Modbus/TCP: the 123 registers of one 10h request."""
+S7_300_BLOCK: Final = 240
+"""Bytes per OPC UA write into an S7-300-class PLC's data block (an 840D sl's PLC)."""
+S7_1500_BLOCK: Final = 960
+"""Bytes per OPC UA write into an S7-1500's data block (its PDU)."""
+
+
+def plan_delivery(layout: Layout, status: Status, switch_seq: int, payload: bytes,
+                  map_version: int, *, block: int = MODBUS_BLOCK) -> list[Write] | None:
+    """§13.2 steps 0-5 from what the center read (the status and the switch word's
+    sequence): None when the PLC reports ``map_version`` applied (nothing is written);
+    else the writes into the buffer that is not active (1 when none is), switched with a
+    sequence that differs from both the switch word's and ack_seq's."""
+    if not needs_push(status, map_version):
+        return None
+    target = 2 if status.active == 1 else 1
+    seq = next_switch_sequence(switch_seq, status.ack_seq)
+    return plan_map_write(layout, target, payload, map_version, seq, block=block)
+
+
 def sensor_slots(sensors: Sequence[str]) -> dict[str, int]:
     """Slot of each sensor: the order of first appearance in the map's thermal records
     (what the PLC numbers them by when it loads the map)."""
@@ -418,22 +553,36 @@ def sensor_slots(sensors: Sequence[str]) -> dict[str, int]:
     return slots
 
 
-def plan_temperatures(celsius: Sequence[float | None], seq: int) -> Write:
-    """One write of the temperature slots and, after them, their sequence (u16).
+def plan_temperatures(celsius: Sequence[float | None], seq: int, *,
+                      map_version: int = 0) -> Write:
+    """One write (bytes 256-391) of the temperature slots, their sequence (u16) and the
+    map version whose records the slot order follows (§13.1).
 
-    ``celsius[i]`` is slot i's reading (None: none, the PLC's terms for it add 0); sent as
-    int32 milli-°C rounded half up (``floor(c·1000 + 1/2)``, the protocol's one tie rule,
-    protocol/README.md §6). The PLC takes the slots when the sequence
-    changes and reads it again after them (a torn read shows two sequences and is read
-    again in the next scan).
+    ``celsius[i]`` is slot i's reading (None: nothing to say, the PLC keeps what it holds
+    for that sensor); sent as int32 m°C, ``round_half_up(c · 1000)`` of the exact value
+    (:func:`protocol.mapfactored.milli_celsius`, protocol/README.md §6; a value not finite
+    or outside int32 is sent as nothing to say). ``seq`` is 1..65535
+    (:func:`next_temperature_sequence`); ``map_version`` 0 means the map in use. The PLC
+    takes the slots when the sequence is new and reads it again after them (a torn read
+    shows two sequences and is read again in the next scan).
     """
     if len(celsius) > MAX_SENSORS:
         raise ControllerMemoryError(f"{len(celsius)} temperatures, at most {MAX_SENSORS}")
+    if not 1 <= seq <= 0xFFFF:
+        raise ControllerMemoryError(f"temperature sequence {seq}: 1..65535 (0 is none)")
+    if not 0 <= map_version <= 0xFFFFFFFF:
+        raise ControllerMemoryError(f"slots' map version {map_version}: a u32")
     slots = [NO_TEMPERATURE] * MAX_SENSORS
     for i, c in enumerate(celsius):
-        if c is not None:
-            slots[i] = math.floor(c * 1000.0 + 0.5)
-    data = struct.pack(f"<{MAX_SENSORS}i", *slots) + struct.pack("<H", seq & 0xFFFF)
+        if c is None:
+            continue
+        try:
+            mc = milli_celsius(c)
+        except ValueError:
+            continue
+        if -0x7FFFFFFF <= mc <= 0x7FFFFFFF:
+            slots[i] = mc
+    data = (struct.pack(f"<{MAX_SENSORS}i", *slots) + struct.pack("<HHI", seq, 0, map_version))
     return Write(TEMPERATURES_AT, data)
 
 

@@ -46,6 +46,7 @@ linear axis l per count of rotary axis r.
 
 from __future__ import annotations
 
+import math
 import re
 import struct
 from dataclasses import dataclass
@@ -61,6 +62,7 @@ from .mapformat import (
     MAX_THERMAL,
     THERMAL_DRIFT,
     THERMAL_EXPANSION,
+    ErrorMapPayload,
     MapFormatError,
     ThermalRecord,
     _name_field,
@@ -95,12 +97,33 @@ _TERM = struct.Struct("<BBbB4B")  # 8 bytes
 _THERMAL = struct.Struct("<16sBB2siii")  # 32 bytes
 _LABEL = re.compile(r"[\x21-\x7e]{1,16}")
 _I32 = (-(1 << 31), (1 << 31) - 1)
+_I30 = (-(1 << 30) + 1, (1 << 30) - 1)
+"""|·| < 2^30: starts, limits, reversals, a table's last node, t_ref, q_min (§6 "Ranges
+and word sizes": so that ``q − start`` < 2^31 and every product fits 64 bits)."""
+EXPANSION_LIMIT: Final = 1 << 24
+"""|expansion coefficient| < 2^24 (2^-48 counts per count per m°C: 60 µm/(m·K))."""
 
 
 def round_half_up(x: Fraction) -> int:
     """The tie rule of every map kind (protocol/README.md §6): the integer nearest ``x``,
     halves rounded up (towards +infinity), ``floor(x + 1/2)``."""
     return (x + Fraction(1, 2)).__floor__()
+
+
+def milli_celsius(celsius: float) -> int:
+    """A reading in °C as int32 m°C (protocol/README.md §6, "Temperatures"):
+    ``round_half_up(celsius · 1000)`` of the **exact** value the f64 stands for, not of
+    the product rounded to a double (20.0005 °C is stored as 20.000499999…, so 20000).
+
+    Raises
+    ------
+    ValueError
+        ``celsius`` is not finite.
+    """
+    c = float(celsius)
+    if not math.isfinite(c):
+        raise ValueError(f"temperature {celsius!r} °C is not finite")
+    return round_half_up(Fraction(c) * 1000)
 
 
 def _int(what: str, v: object, lo: int, hi: int) -> None:
@@ -142,11 +165,13 @@ class FactoredAxis:
         if not isinstance(self.rotary, bool):
             raise ValueError(f"axis {self.name} rotary must be a bool")
         if self.reversal is not None:
-            _int(f"axis {self.name} reversal", self.reversal, *_I32)
-        _int(f"axis {self.name} limit", self.limit, 1, _I32[1])
+            _int(f"axis {self.name} reversal", self.reversal, *_I30)
+        _int(f"axis {self.name} limit", self.limit, 1, _I30[1])
         _int(f"axis {self.name} term nodes", self.count, 1, MAX_NODES)
-        _int(f"axis {self.name} start", self.start, *_I32)
+        _int(f"axis {self.name} start", self.start, *_I30)
         _int(f"axis {self.name} shift", self.shift, 0, MAX_SHIFT)
+        _int(f"axis {self.name} last term node", self.start + ((self.count - 1) << self.shift),
+             *_I30)
 
 
 @dataclass(frozen=True, slots=True)
@@ -161,9 +186,11 @@ class BasisTable:
 
     def __post_init__(self) -> None:
         _int("basis table axis", self.axis, 0, MAX_AXES - 1)
-        _int("basis table start", self.start, *_I32)
+        _int("basis table start", self.start, *_I30)
         _int("basis table shift", self.shift, 0, MAX_SHIFT)
         _values("basis table", self.values, BASIS_ONE)
+        _int("basis table last node", self.start + ((len(self.values) - 1) << self.shift),
+             *_I30)
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,9 +237,12 @@ class FactoredThermal:
         if self.kind not in (THERMAL_DRIFT, THERMAL_EXPANSION) or isinstance(self.kind, bool):
             raise ValueError(f"thermal record kind must be 1 (drift) or 2 (expansion), "
                              f"got {self.kind!r}")
+        if self.kind == THERMAL_EXPANSION:
+            _int(f"thermal record {self.sensor} expansion coefficient", self.coefficient,
+                 -EXPANSION_LIMIT + 1, EXPANSION_LIMIT - 1)
         _int(f"thermal record {self.sensor} coefficient", self.coefficient, *_I32)
-        _int(f"thermal record {self.sensor} t_ref", self.t_ref_mC, *_I32)
-        _int(f"thermal record {self.sensor} q_min", self.q_min, *_I32)
+        _int(f"thermal record {self.sensor} t_ref", self.t_ref_mC, *_I30)
+        _int(f"thermal record {self.sensor} q_min", self.q_min, *_I30)
         if self.kind == THERMAL_DRIFT and self.q_min:
             raise ValueError(f"thermal record {self.sensor}: a drift has q_min 0")
 
@@ -239,6 +269,44 @@ def thermal_fixed(rec: ThermalRecord, axis: int, counts_per_unit: int) -> Factor
         q_min = round_half_up(Fraction(rec.q_min) * p)
     return FactoredThermal(rec.sensor, axis, rec.kind, k,
                            round_half_up(Fraction(rec.t_ref_C) * 1000), q_min)
+
+
+def check_grid_ranges(p: ErrorMapPayload) -> None:
+    """The ranges of protocol/README.md §6 ("Ranges and word sizes") of an int32 grid
+    map (format version 1 or 3) after the loader's conversion of its f64 fields: grid
+    starts and last nodes, reversals, t_ref and q_min below 2^30 in magnitude, an
+    expansion coefficient below 2^24. A float32 map is not converted: nothing to check.
+
+    Raises
+    ------
+    MapFormatError
+        The first field out of range, named with its offset.
+    """
+    if p.encoding is not MapEncoding.INT32_INCREMENTS:
+        return
+    per_unit = round_half_up(1 / Fraction(p.increment_mm))
+    lo, hi = _I30
+    at = 64
+    for g in p.grid:
+        start = round_half_up(Fraction(g.start) * per_unit)
+        last = start + (g.count - 1) * round_half_up(Fraction(g.step) * per_unit)
+        if not (lo <= start <= hi and lo <= last <= hi):
+            raise MapFormatError(f"grid axis {g.name} at offset {at + 8}: start {start} or "
+                                 f"last node {last} counts, |·| < 2^30 (section 6)")
+        at += 24
+    for o in p.outputs:
+        if o.reversal is not None and not lo <= o.reversal <= hi:
+            raise MapFormatError(f"output axis {o.name} at offset {at + 8}: reversal "
+                                 f"{o.reversal} counts, |·| < 2^30 (section 6)")
+        at += 12
+    records_at = at + len(p.values) + 4  # after the values and the record count
+    names = [o.name for o in p.outputs]
+    for i, rec in enumerate(p.thermal):
+        try:
+            thermal_fixed(rec, names.index(rec.axis), per_unit)
+        except ValueError as exc:
+            raise MapFormatError(f"thermal record {i} at offset {records_at + 48 * i}: "
+                                 f"{exc} (after conversion, section 6)") from None
 
 
 @dataclass(frozen=True, slots=True)
@@ -400,9 +468,13 @@ def decode_factored(data: bytes) -> FactoredPayload:
         machine = _name_from(machine_raw, "machine name", 16)
         at = _HEAD.size
         _need(data, at + _AXIS.size * n_axes, f"its {n_axes} axis records")
-        axes = []
+        axes: list[FactoredAxis] = []
         for i in range(n_axes):
             raw, flags, shift, count, start, rev, limit = _AXIS.unpack_from(data, at)
+            name = _name_from(raw, f"axis {i} name", at)
+            if name.upper() in (a.name.upper() for a in axes):
+                raise MapFormatError(f"axis {i} at offset {at}: name {name} repeats an "
+                                     f"earlier axis (axis names are distinct)")
             if flags & ~3:
                 raise MapFormatError(f"axis {i} at offset {at + 4} has unknown flags "
                                      f"0x{flags:02x}")
@@ -410,9 +482,8 @@ def decode_factored(data: bytes) -> FactoredPayload:
                 raise MapFormatError(f"axis {i} at offset {at + 12}: reversal is not 0 "
                                      f"though flagged absent")
             try:
-                axes.append(FactoredAxis(_name_from(raw, f"axis {i} name", at),
-                                         bool(flags & 1), rev if flags & 2 else None, limit,
-                                         count, start, shift))
+                axes.append(FactoredAxis(name, bool(flags & 1), rev if flags & 2 else None,
+                                         limit, count, start, shift))
             except ValueError as exc:
                 raise MapFormatError(f"axis {i} at offset {at}: {exc}") from None
             at += _AXIS.size
@@ -432,10 +503,15 @@ def decode_factored(data: bytes) -> FactoredPayload:
             except ValueError as exc:
                 raise MapFormatError(f"basis table {i} at offset {at}: {exc}") from None
             at += _BASIS.size + 2 * n
+        n_rot = sum(a.rotary for a in axes)
+        n_fields = n_axes + (n_axes - n_rot) * n_rot
         terms = []
         for i in range(n_terms):
             _need(data, at + _TERM.size, f"term {i}")
             fld, axis, exponent, m, *raw_factors = _TERM.unpack_from(data, at)
+            if fld >= n_fields:
+                raise MapFormatError(f"term {i} at offset {at}: field {fld}, the map has "
+                                     f"{n_fields} (D + L x R)")
             if m & 0x78 or (m & 7) > MAX_FACTORS:
                 raise MapFormatError(f"term {i} at offset {at + 3}: byte 0x{m:02x}, factors "
                                      f"0..{MAX_FACTORS} in bits 0-2, constant in bit 7")
@@ -484,6 +560,7 @@ def decode_factored(data: bytes) -> FactoredPayload:
 __all__ = [
     "BASIS_ONE",
     "DRIFT_SHIFT",
+    "EXPANSION_LIMIT",
     "EXPANSION_SHIFT",
     "FACTORED_FORMAT_VERSION",
     "BasisTable",
@@ -491,8 +568,10 @@ __all__ = [
     "FactoredPayload",
     "FactoredThermal",
     "TermTable",
+    "check_grid_ranges",
     "decode_factored",
     "encode_factored",
+    "milli_celsius",
     "payload_size",
     "round_half_up",
     "thermal_fixed",

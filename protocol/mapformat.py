@@ -156,6 +156,9 @@ class ThermalRecord:
                              f"got {self.kind!r}")
         for f in ("coefficient", "t_ref_C", "q_min"):
             check.finite(f"thermal record {self.sensor}/{self.axis} {f}", getattr(self, f))
+        if self.kind == THERMAL_DRIFT and self.q_min != 0:
+            raise ValueError(f"thermal record {self.sensor}/{self.axis}: a drift has q_min 0, "
+                             f"got {self.q_min!r}")
 
 
 def pack_thermal(th: ThermalRecord) -> bytes:

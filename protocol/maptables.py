@@ -56,6 +56,7 @@ from .mapfactored import (
     FACTORED_FORMAT_VERSION,
     RETIRED_FACTORED_VERSION,
     FactoredPayload,
+    check_grid_ranges,
     decode_factored,
 )
 from .mapformat import (
@@ -501,7 +502,9 @@ def decode_payload(data: bytes) -> ErrorMapPayload | TablesPayload | FactoredPay
     if magic != MAP_MAGIC:
         raise MapFormatError(f"map magic is {magic!r}, expected {MAP_MAGIC!r}")
     if fmt in (MAP_FORMAT_VERSION, GRID_THERMAL_FORMAT_VERSION):
-        return decode_map(data)
+        grid = decode_map(data)
+        check_grid_ranges(grid)
+        return grid
     if fmt == TABLES_FORMAT_VERSION:
         return decode_tables(data)
     if fmt in (FACTORED_FORMAT_VERSION, RETIRED_FACTORED_VERSION):

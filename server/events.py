@@ -20,5 +20,11 @@ class EventKind(StrEnum):
     """A machine acknowledged that it applied a map."""
     REJECTED = "rejected"
     """A machine rejected a map (the detail says why)."""
+    LINK = "link"
+    """The center's link to a machine's controller is down: the detail gives its state,
+    its reason and what was seen (the first of each reason, then one a minute)."""
     ERROR = "error"
     """Something failed on the center's side for this machine."""
+    WARNING = "warning"
+    """A link works but needs the operator's eye: OPC UA without security (the password
+    in clear), a controller certificate trusted on first use."""

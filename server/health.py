@@ -84,6 +84,8 @@ class Inputs:
     now: dt.datetime
     connected: bool
     tolerance_um: float
+    link_text: str = ""
+    """Why a machine without a session has none (its link's state and reason), if known."""
     machine_state: str | None = None
     telemetry_age_s: float | None = None
     telemetry_stale: bool = False
@@ -195,6 +197,10 @@ def _model_and_map(i: Inputs, limits: Limits) -> list[Reason]:
         out.append(Reason("alarm", "map_rejected",
                           f"map v{i.map_sent} rejected ({i.reject_reason or 'no reason'}): "
                           f"the machine still applies {now_on}"))
+    elif i.map_sent_state == "failed":
+        out.append(Reason("warn", "delivery_failed",
+                          f"map v{i.map_sent} not delivered (the link failed before the "
+                          "machine answered): the center sends it again"))
     elif i.rejects > 0:
         out.append(Reason("warn", "rejects",
                           f"{i.rejects} map deliver{'y' if i.rejects == 1 else 'ies'} "
@@ -231,7 +237,7 @@ def _model_and_map(i: Inputs, limits: Limits) -> list[Reason]:
 
 def _live(i: Inputs) -> list[Reason]:
     if not i.connected:
-        return [Reason("offline", "offline", "not connected")]
+        return [Reason("offline", "offline", i.link_text or "not connected")]
     out = []
     if i.machine_state == "alarm":
         out.append(Reason("alarm", "machine_alarm", "machine reports alarm"))

@@ -167,6 +167,9 @@ class _Known:
     columns: frozenset[str]
     lags: tuple[LiveLag, ...] = ()
     """The lag states of its model's lagged thermal terms, which the center follows."""
+    created_at: dt.datetime | None = None
+    """When its row was made: with the id, which machine this is (SQLite gives a deleted
+    last row's id to the next one)."""
 
 
 def model_columns(body: Mapping[str, Any]) -> frozenset[str]:
@@ -209,21 +212,22 @@ def load_known(session: Session, name: str | None = None) -> dict[str, _Known]:
     """Machines (all, or the one named) with their known temperature columns."""
     latest = (select(ModelRow.machine_id, func.max(ModelRow.version).label("version"))
               .group_by(ModelRow.machine_id).subquery())
-    query = (select(MachineRow.id, MachineRow.name, MachineRow.description, ModelRow.body)
+    query = (select(MachineRow.id, MachineRow.name, MachineRow.description, ModelRow.body,
+                    MachineRow.created_at)
              .outerjoin(latest, latest.c.machine_id == MachineRow.id)
              .outerjoin(ModelRow, (ModelRow.machine_id == MachineRow.id)
                         & (ModelRow.version == latest.c.version)))
     if name is not None:
         query = query.where(MachineRow.name == name)
     out: dict[str, _Known] = {}
-    for machine_id, machine, description, body in session.execute(query):
+    for machine_id, machine, description, body, created_at in session.execute(query):
         columns = description_columns(description or {})
         lags: tuple[LiveLag, ...] = ()
         if isinstance(body, Mapping):
             columns |= model_columns(body)
             needs = _live_needs(body.get("terms"))
             lags = needs.lags if needs is not None else ()
-        out[machine] = _Known(machine_id, columns, lags)
+        out[machine] = _Known(machine_id, columns, lags, created_at)
     return out
 
 
@@ -645,7 +649,7 @@ class TemperatureIntake:
             found = {}
         finally:
             waiting = self._deferred.pop(machine, [])
-        self._known.update(found)
+        self._take_known(found)
         orphans = self._orphans.pop(machine, [])
         if machine in found:
             for row in orphans:
@@ -657,14 +661,32 @@ class TemperatureIntake:
     async def lookup(self, machine: str) -> frozenset[str] | None:
         """Reload ``machine`` from the database now; its known columns, None if unknown."""
         self._reloaded[machine] = time.monotonic()
-        self._known.update(await self.center.db.run(load_known, machine))
+        found = await self.center.db.run(load_known, machine)
+        if machine not in found and machine in self._known:
+            self.forget(machine)  # deleted, maybe through another node
+        self._take_known(found)
         return self.knows(machine)
+
+    def _take_known(self, found: dict[str, _Known], *, whole: bool = False) -> None:
+        """Adopt machines looked up again. A name now held by another machine row (deleted
+        and registered anew, maybe through another center node, whose deletion this node
+        never heard of) or, on a ``whole`` reload, gone, is forgotten first: the old
+        machine's readings must not show on, or be stored for, the new one."""
+        gone = [m for m, k in self._known.items()
+                if (m in found and (found[m].id, found[m].created_at) != (k.id, k.created_at))
+                or (whole and m not in found)]
+        for machine in gone:
+            self.forget(machine)
+        if whole:
+            self._known = dict(found)
+        else:
+            self._known.update(found)
 
     async def _refresh_loop(self) -> None:
         while True:
             await asyncio.sleep(self.refresh_s)
             try:
-                self._known = await self.center.db.run(load_known)
+                self._take_known(await self.center.db.run(load_known), whole=True)
             except SQLAlchemyError as exc:
                 log.warning("could not refresh the known sensors: %s", exc)
 

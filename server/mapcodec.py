@@ -150,7 +150,8 @@ def _records(terms: tuple[ThermalTerm, ...]) -> tuple[ThermalRecord, ...]:
     """The wire records of the model's thermal terms (all map kinds)."""
     return tuple(ThermalRecord(wire_sensor(th.sensor), th.axis.upper(),
                                _THERMAL_KINDS[th.kind], float(th.coefficient),
-                               float(th.t_ref_C), float(th.q_min))
+                               float(th.t_ref_C),
+                               float(th.q_min) if th.kind != "thermal_drift" else 0.0)
                  for th in terms)
 
 
@@ -409,6 +410,8 @@ def build_for(machine: Machine, model: MachineModel,
         raise MapBuildError(f"machine {machine.name!r} does not evaluate {kind} maps (it "
                             f"takes {', '.join(have) or 'none'})")
     wanted = have if kind == "auto" else (kind,)
+    # a factored map asked for by name may miss its tolerance if the caller says so
+    over_ok = bool(options.pop("allow_over_tolerance", False)) and kind == "factored"
     table_opts = {k: v for k, v in options.items() if k not in ("increment", "max_bytes",
                                                                   "check_points")}
     best: MapContent | None = None
@@ -424,7 +427,8 @@ def build_for(machine: Machine, model: MachineModel,
         try:
             fac = with_size(build_factored_map(machine, model, temperatures,
                                                tolerance_um=tolerance_um,
-                                               thermal_in_map=thermal_grid, **fopts))
+                                               thermal_in_map=thermal_grid,
+                                               over_tolerance_ok=over_ok, **fopts))
             if best is None or _size(fac) < _size(best):
                 best = fac
         except MapBuildError:

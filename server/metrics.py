@@ -69,6 +69,8 @@ class MachineSample:
     temperatures_C: dict[str, float] = field(default_factory=dict)
     rejects_total: int = 0
     link: str = "ednc"
+    link_state: str = "offline"
+    link_reason: str = ""
 
 
 _GAUGES: tuple[tuple[str, str, str], ...] = (
@@ -113,14 +115,21 @@ class MachineCollector(Collector):
             "ednc_machine_link_info", "1 for how the center reaches the machine: ednc (the "
             "machine connects), modbus or opcua (the center connects to its controller).",
             labels=["machine", "link"])
+        link_state = GaugeMetricFamily(
+            "ednc_machine_link_state", "1 for what the machine's link is doing now "
+            "(connected, connecting, plc_stopped, refused, unreachable, failed, offline), "
+            "with the reason (server/links/state.py).",
+            labels=["machine", "link", "state", "reason"])
         for s in samples:
             for label in STATES:
                 state.add_metric([s.machine, label], 1.0 if s.state == label else 0.0)
             connected.add_metric([s.machine], 1.0 if s.connected else 0.0)
             links.add_metric([s.machine, s.link], 1.0)
+            link_state.add_metric([s.machine, s.link, s.link_state, s.link_reason], 1.0)
         yield state
         yield connected
         yield links
+        yield link_state
         for attr, name, doc in _GAUGES:
             family = GaugeMetricFamily(name, doc, labels=["machine"])
             for s in samples:
@@ -248,5 +257,6 @@ def machine_samples(snapshot: DashboardSnapshot, rejects: dict[str, int] | None 
             tolerance_um=None if accuracy is None else accuracy.tolerance_um,
             map_error_um=card.maps.error_um,
             temperatures_C={t.name: t.celsius for t in card.temperatures},
-            rejects_total=(rejects or {}).get(card.name, 0), link=card.link))
+            rejects_total=(rejects or {}).get(card.name, 0), link=card.link,
+            link_state=card.link_state, link_reason=card.link_reason))
     return out

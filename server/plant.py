@@ -116,6 +116,8 @@ class PlantView:
             return mine
         if other.live and other.node != self.node:
             return _stored(other, other.node)
+        if mine.link_reason:  # this node is trying and knows why it fails: say so
+            return mine
         if mine.last_seen is not None and (other.last_seen is None
                                            or mine.last_seen >= other.last_seen):
             return mine

@@ -13,7 +13,9 @@ which ``ednc serve`` uses): inside it run, started in this order and stopped in 
 3. the :class:`~server.links.ednc.MachineServer` on ``EDNC_MACHINE_HOST:PORT``, then the
    :class:`~server.links.window.service.ControllerLinks` (the center as client of the
    machines registered with a ``modbus`` or ``opcua`` link; their sessions share the
-   machine server's session table),
+   machine server's session table) and the :class:`~server.links.sdservice.NativeSdLinks`
+   (machines registered with a ``sinumerik_sd`` link: the center writes their NC's
+   temperature compensation setting data; off with leases),
 4. the :class:`~server.intake.TemperatureIntake` (checks, stores and forwards every
    temperature; handed to the Center for the REST API),
 5. the :class:`~server.mqtt.MqttBridge` when ``EDNC_MQTT_HOST`` is set (MQTT off
@@ -36,6 +38,7 @@ from server.intake import TemperatureIntake
 from server.leasing import LeaseKeeper
 from server.links.ednc import LinkTiming, MachineServer
 from server.links.ednc.server import MAX_HANDSHAKES
+from server.links.sdservice import NativeSdLinks
 from server.links.window.service import ControllerLinks
 from server.mqtt import MqttBridge
 from server.plant import LinkPublisher
@@ -59,6 +62,7 @@ class MachineServices:
     intake: TemperatureIntake | None = None
     heap: HeapKeeper | None = None
     controllers: ControllerLinks | None = None
+    native: NativeSdLinks | None = None
 
 
 @asynccontextmanager
@@ -104,6 +108,10 @@ async def machine_services(
         controllers = await stack.enter_async_context(ControllerLinks(
             center, feed, server.sessions, push.serve, leases=leases,
             reconcile_s=settings.controller_reconcile_s))
+        native = await stack.enter_async_context(NativeSdLinks(
+            center, feed, temperatures, commit_listeners=push.commit_listeners,
+            reconcile_s=settings.controller_reconcile_s,
+            enabled=not settings.uses_leases))
         intake = await stack.enter_async_context(
             TemperatureIntake(center, temperatures, feed, sessions=server.sessions))
         center.intake = intake
@@ -118,4 +126,4 @@ async def machine_services(
         else:
             log.info("EDNC_MQTT_HOST is not set: MQTT is off")
         yield MachineServices(feed, temperatures, push, server, mqtt, leases, links, intake,
-                              heap, controllers)
+                              heap, controllers, native)

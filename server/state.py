@@ -41,6 +41,10 @@ class LinkState:
     owner : str or None
         The node (``EDNC_NODE_ID``) serving the machine now, in the plant-wide view
         (:mod:`server.plant`); None in a node's own registry and when nobody serves it.
+    link_state, link_reason, link_text : str
+        What the link is doing and why (:mod:`server.links.state`): ``connected``,
+        ``connecting``, ``plc_stopped``, ``refused``, ``unreachable``, ``failed`` or
+        ``offline``; a stable reason label; the text for the operator.
     """
 
     name: str
@@ -50,6 +54,17 @@ class LinkState:
     last_seen: dt.datetime | None = None
     telemetry: Mapping[str, Any] = field(default_factory=lambda: MappingProxyType({}))
     owner: str | None = None
+    link_state: str = "offline"
+    link_reason: str = ""
+    link_text: str = ""
+
+
+def shown_state(link: LinkState) -> str:
+    """The link state to show: what the registry holds, but ``connected`` for a session
+    open and well (a link served by another node carries no state of its own)."""
+    if link.connected:
+        return "plc_stopped" if link.link_state == "plc_stopped" else "connected"
+    return link.link_state
 
 
 class Registry:
@@ -62,7 +77,8 @@ class Registry:
         """A machine opened a session (replacing any previous one)."""
         at = at or _now()
         link = replace(self.get(name), connected=True, address=address,
-                       connected_since=at, last_seen=at)
+                       connected_since=at, last_seen=at, link_state="connected",
+                       link_reason="", link_text="")
         self._links[name] = link
         return link
 
@@ -79,7 +95,17 @@ class Registry:
 
     def disconnected(self, name: str) -> LinkState:
         """The machine's session ended; its last address and telemetry are kept."""
-        link = replace(self.get(name), connected=False, connected_since=None)
+        link = replace(self.get(name), connected=False, connected_since=None,
+                       link_state="offline", link_reason="", link_text="")
+        self._links[name] = link
+        return link
+
+    def condition(self, name: str, state: str, reason: str = "", text: str = ""
+                  ) -> LinkState:
+        """What a machine's link is doing while it has no session (the center trying to
+        reach its controller, and why that failed); a session's state is set by
+        :meth:`connected` and :meth:`disconnected`."""
+        link = replace(self.get(name), link_state=state, link_reason=reason, link_text=text)
         self._links[name] = link
         return link
 

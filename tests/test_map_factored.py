@@ -287,7 +287,7 @@ def test_a_fanuc_ladder_takes_a_factored_map_and_keeps_it_over_bad_ones(
     for msg in split_into_chunks(encode_factored(other), other.version):
         reply = pmc.feed_map(msg, 1.0)
     assert isinstance(reply, MapReject) and reply.reason == MapRejectReason.APPLY_FAILED
-    assert "not the axes" in reply.text
+    assert "'B' is not an axis" in reply.text  # §6.6: matched by name, APPLY_FAILED
     # corrupt bytes: refused at decode, the good one stays
     bad = bytearray(encode(dataclasses.replace(fm, version=fm.version + 2)))
     struct.pack_into("<H", bad, 10, 0)

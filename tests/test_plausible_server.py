@@ -8,6 +8,7 @@ import asyncio
 from pathlib import Path
 
 from server.center import Center
+from server.db import machines as machine_repo
 from server.db import measurements as measurement_repo
 from tests.support.api import CSV_HEADER, WRITE, backlash_csv
 from tests.support.intake import _app, client_of
@@ -82,3 +83,48 @@ async def test_uploads_read_utf16_and_refuse_a_spreadsheet_locale(tmp_path: Path
         assert isinstance(center, Center)
         sets = await center.db.run(measurement_repo.list_measurement_sets, 1)
         assert sorted(s.name for s in sets) == ["mm", "u16"]  # the refused one left nothing
+
+
+async def test_rest_machine_descriptions_say_their_warnings(tmp_path: Path) -> None:
+    # travels of 0.5 m written as 0.5: accepted (a spindle test moves no axis) but warned,
+    # in the answer, as the CLI prints it on stderr
+    app = _app(tmp_path, f"sqlite:///{tmp_path / 'c.db'}")
+    metres = {"x": [0, 0.5], "y": [0, 0.3], "z": [-0.3, 0]}
+    async with asyncio.timeout(DEADLINE_S), client_of(app) as client:
+        desc = {**description("vmc-01", "fanuc", "10.0.0.21"), "travel_mm": metres}
+        r = await client.post("/api/machines", json={**desc, "secret": SECRET}, headers=WRITE)
+        assert r.status_code == 201, r.text
+        assert any("metres" in w for w in r.json()["warnings"]), r.json()
+        r = await client.patch("/api/machines/vmc-01", headers=WRITE,
+                               json={"travel_mm": description()["travel_mm"]})
+        assert r.status_code == 200, r.text
+        assert r.json()["warnings"] == []
+        r = await client.patch("/api/machines/vmc-01", headers=WRITE,
+                               json={"travel_mm": metres})
+        assert any("metres" in w for w in r.json()["warnings"]), r.json()
+
+
+async def test_a_machine_deleted_through_another_node_is_forgotten_here(
+        tmp_path: Path) -> None:
+    # another center node deletes vmc-01 and registers a new vmc-01: this node hears of it
+    # only through the database; the next look-up (a reading, a refresh) drops the old
+    # machine's readings instead of showing them on the new one
+    app = _app(tmp_path, f"sqlite:///{tmp_path / 'c.db'}")
+    async with asyncio.timeout(DEADLINE_S), client_of(app) as client:
+        await _register(client)
+        r = await client.post(READINGS, headers=WRITE,
+                              json={"readings": [{"sensor": "spindle", "celsius": 23.0}]})
+        assert r.json()["accepted"] == 1, r.text
+        center = app.state.center
+        assert isinstance(center, Center) and center.intake is not None
+        assert center.temperatures is not None
+        assert set(center.temperatures.readings("vmc-01")) == {"T_spindle_C"}
+        desc = {**description("vmc-01", "fanuc", "10.0.0.21"), "sensors": ["air"]}
+        await center.db.run(machine_repo.delete_machine, "vmc-01")
+        await center.db.run(lambda s: machine_repo.create_machine(
+            s, name="vmc-01", ip="10.0.0.21", controller="fanuc", description=desc,
+            secret=SECRET))
+        assert await center.intake.lookup("vmc-01") == frozenset({"T_air_C"})
+        assert center.temperatures.readings("vmc-01") == {}
+        got = (await client.get(READINGS)).json()
+        assert got["latest"] == [], got

@@ -174,13 +174,14 @@ def test_a_table_column_in_arcseconds_is_refused(tmp_path: Path) -> None:
 
 
 def test_the_limits_are_one_set_at_every_entry_point() -> None:
+    from machine_sim.temperatures import PLAUSIBLE_C as MACHINE_C
     from server.intake import PLAUSIBLE_C
     from server.schemas.machine import MAX_LENGTH_MM
     from volumetric.measure.plausible import LIMITS
     from volumetric.model.machine import MAX_TOOL_LENGTH_MM
     from volumetric.plausible import LINEAR_POSITION, TEMPERATURE, TOOL_LENGTH
 
-    assert PLAUSIBLE_C == (TEMPERATURE.lo, TEMPERATURE.hi) == (-20.0, 100.0)
+    assert PLAUSIBLE_C == MACHINE_C == (TEMPERATURE.lo, TEMPERATURE.hi) == (-20.0, 100.0)
     assert LIMITS["x_mm"] is LINEAR_POSITION and LINEAR_POSITION.hi == MAX_LENGTH_MM
     assert LIMITS["tool_mm"] is TOOL_LENGTH and TOOL_LENGTH.hi == MAX_TOOL_LENGTH_MM
     assert np.isclose(TOOL_LENGTH.hi, 10_000.0)

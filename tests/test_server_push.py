@@ -257,7 +257,9 @@ async def test_no_verdict_in_time_closes_the_session(tmp_path: Path) -> None:
         assert await raw.reader.read() != b""  # the Error TIMEOUT, then the close
         await until(lambda: not r.center.registry.get("vmc-01").connected)
         rows = await r.db.run(map_repo.list_applied, mid)
-        assert rows[0].reject_reason is not None and "no answer" in rows[0].reject_reason
+        # no answer is no verdict: a failed delivery, not a rejection (issue 30)
+        assert rows[0].reject_reason is None and rows[0].state == "failed"
+        assert rows[0].failure is not None and "no answer" in rows[0].failure
         assert r.center.metrics.pushes.labels(outcome="failed")._value.get() == 1
 
 

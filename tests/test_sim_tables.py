@@ -142,7 +142,8 @@ def test_applied_is_clamped_rounded_and_carries_the_reversal() -> None:
     x, y = m.axis_names.index("X"), m.axis_names.index("Y")
     out = f32.applied(None, q, np.array([[1, 1, 1, -1, 1]]))
     assert out[0, x] == pytest.approx(-0.2) and dq[0, x] < -0.29  # clamped to the limit
-    assert out[0, y] == float(np.float32(dq[0, y])) + float(np.float32(0.004))
+    # §6.3 step 6: the reversal added, then the clamp, the nearest float32 last
+    assert out[0, y] == float(np.float32(dq[0, y] + float(np.float32(0.004))))
     i32 = ChainBatch([tables_payload(m, big, {}, w, limit=0.2, reversal={"Y": 4},
                                      encoding=MapEncoding.INT32_INCREMENTS)])
     out = i32.applied(None, q, np.array([[1, 1, 1, -1, 1]]))

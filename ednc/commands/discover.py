@@ -29,6 +29,9 @@ def register(app: typer.Typer) -> None:
         register_: Annotated[int, typer.Option(
             "--register", help="First holding register of the EDNC window to look at.")
         ] = 0,
+        unit_id: Annotated[list[int] | None, typer.Option(
+            "--unit-id", help="Modbus unit id to ask (repeat for the controllers behind a "
+                              "gateway; default 1).")] = None,
         timeout_ms: Annotated[float, typer.Option(
             "--timeout-ms", help="Deadline of each probe, ms.")] = 500.0,
         as_json: Annotated[bool, typer.Option("--json", help="One JSON list.")] = False,
@@ -47,6 +50,9 @@ def register(app: typer.Typer) -> None:
                             (ednc_port, "--ednc-port")):
             int_option(value, name, 0, 65535)
         int_option(register_, "--register", 0, 65535)
+        units = list(dict.fromkeys(unit_id or [1]))
+        for unit in units:
+            int_option(unit, "--unit-id", 0, 255)
         float_option(timeout_ms, "--timeout-ms", 1.0, 60_000.0, unit=" ms")
         try:
             hosts = hosts_of(subnet)
@@ -54,7 +60,8 @@ def register(app: typer.Typer) -> None:
             raise UserError(f"--subnet {subnet!r}: {exc}") from None
         found = asyncio.run(discover(
             hosts, modbus_port=modbus_port or None, opcua_port=opcua_port or None,
-            ednc_port=ednc_port or None, register=register_, timeout_s=timeout_ms / 1000))
+            ednc_port=ednc_port or None, register=register_, timeout_s=timeout_ms / 1000,
+            unit_ids=units))
         if as_json:
             typer.echo(json.dumps([asdict(f) for f in found]))
             return

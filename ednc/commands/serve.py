@@ -48,6 +48,27 @@ def taken(host: str, port: int) -> str | None:
     return None
 
 
+def configure_logging(level: str) -> Any:
+    """Print the center's own messages of ``level`` and above on stderr, with time and
+    source: without a handler Python prints only bare warnings, and a plant engineer
+    needs to see a refused link or a failed push without asking for it (uvicorn configures
+    its own loggers, which do not propagate here). Returns the handler added."""
+    import logging
+    import sys
+
+    from ednc.cli import UserError
+
+    number = logging.getLevelName(level.upper())
+    if not isinstance(number, int):
+        raise UserError(f"--log-level {level!r}: debug, info, warning or error")
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("%(asctime)s %(levelname)s %(name)s: %(message)s"))
+    root = logging.getLogger()
+    root.addHandler(handler)
+    root.setLevel(number)
+    return handler
+
+
 def register(app: typer.Typer) -> None:
     @app.command()
     def serve(
@@ -56,6 +77,9 @@ def register(app: typer.Typer) -> None:
         = None,
         host: Annotated[str | None, typer.Option(help="HTTP address (EDNC_HTTP_HOST).")] = None,
         port: Annotated[int | None, typer.Option(help="HTTP port (EDNC_HTTP_PORT).")] = None,
+        log_level: Annotated[str, typer.Option(
+            "--log-level", help="Least severe message of the center printed on stderr: "
+            "warning (a link refused, a push failed), info or error.")] = "warning",
     ) -> None:
         """Run the control center service until interrupted (settings: EDNC_* variables)."""
         import uvicorn
@@ -102,7 +126,11 @@ def register(app: typer.Typer) -> None:
         finally:
             db.engine.dispose()
         app = create_app(settings, services=[machine_services])
+        configure_logging(log_level)
         typer.echo(ports_line(settings), err=True)
+        from server.links.opcuapki import certificate_line, pki_at
+
+        typer.echo(certificate_line(pki_at()), err=True)  # for the controllers' trust lists
         # a dashboard stream ends itself within 10 s; do not let it hold a shutdown longer
         from server.api.http import uvicorn_options  # header deadline (408), header size
 

@@ -103,6 +103,21 @@ def register(app: typer.Typer) -> None:
             "--port", help="With --link modbus|opcua: the port each machine's server "
                            "listens on at its address (default 502 Modbus, 4840 OPC UA).")
         ] = None,
+        opcua_security: Annotated[str, typer.Option(
+            "--opcua-security", help="With --link opcua: the security of the generated "
+                                     "links: sign-and-encrypt (Basic256Sha256, the "
+                                     "default), sign, or none (the NCs then offer only "
+                                     "None and the password travels in clear).")
+        ] = "sign-and-encrypt",
+        plc_class: Annotated[str, typer.Option(
+            "--plc-class", help="With --link opcua: the NCs' PLC class, s7-300 (840D sl, "
+                                "240 bytes per write, the default) or s7-1500 "
+                                "(SINUMERIK ONE, 960).")] = "s7-300",
+        state_dir: Annotated[Path | None, typer.Option(
+            "--state-dir", help="With Modbus-served PMCs: keep each one's window (status, "
+                                "buffers, the center's command) in DIR/<name>.pmc across "
+                                "restarts, as a PMC's nonvolatile D area keeps it.")
+        ] = None,
     ) -> None:
         """Run simulated machines against a center, or write a simulated campaign."""
         from ednc.inputs import check_output, float_option, int_option, warn
@@ -125,6 +140,11 @@ def register(app: typer.Typer) -> None:
             raise UserError(f"--link {link!r}: expected ednc, modbus or opcua")
         if port is not None:
             int_option(port, "--port", 1, 65535)
+        if opcua_security not in ("sign-and-encrypt", "sign", "none"):
+            raise UserError(f"--opcua-security {opcua_security!r}: expected "
+                            "sign-and-encrypt, sign or none")
+        if plc_class not in ("s7-300", "s7-1500"):
+            raise UserError(f"--plc-class {plc_class!r}: expected s7-300 or s7-1500")
         check_output(campaign, "--campaign")
         check_output(truth, "--truth")
         if campaign is not None:
@@ -144,14 +164,16 @@ def register(app: typer.Typer) -> None:
                                 "center's API key, which writes need")
             registration = (api, api_key)
         run_fleet(center, machines, fleet, secret, controller, mqtt, cycle_ms, duration, seed,
-                  only or [], registration, link=link, port=port)
+                  only or [], registration, link=link, port=port,
+                  opcua_security=opcua_security, plc_class=plc_class, state_dir=state_dir)
 
 
 def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret: str | None,
               controller: str, mqtt: str | None, cycle_ms: float | None,
               duration: float | None, seed: int, only: list[str],
               registration: tuple[str | None, str] | None = None, *, link: str = "ednc",
-              port: int | None = None) -> None:
+              port: int | None = None, opcua_security: str = "sign-and-encrypt",
+              plc_class: str = "s7-300", state_dir: Path | None = None) -> None:
     """The network mode (module docstring); ``registration`` is (API URL or None, key)."""
     from machine_sim.fleet import (
         Fleet,
@@ -180,7 +202,8 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
                 raise UserError("--machines needs --secret (or EDNC_SIM_SECRET): the secret "
                                 "the center has for the generated machines")
             entries = generated_fleet(machines, secret, controller=controller, seed=seed,
-                                      link=link, port=port)
+                                      link=link, port=port, opcua_security=opcua_security,
+                                      plc_class=plc_class)
         else:
             raise UserError("give --machines N (with --secret) or --fleet FILE, "
                             "or --campaign OUT.csv")
@@ -203,6 +226,12 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
     if cycle_ms is not None and not cycle_ms > 0:
         raise UserError(f"--cycle-ms must be > 0, got {cycle_ms}")
     cycle_s = None if cycle_ms is None else cycle_ms / 1000.0
+    if state_dir is not None:
+        try:
+            state_dir.mkdir(parents=True, exist_ok=True)
+        except OSError as exc:
+            raise UserError(f"--state-dir {state_dir}: cannot create it "
+                            f"({exc.strerror or exc})") from None
     if registration is not None:
         url = registration[0] or f"http://{_url_host(addresses[0][0])}:8080"
         secret_text = secret or ""
@@ -211,7 +240,8 @@ def run_fleet(center: str | None, machines: int, fleet_file: Path | None, secret
                    + (f"; {len(known)} were already registered" if known else ""))
 
     async def main() -> dict[str, int]:
-        async with Fleet(entries, addresses or None, mqtt=target, cycle_s=cycle_s) as f:
+        async with Fleet(entries, addresses or None, mqtt=target, cycle_s=cycle_s,
+                         state_dir=state_dir) as f:
             if f.machines:
                 typer.echo(f"{len(f.machines)} simulated machines connecting to "
                            + ", ".join(f"{host}:{port}" for host, port in addresses))

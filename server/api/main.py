@@ -13,6 +13,7 @@ from server.api.routes import (
     measurements,
     metrics,
     models,
+    opcua,
     status,
     temperatures,
     verifications,
@@ -21,7 +22,7 @@ from server.dashboard import routes as dashboard
 
 api_router = APIRouter(prefix="/api")
 for module in (machines, status, models, measurements, maps, diagnoses, verifications, events,
-               temperatures, history):
+               temperatures, history, opcua):
     api_router.include_router(module.router)
 api_router.include_router(dashboard.api)
 

@@ -53,7 +53,7 @@ class MapVersions(BaseModel):
     latest: int | None = Field(description="Newest map built for the machine.")
     sent: int | None = Field(description="Newest map sent to it.")
     sent_at: dt.datetime | None
-    sent_state: Literal["pending", "applied", "rejected"] | None = Field(
+    sent_state: Literal["pending", "applied", "rejected", "failed", "superseded"] | None = Field(
         description="The machine's answer to the newest delivery."
     )
     applied: int | None = Field(description="Newest map the machine acknowledged.")
@@ -156,6 +156,12 @@ class MachineCard(BaseModel):
         default=None,
         description="The node (EDNC_NODE_ID) serving the machine now; null when offline.")
     address: str | None
+    link_state: str = Field(
+        default="offline", description="What the link is doing: connected, connecting, "
+        "plc_stopped, refused, unreachable, failed or offline (server/links/state.py).")
+    link_reason: str = Field(default="", description="Why, as a stable label "
+                             "(identity_name, byte_order, magic, no_answer, exception_02...).")
+    link_text: str = Field(default="", description="Why, for the operator.")
     connected_since: dt.datetime | None
     last_seen: dt.datetime | None
     telemetry_age_s: float | None = Field(description="Age of the last telemetry, s.")

@@ -39,11 +39,12 @@ from server.dashboard.schemas import (
 from server.dashboard.telemetry import live_values
 from server.db import events as event_repo
 from server.db import machines as machine_repo
+from server.db.maps import delivery_state
 from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow, ModelRow
 from server.health import DEFAULT_LIMITS, LABELS, Inputs, Limits, assess, tolerance_of
 from server.plant import PlantView
 from server.schemas.event import EventPublic
-from server.state import LinkState, Registry
+from server.state import LinkState, Registry, shown_state
 from server.temperatures import TemperatureBoard
 from server.version import __version__
 
@@ -234,10 +235,11 @@ def chain_text(description: Mapping[str, Any]) -> str:
 
 
 def link_kind(description: Mapping[str, Any]) -> str:
-    """``ednc``, ``modbus`` or ``opcua``: the description's link (server/schemas/link.py)."""
+    """``ednc``, ``modbus``, ``opcua`` or ``sinumerik_sd``: the description's link
+    (server/schemas/link.py)."""
     link = description.get("link")
     kind = link.get("kind") if isinstance(link, Mapping) else None
-    return kind if kind in ("ednc", "modbus", "opcua") else "ednc"
+    return kind if kind in ("ednc", "modbus", "opcua", "sinumerik_sd") else "ednc"
 
 
 def residual(v: VerificationSummary | None) -> tuple[float | None, bool]:
@@ -252,15 +254,15 @@ def residual(v: VerificationSummary | None) -> tuple[float | None, bool]:
 
 def _map_versions(facts: MachineFacts, reported: int | None, now: dt.datetime) -> MapVersions:
     sent, applied, row = facts.sent, facts.applied, facts.map_row
-    sent_state = None if sent is None else (
-        "applied" if sent.acked else "rejected" if sent.reject_reason else "pending")
+    sent_state = None if sent is None else delivery_state(sent)
     temps = row.temperatures if row is not None and isinstance(row.temperatures, Mapping) \
         else {}
     return MapVersions(
         latest=facts.latest_map, sent=None if sent is None else sent.map_version,
         sent_at=None if sent is None else sent.applied_at, sent_state=sent_state,
         applied=None if applied is None else applied.map_version,
-        reported=reported, reject_reason=None if sent is None else sent.reject_reason,
+        reported=reported,
+        reject_reason=None if sent is None or sent_state != "rejected" else sent.reject_reason,
         kind=facts.map_kind,
         bytes=None if row is None else row.size_bytes,
         built_at=None if row is None else row.created_at,
@@ -305,6 +307,7 @@ def accuracy_of(facts: MachineFacts, card: MachineCard, board_stale: list[Temper
     model_version, model_at = facts.model if facts.model is not None else (None, None)
     inputs = Inputs(
         now=now, connected=card.connected, tolerance_um=tolerance_of(description, limits),
+        link_text=_link_line(card),
         machine_state=card.state, telemetry_age_s=card.telemetry_age_s,
         telemetry_stale=card.telemetry_stale,
         stale_sensors=tuple((t.name, t.age_s) for t in board_stale),
@@ -324,6 +327,15 @@ def accuracy_of(facts: MachineFacts, card: MachineCard, board_stale: list[Temper
         verified_at=inputs.verified_at, model_version=model_version, model_at=model_at,
         model_age_s=None if model_at is None else max(0.0, (now - model_at).total_seconds()),
     )
+
+
+def _link_line(card: MachineCard) -> str:
+    """Why a machine without a session has none, for the row's reason: the link's state
+    and what was seen (``unreachable: Modbus/TCP 10.0.0.5:502: cannot connect``)."""
+    if card.connected or card.link_state in ("offline", "connected"):
+        return ""
+    head = card.link_state.replace("_", " ")
+    return f"{head}: {card.link_text}" if card.link_text else head
 
 
 def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
@@ -353,7 +365,9 @@ def machine_card(facts: MachineFacts, link: LinkState, now: dt.datetime,
         link=link_kind(m.description if isinstance(m.description, Mapping) else {}),
         health="unknown", health_reason="", connected=link.connected, owner=link.owner,
         address=link.address, connected_since=link.connected_since, last_seen=link.last_seen,
-        telemetry_age_s=age, telemetry_stale=stale, state=live.state, axes=list(live.axes),
+        link_state=shown_state(link),
+        link_reason=link.link_reason, link_text=link.link_text, telemetry_age_s=age,
+        telemetry_stale=stale, state=live.state, axes=list(live.axes),
         temperatures=temperatures, maps=maps,
         verification=None if facts.verification is None
         else verification_summary(facts.verification),

@@ -16,7 +16,7 @@ from collections.abc import AsyncIterator, Callable, Iterator
 from contextlib import asynccontextmanager, contextmanager
 from typing import Any, Concatenate, ParamSpec, TypeVar
 
-from sqlalchemy import Engine, create_engine, event, text
+from sqlalchemy import Engine, create_engine, event, inspect, text
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session, sessionmaker
@@ -79,6 +79,28 @@ def _create_private(path: str) -> None:
     os.close(fd)
 
 
+_ADDED_COLUMNS: dict[str, tuple[str, ...]] = {
+    "applied": ("state", "failure", "answered_at"),
+}
+"""Nullable columns added to a table after it first shipped: a database made before has
+them added at start (``create_all`` makes missing tables only)."""
+
+
+def _add_missing_columns(engine: Engine) -> None:
+    names = inspect(engine).get_table_names()
+    for table, columns in _ADDED_COLUMNS.items():
+        if table not in names:
+            continue
+        have = {c["name"] for c in inspect(engine).get_columns(table)}
+        for column in columns:
+            if column in have:
+                continue
+            col = Base.metadata.tables[table].c[column]
+            kind = col.type.compile(dialect=engine.dialect)
+            with engine.begin() as conn:
+                conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {column} {kind}"))
+
+
 class Database:
     """An engine plus a session factory; the one object the service holds for persistence.
 
@@ -116,6 +138,7 @@ class Database:
         """
         try:
             Base.metadata.create_all(self.engine)
+            _add_missing_columns(self.engine)
             if self.engine.dialect.name == "postgresql":
                 # tables made before secrets were sealed have varchar(256)
                 with self.engine.begin() as conn:

@@ -5,9 +5,9 @@ from __future__ import annotations
 import datetime as dt
 import hashlib
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
-from sqlalchemy import func, select
+from sqlalchemy import and_, func, or_, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session, defer
 
@@ -96,8 +96,15 @@ def record_sent(
     map_row = get_map_version(session, machine_id, version, with_payload=False)
     if map_row is None:
         return None
+    # a delivery still without an answer when the next goes out never gets one here
+    session.execute(update(AppliedRow).where(
+        AppliedRow.machine_id == machine_id,
+        or_(AppliedRow.state == "pending",
+            and_(AppliedRow.state.is_(None), AppliedRow.reject_reason.is_(None),
+                 AppliedRow.acked.is_(False))))
+        .values(state="superseded", answered_at=at or utcnow()))
     row = AppliedRow(machine_id=machine_id, map_id=map_row.id, map_version=version,
-                     applied_at=at or utcnow())
+                     applied_at=at or utcnow(), state="pending")
     session.add(row)
     session.flush()
     return row
@@ -106,14 +113,51 @@ def record_sent(
 def record_answer(
     session: Session, applied_id: int, *, acked: bool, reject_reason: str | None = None
 ) -> AppliedRow | None:
-    """Record the machine's answer to a delivery: applied (``acked``) or rejected."""
+    """Record the machine's answer to a delivery: applied (``acked``) or rejected (its
+    verdict in ``reject_reason``)."""
     row = session.get(AppliedRow, applied_id)
     if row is None:
         return None
     row.acked = acked
     row.reject_reason = None if acked else (reject_reason or "rejected")
+    row.state = "applied" if acked else "rejected"
+    row.failure = None
+    row.answered_at = utcnow()
     session.flush()
     return row
+
+
+def record_failure(session: Session, applied_id: int, failure: str) -> AppliedRow | None:
+    """A delivery that got no answer: the transport failed (a write refused, the link
+    lost, no verdict in time). Not the machine's verdict: the map is sent again."""
+    row = session.get(AppliedRow, applied_id)
+    if row is None:
+        return None
+    row.acked = False
+    row.reject_reason = None
+    row.state = "failed"
+    row.failure = failure
+    row.answered_at = utcnow()
+    session.flush()
+    return row
+
+
+DeliveryState = Literal["pending", "applied", "rejected", "failed", "superseded"]
+
+UNANSWERED = ("session ended before the answer", "no answer to map version")
+"""How deliveries without an answer were marked as rejections before ``state`` existed."""
+
+
+def delivery_state(row: AppliedRow) -> DeliveryState:
+    """What happened to a delivery (rows from before the ``state`` column read as they
+    were meant: a missing answer was stored as a rejection then)."""
+    if row.state in ("pending", "applied", "rejected", "failed", "superseded"):
+        return row.state  # type: ignore[return-value]
+    if row.acked:
+        return "applied"
+    if row.reject_reason is None:
+        return "pending"
+    return "failed" if row.reject_reason.startswith(UNANSWERED) else "rejected"
 
 
 def list_applied(session: Session, machine_id: int, limit: int = 100) -> list[AppliedRow]:

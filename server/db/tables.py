@@ -148,8 +148,12 @@ class MapVersionMarkRow(Base):
 
 
 class AppliedRow(Base):
-    """One delivery of a map version to its machine: sent at ``applied_at``, then acked or
-    rejected (``reject_reason``) by the machine; neither while the answer is pending."""
+    """One delivery of a map version to its machine: sent at ``applied_at`` (the column's
+    old name: it is the send time), then in one ``state`` (:mod:`server.db.maps`):
+    ``applied`` (``acked``), ``rejected`` (the machine's verdict in ``reject_reason``, and
+    nothing else), ``failed`` (the transport failed before an answer: ``failure``; the map
+    is sent again), ``superseded`` (a newer delivery went out before any answer), or
+    ``pending``. Rows from before ``state`` existed have it null."""
 
     __tablename__ = "applied"
 
@@ -160,6 +164,9 @@ class AppliedRow(Base):
     applied_at: Mapped[dt.datetime] = mapped_column(default=utcnow)
     acked: Mapped[bool] = mapped_column(default=False)
     reject_reason: Mapped[str | None] = mapped_column(Text)
+    state: Mapped[str | None] = mapped_column(String(16), default="pending")
+    failure: Mapped[str | None] = mapped_column(Text)
+    answered_at: Mapped[dt.datetime | None] = mapped_column()
 
 
 class DiagnosisRow(Base):

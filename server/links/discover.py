@@ -3,8 +3,9 @@
 The first seed's center "connects all machine tools after searching the local network";
 here a search is a bounded set of TCP probes, each with a deadline:
 
-* **Modbus/TCP** (port 502 by default): a 03h read of the window's first two registers
-  through pymodbus. An answer is a Modbus server; ``EDCM`` there is an EDNC PLC program's
+* **Modbus/TCP** (port 502 by default): a 03h read of the window's identity block
+  through pymodbus, at each unit id asked (1 by default; a gateway's controllers each
+  have their own). An answer is a Modbus server; ``EDCM`` there is an EDNC PLC program's
   window, whose identity block then names the machine, the map formats and the capacity.
   An exception answer (01, 02) is still a Modbus server (another window start, or none);
 * **OPC UA** (4840): the binary protocol's Hello (``HEL``); an ``ACK`` is an OPC UA
@@ -22,7 +23,7 @@ import asyncio
 import contextlib
 import ipaddress
 import struct
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from typing import Any, Final
 
@@ -79,44 +80,55 @@ def hosts_of(subnet: str) -> list[str]:
     return hosts
 
 
-async def _modbus(host: str, port: int, register: int, timeout_s: float) -> Found | None:
+async def _modbus(host: str, port: int, register: int, timeout_s: float,
+                  unit_ids: Sequence[int] = (1,)) -> list[Found]:
+    """The Modbus/TCP server at ``host:port`` and, per unit id asked, what it serves
+    (a gateway answers for several controllers, one unit id each)."""
     client = AsyncModbusTcpClient(host, port=port, timeout=timeout_s, retries=0,
                                   reconnect_delay=0)
     try:
         try:
             async with asyncio.timeout(timeout_s):
                 if not await client.connect():
-                    return None
+                    return []
         except (TimeoutError, OSError, ModbusException):
-            return None
-        link: dict[str, Any] = {"kind": "modbus", "host": host, "port": port,
-                                "start_register": register}
-        try:
-            rr = await client.read_holding_registers(register, count=IDENTITY_SIZE // 2,
-                                                     device_id=1)
-        except (TimeoutError, OSError, ModbusException) as exc:
-            return Found(host, port, "modbus", f"TCP port open, no Modbus answer ({exc})")
-        if rr.isError():
-            code = getattr(rr, "exception_code", 0)
-            return Found(host, port, "modbus",
-                         f"Modbus/TCP server (exception {code} at register {register}: no "
-                         "EDNC window there)", link)
-        for order in ("little", "big"):
-            fmt = f"{'<' if order == 'little' else '>'}{len(rr.registers)}H"
-            raw = struct.pack(fmt, *rr.registers)
-            try:
-                ident = decode_identity(raw)
-            except ControllerMemoryError:
-                continue
-            return Found(host, port, "modbus",
-                         f"Modbus/TCP server with the EDNC window of {ident.name!r} at "
-                         f"register {register} ({order}-endian words; formats "
-                         f"{int(ident.formats)}, {ident.capacity} B buffers)",
-                         {**link, "byte_order": order}, ident.name)
-        return Found(host, port, "modbus", f"Modbus/TCP server (no EDNC window at register "
-                                           f"{register})", link)
+            return []
+        return [await _modbus_unit(client, host, port, register, unit) for unit in unit_ids]
     finally:
         client.close()
+
+
+async def _modbus_unit(client: AsyncModbusTcpClient, host: str, port: int, register: int,
+                       unit: int) -> Found:
+    link: dict[str, Any] = {"kind": "modbus", "host": host, "port": port,
+                            "start_register": register}
+    if unit != 1:
+        link["unit_id"] = unit
+    which = "" if unit == 1 else f" unit id {unit}"
+    try:
+        rr = await client.read_holding_registers(register, count=IDENTITY_SIZE // 2,
+                                                 device_id=unit)
+    except (TimeoutError, OSError, ModbusException) as exc:
+        return Found(host, port, "modbus", f"TCP port open, no Modbus answer{which} ({exc})")
+    if rr.isError():
+        code = getattr(rr, "exception_code", 0)
+        return Found(host, port, "modbus",
+                     f"Modbus/TCP server{which} (exception {code} at register {register}: "
+                     "no EDNC window there)", link)
+    for order in ("little", "big"):
+        fmt = f"{'<' if order == 'little' else '>'}{len(rr.registers)}H"
+        raw = struct.pack(fmt, *rr.registers)
+        try:
+            ident = decode_identity(raw)
+        except ControllerMemoryError:
+            continue
+        return Found(host, port, "modbus",
+                     f"Modbus/TCP server{which} with the EDNC window of {ident.name!r} at "
+                     f"register {register} ({order}-endian words; formats "
+                     f"{int(ident.formats)}, {ident.capacity} B buffers)",
+                     {**link, "byte_order": order}, ident.name)
+    return Found(host, port, "modbus", f"Modbus/TCP server{which} (no EDNC window at "
+                                       f"register {register})", link)
 
 
 def _opcua_hello(url: str) -> bytes:
@@ -176,16 +188,19 @@ async def _ednc(host: str, port: int, timeout_s: float) -> Found | None:
 
 async def discover(hosts: Iterable[str], *, modbus_port: int | None = 502,
                    opcua_port: int | None = 4840, ednc_port: int | None = 7878,
-                   register: int = 0, timeout_s: float = 0.5, concurrency: int = 128
-                   ) -> list[Found]:
-    """Probe every host on the given ports (None: skip that kind); sorted answers."""
+                   register: int = 0, timeout_s: float = 0.5, concurrency: int = 128,
+                   unit_ids: Sequence[int] = (1,)) -> list[Found]:
+    """Probe every host on the given ports (None: skip that kind); sorted answers.
+    ``unit_ids``: the Modbus unit ids asked at each Modbus server (a gateway serves
+    several controllers, one unit id each)."""
     gate = asyncio.Semaphore(concurrency)
 
     async def probe(host: str) -> list[Found]:
         async with gate:
             found: list[Found | None] = []
             if modbus_port is not None:
-                found.append(await _modbus(host, modbus_port, register, timeout_s))
+                found.extend(await _modbus(host, modbus_port, register, timeout_s,
+                                           unit_ids))
             if opcua_port is not None:
                 found.append(await _opcua(host, opcua_port, timeout_s))
             if ednc_port is not None:

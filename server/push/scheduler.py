@@ -49,7 +49,7 @@ from server.center import Center
 from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
-from server.links.ednc.session import LinkClosed, MachineSession
+from server.links.base import Link, LinkClosed
 from server.mapcodec import carries_thermal
 from server.push import steps
 from server.push.adapter import build_for, thermal_sensors
@@ -73,7 +73,7 @@ class _Target:
 
     name: str
     machine_id: int
-    session: MachineSession
+    session: Link
     wake: asyncio.Event = field(default_factory=asyncio.Event)
     why: list[str] = field(default_factory=list)
     sensors: frozenset[str] = frozenset()
@@ -140,6 +140,9 @@ class PushScheduler:
         self.verdict_timeout_s = verdict_timeout_s
         self.build_workers = build_workers or os.cpu_count() or 2
         self.observers: list[Callable[[Delivery], None]] = []
+        self.commit_listeners: list[Callable[[set[int]], None]] = []
+        """Told the machine ids of every committed model or machine change (the native
+        SINUMERIK links follow models this way: one CommitWatcher per process sees them)."""
         self._targets: dict[str, _Target] = {}
         self._by_id: dict[int, _Target] = {}
         self._pool: ThreadPoolExecutor | None = None
@@ -169,6 +172,8 @@ class PushScheduler:
         return target is not None
 
     def _on_commit(self, machine_ids: set[int]) -> None:
+        for listener in list(self.commit_listeners):
+            listener(machine_ids)
         for machine_id in machine_ids:
             target = self._by_id.get(machine_id)
             if target is not None:
@@ -183,7 +188,7 @@ class PushScheduler:
             target.poke(f"{column} now {celsius:.2f} °C")
 
     # -- the worker
-    async def serve(self, session: MachineSession, machine: MachineRow) -> None:
+    async def serve(self, session: Link, machine: MachineRow) -> None:
         """Keep ``machine`` served over ``session`` until cancelled (one per session)."""
         target = _Target(machine.name, machine.id, session)
         self._targets[machine.name] = target
@@ -196,7 +201,8 @@ class PushScheduler:
                 resend, target.resend = target.resend, False
                 try:
                     await self._refresh(target, send_anyway=first or resend,
-                                        periodic=periodic, why=why or "session start")
+                                        periodic=periodic, why=why or "session start",
+                                        first=first and not resend)
                 except SQLAlchemyError as exc:  # e.g. a busy database: try again later
                     log.warning("%s: push skipped, database error: %s", target.name,
                                 str(exc).splitlines()[0])
@@ -216,7 +222,7 @@ class PushScheduler:
                 del self._by_id[machine.id]
 
     async def _refresh(self, target: _Target, *, send_anyway: bool, periodic: bool,
-                       why: str) -> None:
+                       why: str, first: bool = False) -> None:
         inputs = await self.db.run(steps.load_inputs, target.machine_id)
         machine, model, current = inputs.machine, inputs.model, inputs.map
         if machine is None:
@@ -255,6 +261,11 @@ class PushScheduler:
         target.built_temps = {k: float(v) for k, v in current.temperatures.items()
                               if isinstance(v, int | float)}
         fresh = payload is not None
+        if first and not fresh and target.session.reported_version == current.version:
+            # the controller reports this map applied (protocol/README.md §13.2 step 0):
+            # sending it again at every session start would only load the PLC
+            target.acked = current.version
+            send_anyway = False
         # what the machine has: its own Telemetry when it sent one, else its last answer
         reported = self.center.registry.get(target.name).telemetry.get("map_version")
         on_machine = reported if isinstance(reported, int) else target.acked
@@ -358,10 +369,16 @@ class PushScheduler:
 
     async def _failed(self, target: _Target, applied_id: int, version: int, failure: str,
                       why: str) -> None:
+        """A delivery without an answer: the transport failed, not the map (the delivery
+        is ``failed``, not ``rejected``; the map goes again at the next session or wake)."""
         self.center.metrics.pushes.labels(outcome="failed").inc()
         self.center.metrics.events.labels(kind=EventKind.ERROR.value).inc()
-        await self._record_answer(applied_id, target.name, EventKind.ERROR, acked=False,
-                                  reason=failure, detail=failure)
+        try:
+            await asyncio.shield(self.db.run(steps.record_failure, applied_id, target.name,
+                                             failure=failure))
+        except SQLAlchemyError as exc:
+            log.warning("%s: failure of delivery %d not stored: %s", target.name, applied_id,
+                        str(exc).splitlines()[0])
         self._tell(Notice(EventKind.ERROR, target.name, failure, version),
                    Delivery(target.name, version, "failed", None, why))
 

@@ -88,5 +88,12 @@ def record_answer(session: Session, applied_id: int, name: str, kind: EventKind,
     event_repo.add_event(session, kind=kind.value, machine=name, detail=detail)
 
 
-__all__ = ["Inputs", "detail_of", "load_inputs", "record_answer", "record_sent",
+def record_failure(session: Session, applied_id: int, name: str, *, failure: str) -> None:
+    """Store that a delivery got no answer (the transport failed) and its event."""
+    map_repo.record_failure(session, applied_id, failure)
+    event_repo.add_event(session, kind=EventKind.ERROR.value, machine=name, detail=failure)
+
+
+__all__ = ["Inputs", "detail_of", "load_inputs", "record_answer", "record_failure",
+           "record_sent",
            "store_and_send", "store_map", "stored_payload"]

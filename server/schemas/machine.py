@@ -180,3 +180,7 @@ class MachinePublic(BaseModel):
     description: dict[str, Any] = Field(description="The machine description (formats.md §1).")
     created_at: dt.datetime
     updated_at: dt.datetime
+    warnings: list[str] = Field(
+        default_factory=list, description="On creation or update: what in the accepted "
+        "description looks like a unit slip all the same (travels that look like metres, "
+        "rotary travels within ±2π); empty otherwise.")

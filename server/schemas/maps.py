@@ -27,6 +27,17 @@ class AppliedPublic(BaseModel):
 
     machine: str
     map_version: int
-    applied_at: dt.datetime = Field(description="When the map was sent.")
-    state: Literal["pending", "applied", "rejected"]
-    reject_reason: str | None
+    sent_at: dt.datetime = Field(description="When the map was sent.")
+    applied_at: dt.datetime | None = Field(
+        description="When the map the machine applied was sent; null unless applied.")
+    answered_at: dt.datetime | None = Field(
+        default=None, description="When the delivery got its outcome (null: pending, or "
+        "stored before this field existed).")
+    state: Literal["pending", "applied", "rejected", "failed", "superseded"] = Field(
+        description="applied, rejected (the machine's verdict), failed (no answer: the "
+        "transport failed; the map is sent again), superseded (a newer delivery went out "
+        "before any answer), pending.")
+    reject_reason: str | None = Field(
+        description="The machine's verdict and code when rejected; null otherwise.")
+    failure: str | None = Field(default=None,
+                                description="Why a failed delivery got no answer.")

@@ -14,6 +14,12 @@ class MachineStatus(BaseModel):
     name: str
     connected: bool
     address: str | None = Field(description="Peer address of the current or last session.")
+    link_state: str = Field(
+        default="offline", description="What the link is doing: connected, connecting, "
+        "plc_stopped, refused, unreachable, failed or offline (server/links/state.py).")
+    link_reason: str = Field(default="", description="Why, as a stable label "
+                             "(identity_name, byte_order, magic, no_answer, exception_02...).")
+    link_text: str = Field(default="", description="Why, for the operator.")
     connected_since: dt.datetime | None
     last_seen: dt.datetime | None
     telemetry: dict[str, Any] = Field(description="The machine's last telemetry, as sent.")

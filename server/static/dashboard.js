@@ -83,14 +83,29 @@
       el("td", { class: "sub", "data-field": "map-facts" }, EDNC.mapFacts(card.maps)));
   }
 
+  // how a machine is reached, as the plant says it (server/schemas/link.py's kinds)
+  const LINK_NAMES = { modbus: "Modbus/TCP", opcua: "OPC UA",
+    sinumerik_sd: "SINUMERIK setting data (OPC UA)" };
+
   function machineCell(card) {
     return el("td", { class: "machine" },
       el("a", { href: `/machines/${encodeURIComponent(card.name)}`, class: "name",
         "data-field": "name" }, card.name),
       el("div", { class: "sub", "data-field": "link" },
         `${card.controller} · ${card.ip}` + (card.link && card.link !== "ednc"
-          ? ` · ${card.link === "modbus" ? "Modbus/TCP" : "OPC UA"} link` : "")),
+          ? ` · ${LINK_NAMES[card.link] || card.link} link` : "")),
+      linkLine(card),
       el("div", { class: "sub chain", "data-field": "chain" }, card.chain));
+  }
+
+  // what the link does when it is not simply connected (or offline): the operator sees
+  // "unreachable (no_answer)" with the controller's own words in the tooltip
+  function linkLine(card) {
+    const st = card.link_state;
+    if (!st || st === "offline" || (st === "connected" && !card.link_reason)) return null;
+    const head = st.replace("_", " ") + (card.link_reason ? ` (${card.link_reason})` : "");
+    return el("div", { class: "sub", "data-field": "link-state", title: card.link_text || "" },
+      "link: ", el("b", {}, head));
   }
 
   function statusCell(card) {

@@ -44,7 +44,14 @@
   // ---- live values -------------------------------------------------------------------
   function renderLive(card) {
     const status = document.getElementById("status");
-    EDNC.fill(status, EDNC.healthPill(card), " ", card.health_reason);
+    // the link's own state when it says more than "connected" (busy, PLC stopped, refused)
+    const linkSays = card.link_state && card.link_state !== "offline" &&
+      (card.link_state !== "connected" || card.link_reason);
+    EDNC.fill(status, EDNC.healthPill(card), " ", card.health_reason,
+      linkSays ? el("div", { class: "sub", "data-field": "link-state" },
+        `link: ${card.link_state.replace("_", " ")}` +
+        (card.link_reason ? ` (${card.link_reason})` : "") +
+        (card.link_text ? ` — ${card.link_text}` : "")) : null);
     const m = card.maps;
     const v = (x) => (x === null || x === undefined ? "—" : `v${x}`);
     const axes = card.axes.length ? el("table", { class: "terms" },

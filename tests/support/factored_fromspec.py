@@ -134,7 +134,7 @@ def thermal_constants(records: list[Record], n_axes: int,
     for rec in records:
         if rec.sensor not in readings:
             continue
-        dt = readings[rec.sensor] - rec.t_ref
+        dt = min(max(readings[rec.sensor] - rec.t_ref, -(1 << 17)), 1 << 17)
         if rec.kind == 1:
             c0[rec.axis] -= r_shift(rec.coefficient * dt, 16)
         else:
@@ -167,14 +167,15 @@ def factored_counts(m: Factored, q: list[int], readings: dict[str, int],
     if not rot or not lin:
         n = [r_shift(v, 16) for v in c]
     else:
-        lo = {r: c[r] >> 16 for r in rot}
+        near = {r: r_shift(c[r], 16) for r in rot}
+        far = {r: near[r] - 1 if near[r] * 65536 > c[r] else near[r] + 1 for r in rot}
         best: list[int] | None = None
         best_cost = 0
         for choice in range(1 << len(rot)):
             n = [0] * d
             moved = {}
             for j, r in enumerate(rot):
-                n[r] = lo[r] + ((choice >> (len(rot) - 1 - j)) & 1)
+                n[r] = far[r] if (choice >> (len(rot) - 1 - j)) & 1 else near[r]
                 moved[r] = n[r] * 65536 - c[r]
             cost = 0
             for li, ax in enumerate(lin):
@@ -186,10 +187,9 @@ def factored_counts(m: Factored, q: list[int], readings: dict[str, int],
                 best, best_cost = n, cost
         assert best is not None
         n = best
-    out = [min(max(v, -m.limit[k]), m.limit[k]) for k, v in enumerate(n)]
-    if negative is not None:
-        out = [v + (m.reversal[k] if negative[k] else 0) for k, v in enumerate(out)]
-    return out
+    if negative is not None:  # step 6: the reversal, then the clamp
+        n = [v + (m.reversal[k] if negative[k] else 0) for k, v in enumerate(n)]
+    return [min(max(v, -m.limit[k]), m.limit[k]) for k, v in enumerate(n)]
 
 
 @dataclass

@@ -340,7 +340,9 @@ class FactoredMap:
                 continue
             d = self.axes.index(th.axis.upper())
             coef, t_ref, q_min = thermal_ints(th, self.counts_per_unit)
-            dt = _half_up(Fraction(float(celsius)) * 1000) - t_ref
+            # ΔT clamped to ±2^17 m°C (protocol/README.md §6): bounds every product
+            dt = min(max(_half_up(Fraction(float(celsius)) * 1000) - t_ref, -(1 << 17)),
+                     1 << 17)
             if th.kind == "thermal_drift":
                 c0[d] -= rshift_round(coef * dt, 16)
             else:
@@ -413,14 +415,18 @@ def applied_counts(fm: FactoredMap, qc: I64, c0: I64, c1: I64) -> I64:
         out: I64 = np.clip(rshift_round(c, 16), -lim, lim)
         return out
     s = acc[:, k:].reshape(n, len(lin), len(rot))
-    low = c[:, rot] >> 16
+    # each rotary axis's nearest count (halves up) and its other neighbour, nearest
+    # first: equal costs keep the nearest (protocol/README.md §6.5 step 5)
+    cr = c[:, rot]
+    near = rshift_round(cr, 16)
+    far = np.where((near << 16) > cr, near - 1, near + 1)
     best = np.zeros((n, k), dtype=np.int64)
     best_cost = np.full(n, -1, dtype=np.int64)
     for choice in range(1 << len(rot)):
-        up = np.array([(choice >> (len(rot) - 1 - j)) & 1 for j in range(len(rot))],
-                      dtype=np.int64)
-        r_counts = low + up
-        moved = (r_counts << 16) - c[:, rot]
+        pick = np.array([(choice >> (len(rot) - 1 - j)) & 1 for j in range(len(rot))],
+                        dtype=np.int64)
+        r_counts = np.where(pick == 1, far, near)
+        moved = (r_counts << 16) - cr
         want = c[:, lin] + rshift_round(np.einsum("nlr,nr->nl", s, moved), 16)
         l_counts = rshift_round(want, 16)
         resid = want - (l_counts << 16)

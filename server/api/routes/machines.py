@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import logging
 from typing import Any
 
 from fastapi import APIRouter, HTTPException, Response, status
@@ -16,6 +17,9 @@ from server.db import live_links as live_repo
 from server.db import machines as machine_repo
 from server.db.tables import MachineRow
 from server.schemas.machine import MachineCreate, MachineDescription, MachinePublic, MachineUpdate
+from volumetric.model.machine import description_warnings, parse_machine
+
+log = logging.getLogger(__name__)
 
 router = APIRouter(prefix="/machines", tags=["machines"])
 
@@ -50,7 +54,16 @@ async def create_machine(db: DatabaseDep, machine: MachineCreate) -> MachinePubl
         )
     except DuplicateError as exc:
         raise HTTPException(status.HTTP_409_CONFLICT, str(exc)) from None
-    return machine_public(row)
+    return _warned(machine_public(row))
+
+
+def _warned(public: MachinePublic) -> MachinePublic:
+    """``public`` with the description's warnings, logged as the CLI prints them: an
+    accepted description whose travels look like metres is said so on every way in."""
+    warnings = description_warnings(parse_machine(public.description))
+    for w in warnings:
+        log.warning("%s", w)
+    return public.model_copy(update={"warnings": warnings})
 
 
 @router.get("/{name}", responses=NOT_FOUND)
@@ -89,7 +102,7 @@ async def update_machine(
         center.registry.forget(machine.name)
         _forget_temperatures(center, machine.name)
         await center.db.run(live_repo.forget, machine.name)
-    return machine_public(row)
+    return _warned(machine_public(row))
 
 
 def _forget_temperatures(center: Center, name: str) -> None:

@@ -26,10 +26,15 @@ def map_public(row: MapVersionRow, machine: str) -> MapPublic:
 
 
 def applied_public(row: AppliedRow, machine: str) -> AppliedPublic:
-    state = "applied" if row.acked else "rejected" if row.reject_reason else "pending"
+    state = map_repo.delivery_state(row)
     return AppliedPublic(machine=machine, map_version=row.map_version,
-                         applied_at=row.applied_at, state=state,
-                         reject_reason=row.reject_reason)
+                         sent_at=row.applied_at,
+                         applied_at=row.applied_at if state == "applied" else None,
+                         answered_at=row.answered_at, state=state,
+                         reject_reason=row.reject_reason if state == "rejected" else None,
+                         # a row stored before ``failure`` existed kept it as a reason
+                         failure=(row.failure or row.reject_reason)
+                         if state in ("failed", "superseded") else None)
 
 
 async def _get_map(
@@ -80,6 +85,8 @@ async def download_map(db: DatabaseDep, machine: MachineDep, version: Version) -
 
 @router.get("/deliveries")
 async def list_deliveries(db: DatabaseDep, machine: MachineDep) -> list[AppliedPublic]:
-    """The machine's map deliveries, newest first: pending, applied or rejected."""
+    """The machine's map deliveries, newest first: pending, applied, rejected (the
+    machine's verdict), failed (no answer: the transport failed; sent again) or
+    superseded (a newer one went out before any answer)."""
     return [applied_public(r, machine.name)
             for r in await db.run(map_repo.list_applied, machine.id)]

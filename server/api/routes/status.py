@@ -16,6 +16,7 @@ from server.db.maps import MapState
 from server.db.tables import MachineRow
 from server.plant import PlantView, plant_view
 from server.schemas.status import MachineStatus, ServiceStatus
+from server.state import shown_state
 from server.version import __version__
 
 router = APIRouter(tags=["status"])
@@ -29,6 +30,8 @@ def _status(links: PlantView, name: str, maps: MapState) -> MachineStatus:
     link = links.get(name)
     return MachineStatus(
         name=name, connected=link.connected, address=link.address,
+        link_state=shown_state(link),
+        link_reason=link.link_reason, link_text=link.link_text,
         connected_since=link.connected_since, last_seen=link.last_seen,
         telemetry=dict(link.telemetry), owner=link.owner, map_version_latest=maps.latest,
         map_version_sent=maps.sent, map_version_applied=maps.applied,

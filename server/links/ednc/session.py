@@ -111,6 +111,11 @@ class MachineSession:
         """The machine's name from Hello (the peer address before it)."""
         return self.hello.name if self.hello is not None else self.address
 
+    @property
+    def reported_version(self) -> int | None:
+        """None: a machine says what it applied in its Telemetry, not at login."""
+        return None
+
     # -- receiving
     async def receive(self) -> Message:
         """The next message from the machine.

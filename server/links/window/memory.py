@@ -10,11 +10,30 @@ from __future__ import annotations
 
 from typing import Protocol
 
+from server.links.state import LinkCondition, LinkStateName
+
 __all__ = ["LinkError", "MemoryClient"]
 
 
 class LinkError(Exception):
-    """The controller cannot be reached, or refused a request (text says which)."""
+    """The controller cannot be reached, or refused a request (text says which).
+
+    ``state`` and ``reason`` classify it for the operator (:mod:`server.links.state`):
+    where it is raised is where it is known what happened, so the classification is
+    given there, never guessed from the text later. ``transient``: worth asking again in
+    the same session (a busy controller).
+    """
+
+    def __init__(self, text: str, *, state: LinkStateName = "failed",
+                 reason: str = "link_error", transient: bool = False) -> None:
+        super().__init__(text)
+        self.state: LinkStateName = state
+        self.reason = reason
+        self.transient = transient
+
+    @property
+    def condition(self) -> LinkCondition:
+        return LinkCondition(self.state, self.reason, str(self))
 
 
 class MemoryClient(Protocol):

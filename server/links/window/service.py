@@ -17,10 +17,8 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import logging
-import os
 import random
 from collections.abc import Callable, Coroutine, MutableMapping
-from pathlib import Path
 from types import TracebackType
 from typing import Any
 
@@ -39,14 +37,18 @@ from server.db.tables import AppliedRow, MachineRow
 from server.events import EventKind
 from server.feed import Feed
 from server.leasing import LeaseKeeper
-from server.links.modbus import ModbusMemory
+from server.links import memory_for
+from server.links.pacing import BACKOFF, Pacer
+from server.links.secret import read_secret
+from server.links.state import LinkCondition, Throttle
 from server.links.window.memory import LinkError, MemoryClient
 from server.schemas.link import LinkSpec, ModbusLink, OpcuaLink
 from volumetric.model.machine import parse_machine
 
 from .session import ControllerSession, LinkAck, reason_of
 
-__all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret"]
+__all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret", "settle_missed",
+           "window_of"]
 
 log = logging.getLogger(__name__)
 
@@ -64,39 +66,6 @@ def link_of(description: dict[str, Any]) -> LinkSpec | None:
         return _SPEC.validate_python(raw)
     except ValidationError:
         return None
-
-
-def read_secret(ref: str) -> str:
-    """The text a secret reference points at: ``env:NAME`` or ``file:/path``.
-
-    Raises
-    ------
-    LinkError
-        The variable is unset or the file cannot be read (the text says which).
-    """
-    kind, _, where = ref.partition(":")
-    if kind == "env":
-        value = os.environ.get(where)
-        if value is None:
-            raise LinkError(f"the password reference {ref!r}: variable {where} is not set")
-        return value
-    if kind == "file":
-        try:
-            return Path(where).read_text(encoding="utf-8").strip()
-        except OSError as exc:
-            raise LinkError(f"the password reference {ref!r}: {exc.strerror}") from None
-    raise LinkError(f"the password reference {ref!r}: env:NAME or file:/path")
-
-
-def memory_for(spec: ModbusLink | OpcuaLink, ip: str) -> MemoryClient:
-    """The memory client of a link (the machine's ip where the link names no host)."""
-    if isinstance(spec, ModbusLink):
-        return ModbusMemory(spec.host or ip, spec.port, unit_id=spec.unit_id,
-                            register=spec.start_register, byte_order=spec.byte_order)
-    from server.links.opcua import OpcuaMemory  # asyncua is imported only where OPC UA is used
-
-    memory: MemoryClient = OpcuaMemory.from_spec(spec, password=read_secret(spec.password_ref))
-    return memory
 
 
 class ControllerLinks:
@@ -126,10 +95,17 @@ class ControllerLinks:
         self.worker = worker
         self.leases = leases
         self.reconcile_s = reconcile_s
-        self.backoff = backoff or Backoff(initial_s=0.5, cap_s=30.0)
+        self.backoff = backoff or BACKOFF
+        self.pacers: dict[str, Pacer] = {}
+        """Retry schedules by machine, kept while its registration stays the same (a
+        changed one starts afresh: the operator may have corrected it)."""
         self._bg = Background(grace_s=5.0)
         self._tasks: dict[str, tuple[Any, asyncio.Task[None]]] = {}
         self._rng = random.Random()
+        self._reports: set[asyncio.Task[None]] = set()
+        self.throttle = Throttle()
+        """Events and warnings of link failures: the first of each reason, then at most
+        one a minute per reason and machine."""
         self.connects = 0
         self.failures = 0
         self.missed_settled = 0
@@ -141,7 +117,7 @@ class ControllerLinks:
 
     async def __aexit__(self, exc_type: type[BaseException] | None,
                         exc: BaseException | None, tb: TracebackType | None) -> None:
-        tasks = [t for _, t in self._tasks.values()]
+        tasks = [t for _, t in self._tasks.values()] + list(self._reports)
         self._tasks.clear()
         for t in tasks:
             t.cancel()
@@ -167,11 +143,22 @@ class ControllerLinks:
         went away or changed."""
         rows: list[MachineRow] = await self.center.db.run(_machines)
         want: dict[str, tuple[Any, MachineRow]] = {}
-        for row in rows:
+        windows: dict[tuple[Any, ...], str] = {}
+        for row in rows:  # by name: of two machines on one window the first is served
             spec = link_of(row.description)
-            if isinstance(spec, ModbusLink | OpcuaLink):
-                key = (spec.model_dump_json(), row.ip, row.updated_at)
-                want[row.name] = (key, row)
+            if not isinstance(spec, ModbusLink | OpcuaLink):
+                continue
+            window = window_of(spec, row.ip)
+            first = windows.setdefault(window, row.name)
+            if first != row.name:
+                # two registrations writing one controller's window would overwrite each
+                # other's maps: the second is refused until one of them changes
+                await self._report(row.name, spec.kind, LinkCondition(
+                    "refused", "duplicate_link", f"the same controller window as {first} "
+                    "(give each its own host, port, unit id or window)"))
+                continue
+            key = (spec.model_dump_json(), row.ip, row.updated_at)
+            want[row.name] = (key, row)
         for name in list(self._tasks):
             key, task = self._tasks[name]
             if name not in want or want[name][0] != key or task.done():
@@ -179,6 +166,10 @@ class ControllerLinks:
                 task.cancel()
                 with contextlib.suppress(asyncio.CancelledError, Exception):
                     await task
+                if name not in want or want[name][0] != key:
+                    # the registration changed (a byte order corrected...): try it now
+                    self.pacers.pop(name, None)
+                    self.throttle.forget(name)
         for name, (key, row) in want.items():
             if name not in self._tasks:
                 task = asyncio.create_task(self._serve(row), name=f"{name}:controller-link")
@@ -189,55 +180,93 @@ class ControllerLinks:
         assert isinstance(spec, ModbusLink | OpcuaLink)
         machine = parse_machine(row.description)
         controller = Controller.FANUC if row.controller == "fanuc" else Controller.SIEMENS
-        attempt = 0
-        last_error = ""
+        pacer = self.pacers.setdefault(row.name, Pacer(self.backoff, rng=self._rng))
+        loop = asyncio.get_running_loop()
+        self.center.registry.condition(row.name, "connecting", "", f"{spec.kind} link")
         while True:
+            await asyncio.sleep(pacer.delay(loop.time()))
+            pacer.attempt(loop.time())
             try:
                 memory = memory_for(spec, row.ip)
-            except LinkError as exc:  # e.g. a password reference not set: say it once
-                if str(exc) != last_error:
-                    last_error = str(exc)
-                    await self.feed.record(EventKind.ERROR, row.name, str(exc))
-                await asyncio.sleep(self.backoff.delay(attempt, self._rng))
-                attempt = min(attempt + 1, 16)
+            except LinkError as exc:  # e.g. a password reference not set
+                pacer.failed()
+                await self._report(row.name, spec.kind, exc.condition)
                 continue
             session = ControllerSession(
                 row.name, row.ip, controller, machine.axis_names, memory,
                 link=spec.kind, chain=machine.chain, poll_s=spec.poll_ms / 1000.0,
-                on_telemetry=self._telemetry_of(row.name))
-            why = await self._session(row, session)
-            if session.hello is not None:  # it had opened: a fresh start of the backoff
-                attempt = 0
-                last_error = ""
-            elif why != last_error:
-                last_error = why
-                self.failures += 1
-                log.info("%s: %s link: %s", row.name, spec.kind, why)
-            await asyncio.sleep(self.backoff.delay(attempt, self._rng))
-            attempt = min(attempt + 1, 16)
+                on_telemetry=self._telemetry_of(row.name),
+                on_condition=self._condition_of(row.name, spec.kind))
+            ended = await self._session(row, session)
+            for at in session.push_times:
+                pacer.pushed(at)
+            if session.healthy:  # proved: the next failure starts the backoff afresh
+                pacer.healthy()
+                self.throttle.forget(row.name)
+            if ended.state not in ("connecting", "offline"):
+                pacer.failed()
+            await self._report(row.name, spec.kind, ended)
+
+    def _condition_of(self, name: str, link: str) -> Callable[[LinkCondition], None]:
+        """What a session says of its link while it is open (the PLC stopped, running
+        again): shown and reported like a failure, the session going on."""
+        def changed(condition: LinkCondition) -> None:
+            if self.sessions.get(name) is None:
+                return  # not (or no longer) serving: the session's end says why
+            if condition.state == "connected" and not condition.reason:
+                self.center.registry.condition(name, "connected")
+                return
+            task = asyncio.create_task(self._report(name, link, condition),
+                                       name=f"{name}:link-report")
+            self._reports.add(task)
+            task.add_done_callback(self._reports.discard)
+        return changed
+
+    async def _report(self, name: str, link: str, ended: LinkCondition) -> None:
+        """Show why a link is down: the registry (API status, dashboard, metric) at once;
+        an event and a warning for the first of each reason, then at most once a minute
+        per reason (:class:`~server.links.state.Throttle`)."""
+        self.center.registry.condition(name, ended.state, ended.reason, ended.text)
+        if ended.state in ("connecting", "offline") or not ended.reason:
+            return
+        self.failures += 1
+        if not self.throttle.allow(name, ended.reason or ended.state,
+                                   asyncio.get_running_loop().time()):
+            return
+        log.warning("%s: %s link %s", name, link, ended.summary)
+        await self.feed.record(EventKind.LINK, name, f"{link} link {ended.summary}")
 
     def _telemetry_of(self, name: str) -> Callable[[dict[str, Any]], None]:
         def seen(telemetry: dict[str, Any]) -> None:
             self.center.registry.seen(name, telemetry)
         return seen
 
-    async def _session(self, row: MachineRow, session: ControllerSession) -> str:
+    async def _warnings(self, name: str, memory: MemoryClient) -> None:
+        """A memory's warnings for the operator (OPC UA security None, a certificate
+        trusted on first use: server/links/opcua.py) as events, each once."""
+        take = getattr(memory, "take_notices", None)
+        for text in take() if take is not None else ():
+            await self.feed.record(EventKind.WARNING, name, text)
+
+    async def _session(self, row: MachineRow, session: ControllerSession) -> LinkCondition:
         """Open and serve one session; returns why it ended."""
         name = row.name
         try:
             await session.open()
         except LinkError as exc:
             await session.memory.close()
-            return str(exc)
+            await self._warnings(name, session.memory)
+            return exc.condition
         except asyncio.CancelledError:
             await session.memory.close()
             raise
+        await self._warnings(name, session.memory)
         if self.leases is not None:
             refusal = await self.leases.claim(row.id, name, session,
                                               lambda why: session.abort(None, why))
             if refusal is not None:
                 await session.memory.close()
-                return refusal
+                return LinkCondition("offline", "", refusal)  # another node serves it
         old = self.sessions.get(name)
         if old is not None:
             old.abort(None, f"replaced by the {session.link} link to {session.address}")
@@ -271,19 +300,31 @@ class ControllerLinks:
             for failure in group.exceptions:
                 log.error("%s: controller link task failed", name, exc_info=failure)
             why = f"internal error: {group.exceptions[0]!r}"
+            session.failure = session.failure or LinkCondition("failed", "internal", why)
             session.abort(None, why)
         finally:
             if self.sessions.get(name) is session:
                 del self.sessions[name]
                 self.center.registry.disconnected(name)
+                failure = session.failure
+                if failure is not None:  # shown at once, not after the event is stored
+                    self.center.registry.condition(name, failure.state, failure.reason,
+                                                   failure.text)
             if self.leases is not None:
                 self.leases.release(row.id, session)
         await self.feed.record(EventKind.DISCONNECTED, name, why)
-        return why
+        if session.failure is not None:
+            return session.failure
+        return LinkCondition("connecting", "", why)  # ended on purpose: try again
 
 
-UNANSWERED = ("session ended before the answer", "no answer to map version")
-"""How the push scheduler marks a delivery whose answer never came (server/push)."""
+def window_of(spec: ModbusLink | OpcuaLink, ip: str) -> tuple[Any, ...]:
+    """Which controller window a link writes: several controllers behind one address (a
+    Modbus gateway) are told apart by unit id, several windows of one controller by their
+    start register or data block."""
+    if isinstance(spec, ModbusLink):
+        return ("modbus", spec.host or ip, spec.port, spec.unit_id, spec.start_register)
+    return ("opcua", spec.endpoint, spec.window_node)
 
 
 def settle_missed(session: Session, machine_id: int, name: str, ack: LinkAck) -> bool:
@@ -293,10 +334,10 @@ def settle_missed(session: Session, machine_id: int, name: str, ack: LinkAck) ->
         select(AppliedRow).where(AppliedRow.machine_id == machine_id,
                                  AppliedRow.map_version == ack.version)
         .order_by(AppliedRow.id.desc()).limit(1)).first()
-    # unanswered (the center was killed), or marked failed because the center stopped
-    # before the answer came: the controller's status has the answer
-    if row is None or row.acked or not (row.reject_reason is None or row.reject_reason
-                                        .startswith(UNANSWERED)):
+    # unanswered (the center was killed), or failed because the center stopped before
+    # the answer came: the controller's status has the answer
+    if row is None or map_repo.delivery_state(row) not in ("pending", "failed",
+                                                           "superseded"):
         return False
     if ack.applied:
         kind, reason = EventKind.APPLIED, None

@@ -30,6 +30,7 @@ from typing import Any, Final
 
 from protocol import Controller, ErrorCode, Hello, MapEncoding, MapRejectReason, Message
 from protocol.ctrlmem import (
+    IDENTITY_MAGIC,
     IDENTITY_SIZE,
     STATUS_AT,
     STATUS_SIZE,
@@ -52,11 +53,13 @@ from protocol.mapformat import MapFormatError
 from protocol.maptables import decode_payload
 from protocol.messages import Temperatures
 from server.links.ednc.session import LinkClosed, Verdict
+from server.links.pacing import HEALTHY_AFTER_S
+from server.links.state import LinkCondition
 from server.temperatures import column_of
 
 from .memory import LinkError, MemoryClient
 
-__all__ = ["ControllerSession", "LinkAck"]
+__all__ = ["ControllerSession", "LinkAck", "identity_of"]
 
 log = logging.getLogger(__name__)
 
@@ -65,6 +68,9 @@ DEAD_AFTER_S: Final = 3.0
 stopped, or the controller's server answers from memory no program reads)."""
 
 _STATES: Final = {0: "idle", 1: "compensating"}
+
+BUSY_TELL_S: Final = 10.0
+"""Busy answers go on being retried silently; the link's reason says so this often, s."""
 
 
 class LinkAck:
@@ -80,16 +86,35 @@ class LinkAck:
 
 
 def reason_of(code: int) -> tuple[MapRejectReason, str]:
-    """A MapReject reason and text for an ack code (memory codes map to the nearest)."""
+    """A MapReject reason and text for an ack code (memory codes map to the nearest); the
+    text names the PLC's own code, so a rejection says exactly what the PLC said."""
     if code == AckCode.BAD_HEADER:
-        return MapRejectReason.CHECKSUM_MISMATCH, "buffer header magic or CRC wrong"
+        return MapRejectReason.CHECKSUM_MISMATCH, "PLC code 100: buffer header magic or CRC wrong"
     if code == AckCode.BAD_BUFFER:
-        return MapRejectReason.DECODE_ERROR, "switch named no buffer"
+        return MapRejectReason.DECODE_ERROR, "PLC code 101: switch named no buffer"
     try:
         reason = MapRejectReason(code)
     except ValueError:
-        return MapRejectReason.APPLY_FAILED, f"PLC ack code {code}"
-    return reason, reason.name.lower().replace("_", " ")
+        return MapRejectReason.APPLY_FAILED, f"PLC code {code}"
+    return reason, f"PLC code {code}: {reason.name.lower().replace('_', ' ')}"
+
+
+def identity_of(raw: bytes, address: str) -> Identity:
+    """The identity block read at ``address``, or a :class:`LinkError` saying what is
+    wrong with it: ``magic`` (no EDNC program there, or the window's start is wrong),
+    ``byte_order`` (the magic with each register's bytes swapped), ``layout`` (another
+    layout version, or sizes this center cannot use)."""
+    try:
+        return decode_identity(raw)
+    except ControllerMemoryError as exc:
+        magic = bytes(raw[:4])
+        if magic[1::-1] + magic[3:1:-1] == IDENTITY_MAGIC:
+            raise LinkError(
+                f"{address}: the identity reads {magic!r}, {IDENTITY_MAGIC!r} with each "
+                "register's two bytes swapped: the link's byte order is not the "
+                "controller's", state="refused", reason="byte_order") from None
+        reason = "magic" if magic != IDENTITY_MAGIC else "layout"
+        raise LinkError(f"{address}: {exc}", state="refused", reason=reason) from None
 
 
 class ControllerSession:
@@ -114,7 +139,9 @@ class ControllerSession:
     def __init__(self, name: str, ip: str, controller: Controller, axes: Sequence[str],
                  memory: MemoryClient, *, link: str, chain: str, poll_s: float = 0.1,
                  on_telemetry: Callable[[dict[str, Any]], None] | None = None,
-                 dead_after_s: float = DEAD_AFTER_S) -> None:
+                 dead_after_s: float = DEAD_AFTER_S,
+                 on_condition: Callable[[LinkCondition], None] | None = None,
+                 healthy_after_s: float = HEALTHY_AFTER_S) -> None:
         self._name = name
         self.ip = ip
         self.controller = controller
@@ -125,6 +152,24 @@ class ControllerSession:
         self.poll_s = poll_s
         self.on_telemetry = on_telemetry
         self.dead_after_s = dead_after_s
+        self.on_condition = on_condition
+        self.healthy_after_s = healthy_after_s
+        self.plc_running = True
+        """False while the PLC's heartbeat stands still (the session waits for it)."""
+        self.healthy = False
+        """The link proved itself in this session: a map applied, or a healthy poll cycle
+        (up ``healthy_after_s`` with the heartbeat moving and no push in flight)."""
+        self._opened_at = 0.0
+        self.opened_status: Status | None = None
+        self._busy_seen = 0
+        self._busy_last = 0.0
+        self._busy_told: float | None = None
+        self.push_times: list[float] = []
+        self.last_code: int | None = None
+        """The PLC's ack code of the last push answered in this session."""
+        self.torn_rewrites = 0
+        """Pushes written again after code 100 (a torn header)."""
+        """When each push of this session started (loop time, s), for the pacing."""
         self.address = memory.address
         self.hello: Hello | None = None
         self.identity: Identity | None = None
@@ -133,6 +178,8 @@ class ControllerSession:
         self.missed: LinkAck | None = None
         """The verdict of a switch this session did not write (a previous center's)."""
         self.closed_because: str | None = None
+        self.failure: LinkCondition | None = None
+        """What ended the session when a request failed (None: it was ended on purpose)."""
         self.secret_digest = b""
         self.last_heard = asyncio.get_running_loop().time()
         self._seq = 0
@@ -149,21 +196,24 @@ class ControllerSession:
     def name(self) -> str:
         return self._name
 
+    @property
+    def reported_version(self) -> int | None:
+        """The map version the PLC's status said applied when the session opened."""
+        return None if self.opened_status is None else self.opened_status.applied_version
+
     # -- opening
     async def open(self) -> None:
         """Connect, check the identity, read the status (raises :class:`LinkError`)."""
         await self.memory.connect()
-        try:
-            ident = decode_identity(await self.memory.read(0, IDENTITY_SIZE))
-        except ControllerMemoryError as exc:
-            raise LinkError(str(exc)) from None
+        ident = identity_of(await self.memory.read(0, IDENTITY_SIZE), self.address)
         if ident.name != self._name:
             raise LinkError(f"the window at {self.address} declares machine "
-                            f"{ident.name!r}, not {self._name!r}")
+                            f"{ident.name!r}, not {self._name!r}", state="refused",
+                            reason="identity_name")
         formats = ident.formats
         if not formats & (MapEncoding.INT32_INCREMENTS | MapEncoding.FLOAT32_MM):
             raise LinkError(f"the PLC program declares no map format it evaluates "
-                            f"({int(formats)})")
+                            f"({int(formats)})", state="refused", reason="formats")
         self.identity, self.layout = ident, Layout(ident.capacity)
         self.hello = Hello(name=self._name, ip=self.ip, controller=self.controller,
                            map_formats=formats, software_version=f"plc/{self.link}",
@@ -179,6 +229,8 @@ class ControllerSession:
             header = decode_buffer_header(await self.memory.read(at, 32))
             version = header.map_version if header is not None else st.applied_version
             self.missed = LinkAck(written, st.ack_code, version)
+        self._opened_at = asyncio.get_running_loop().time()
+        self.opened_status = st
         self._report(st)
 
     async def _read_status(self) -> Status:
@@ -186,7 +238,8 @@ class ControllerSession:
             st = decode_status(await self.memory.read(STATUS_AT, STATUS_SIZE),
                                len(self.axes) or 8)
         except ControllerMemoryError as exc:
-            raise LinkError(str(exc)) from None
+            raise LinkError(f"{self.address}: {exc}", state="refused",
+                            reason="status") from None
         now = asyncio.get_running_loop().time()
         if self._beat is None or st.heartbeat != self._beat[0]:
             self._beat = (st.heartbeat, now)
@@ -202,11 +255,8 @@ class ControllerSession:
         try:
             while self.closed_because is None:
                 st = await self._read_status()
-                assert self._beat is not None
-                silent = asyncio.get_running_loop().time() - self._beat[1]
-                if silent > self.dead_after_s:
-                    raise LinkError(f"PLC heartbeat still for {silent:.1f} s: the PLC "
-                                    "program is not running")
+                self._watch_heartbeat()
+                self._watch_busy()
                 self._resolve(st)
                 self._report(st)
                 with contextlib.suppress(TimeoutError):
@@ -214,12 +264,56 @@ class ControllerSession:
                         await self._closed.wait()
             return self.closed_because or "closed"
         except LinkError as exc:
-            self.abort(None, str(exc))
+            self._fail(exc)
             return str(exc)
         finally:
             writer.cancel()
             await asyncio.gather(writer, return_exceptions=True)
             await self.memory.close()
+
+    def _watch_heartbeat(self) -> None:
+        """A PLC program that stopped is waited for, not left: the session stays open
+        (a reconnect would re-send the map into a PLC that cannot take it), the link
+        shows ``plc_stopped``, and a push in flight keeps its verdict clock stopped."""
+        assert self._beat is not None
+        now = asyncio.get_running_loop().time()
+        silent = now - self._beat[1]
+        running = silent <= self.dead_after_s
+        if running != self.plc_running:
+            self.plc_running = running
+            if running:
+                log.info("%s: the PLC program runs again", self._name)
+                self._condition(LinkCondition("connected"))
+            else:
+                self._condition(LinkCondition(
+                    "plc_stopped", "heartbeat", f"{self.address}: PLC heartbeat still for "
+                    f"{silent:.1f} s: the PLC program is not running (the center waits)"))
+        if (running and not self.healthy and self._pending is None
+                and now - self._opened_at >= self.healthy_after_s):
+            self.healthy = True
+
+    def _watch_busy(self) -> None:
+        """Busy answers asked again (a memory's ``busy_retries``) keep the session but
+        are shown: the link stays ``connected`` with reason ``busy`` (told at most every
+        :data:`BUSY_TELL_S`), back to no reason after a minute without any."""
+        retries = int(getattr(self.memory, "busy_retries", 0))
+        now = asyncio.get_running_loop().time()
+        if retries != self._busy_seen:
+            self._busy_seen = retries
+            self._busy_last = now
+            if self._busy_told is None or now - self._busy_told >= BUSY_TELL_S:
+                self._busy_told = now
+                note = getattr(self.memory, "busy_note", "")
+                self._condition(LinkCondition(
+                    "connected", "busy", f"{retries} requests answered busy and asked "
+                    f"again in this session (the last: {note})"))
+        elif self._busy_told is not None and now - self._busy_last >= 60.0:
+            self._busy_told = None
+            self._condition(LinkCondition("connected"))
+
+    def _condition(self, condition: LinkCondition) -> None:
+        if self.on_condition is not None:
+            self.on_condition(condition)
 
     def _resolve(self, st: Status) -> None:
         pending = self._pending
@@ -229,6 +323,7 @@ class ControllerSession:
         if future.done():
             return
         latency = asyncio.get_running_loop().time() - t0
+        self.last_code = st.ack_code
         if st.ack_code == AckCode.APPLIED:
             future.set_result(Verdict(version, True, None, "", latency))
         else:
@@ -263,14 +358,32 @@ class ControllerSession:
             raise LinkClosed("the session is not open")
         if self._pending is not None:
             raise RuntimeError(f"{self._name}: a map push is already in progress")
-        loop = asyncio.get_running_loop()
-        future: asyncio.Future[Verdict] = loop.create_future()
         try:
             # slots by model column: a record may name ``spindle`` or ``T_spindle_C``
             slots = {column_of(s): i for s, i in sensor_slots(
                 [r.sensor for r in decode_payload(payload).thermal]).items()}
         except (MapFormatError, ControllerMemoryError) as exc:
             raise LinkClosed(f"map version {version} cannot be written: {exc}") from None
+        verdict = await self._write_and_wait(version, payload, timeout_s)
+        if not verdict.applied and self.last_code == AckCode.BAD_HEADER:
+            # a torn header is no verdict on the map (§13.2): written again, once
+            self.torn_rewrites += 1
+            log.info("%s: map version %d: buffer header torn (code 100), written again",
+                     self._name, version)
+            verdict = await self._write_and_wait(version, payload, timeout_s)
+        if verdict.applied:
+            self.healthy = True
+            self._slots = slots
+            self._temp_dirty.set()  # the new map's sensors get their readings at once
+        return verdict
+
+    async def _write_and_wait(self, version: int, payload: bytes,
+                              timeout_s: float) -> Verdict:
+        assert self.layout is not None
+        loop = asyncio.get_running_loop()
+        future: asyncio.Future[Verdict] = loop.create_future()
+        started = loop.time()
+        self.push_times.append(started)
         try:
             async with asyncio.timeout(timeout_s):
                 st = await self._read_status()
@@ -282,20 +395,33 @@ class ControllerSession:
                 for w in writes:
                     await self.memory.write(w.offset, w.data)
                 self._seq = seq
-                verdict = await future
+            return await self._verdict(future, timeout_s - (loop.time() - started))
         except ControllerMemoryError as exc:
             raise LinkClosed(f"map version {version}: {exc}") from None
         except LinkError as exc:
-            self.abort(None, str(exc))
+            self._fail(exc)
             raise LinkClosed(str(exc)) from None
         finally:
             self._pending = None
             if future.done() and not future.cancelled():
                 future.exception()  # retrieved: an abort during writing set it unread
-        if verdict.applied:
-            self._slots = slots
-            self._temp_dirty.set()  # the new map's sensors get their readings at once
-        return verdict
+
+    async def _verdict(self, future: asyncio.Future[Verdict], timeout_s: float) -> Verdict:
+        """The PLC's verdict within ``timeout_s`` of PLC running time: while its heartbeat
+        stands still the clock stops (it answers when it runs again; a time-out would
+        end the session and the map would be sent again into a stopped PLC)."""
+        loop = asyncio.get_running_loop()
+        left = timeout_s
+        while True:
+            t0 = loop.time()
+            try:
+                async with asyncio.timeout(max(0.0, min(left, 0.25))):
+                    return await asyncio.shield(future)
+            except TimeoutError:
+                if self.plc_running:
+                    left -= loop.time() - t0
+                if left <= 0:
+                    raise
 
     # -- temperatures
     def send(self, msg: Message) -> None:
@@ -323,11 +449,16 @@ class ControllerSession:
                 for k in range(0, len(w.data), self.memory.block):
                     await self.memory.write(w.offset + k, w.data[k:k + self.memory.block])
             except LinkError as exc:
-                self.abort(None, str(exc))
+                self._fail(exc)
                 return
             self.temperature_writes += 1
 
     # -- closing
+    def _fail(self, exc: LinkError) -> None:
+        if self.failure is None and self.closed_because is None:
+            self.failure = exc.condition
+        self.abort(None, str(exc))
+
     def abort(self, code: ErrorCode | None, text: str) -> None:
         """End the session (``code`` is the EDNC protocol's, kept for the interface)."""
         if self.closed_because is None:
