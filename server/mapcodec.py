@@ -56,6 +56,7 @@ from volumetric.compensate.factoredmap import (
 )
 from volumetric.compensate.gridmap import ErrorMap, GridDim, build_map
 from volumetric.compensate.maps import (
+    DEFAULT_INCREMENT,
     MAX_MAP_BYTES,
     MapBuildError,
     MapKind,
@@ -173,10 +174,15 @@ def tables_to_payload(t: TablesMap) -> TablesPayload:
     """
     m = t.machine
     weights = np.hstack([t.weights.position, t.weights.orientation])
+    inc = t.increment_mm
+    # an endpoint writing counts gets its reversals in whole counts (§6.2)
+    reversal = t.reversal if inc is None else tuple(
+        None if r is None else round(r / inc) for r in t.reversal)
     try:
         return TablesPayload(
-            machine=m.name, version=t.version, encoding=MapEncoding.FLOAT32_MM,
-            valid_s=t.valid_s, increment_mm=0.0,
+            machine=m.name, version=t.version,
+            encoding=MapEncoding.FLOAT32_MM if inc is None else MapEncoding.INT32_INCREMENTS,
+            valid_s=t.valid_s, increment_mm=0.0 if inc is None else float(inc),
             axes=tuple(ChainAxis(a.name, a.kind == "rotary", a.side == "tool",
                                  _vec3(a.direction),
                                  _vec3(a.pivot_mm),
@@ -187,7 +193,7 @@ def tables_to_payload(t: TablesMap) -> TablesPayload:
                                    _vec3(b.tool_direction),
                                    _six(weights[i]))
                            for i, b in enumerate(m.branches)),
-            outputs=tuple(OutputAxis(n, r) for n, r in zip(t.outputs, t.reversal, strict=True)),
+            outputs=tuple(OutputAxis(n, r) for n, r in zip(t.outputs, reversal, strict=True)),
             tables=tuple(ComponentTable(s.name, float(s.start), float(s.step),
                                         tuple(float(v) for v in s.values))
                          for s in t.tables),
@@ -215,6 +221,7 @@ def tables_from_payload(p: TablesPayload, machine: Machine) -> TablesMap:
                             f"{machine.name!r} ({' '.join(machine.axis_names)})")
     w = np.array([s.weights for s in p.spindles], dtype=float)
     limits = tuple(p.limit_deg if a.rotary else p.limit_mm for a in p.axes)
+    inc = p.increment_mm if p.encoding is MapEncoding.INT32_INCREMENTS else None
     return TablesMap(
         machine=machine, version=p.version,
         controller="fanuc" if p.encoding is MapEncoding.INT32_INCREMENTS else "siemens",
@@ -222,10 +229,11 @@ def tables_from_payload(p: TablesPayload, machine: Machine) -> TablesMap:
                                       np.asarray(t.values, dtype=float)) for t in p.tables),
         locations=dict(p.locations),
         thermal=_terms(p.thermal),
-        reversal=tuple(None if o.reversal is None else float(o.reversal) for o in p.outputs),
+        reversal=tuple(None if o.reversal is None else float(o.reversal) * (inc or 1.0)
+                       for o in p.outputs),
         weights=Weights(w[:, :3].copy(), w[:, 3:].copy()),
         tool_mm={s.name: s.tool_length_mm for s in p.spindles},
-        limits=limits, valid_s=p.valid_s,
+        limits=limits, valid_s=p.valid_s, increment_mm=inc,
     )
 
 
@@ -417,8 +425,14 @@ def build_for(machine: Machine, model: MachineModel,
     best: MapContent | None = None
     if "tables" in wanted:
         try:
-            best = with_size(build_tables_map(machine, model, temperatures,
-                                              tolerance_um=tolerance_um, **table_opts))
+            tables = build_tables_map(machine, model, temperatures,
+                                      tolerance_um=tolerance_um, **table_opts)
+            if (declared & MapEncoding.INT32_INCREMENTS
+                    and not declared & MapEncoding.FLOAT32_MM):
+                # an endpoint that writes counts only (a PLC program): int32 tables
+                inc = float(options.get("increment") or DEFAULT_INCREMENT)
+                tables = dataclasses.replace(tables, increment_mm=inc)
+            best = with_size(tables)
         except MapBuildError:
             if kind == "tables":
                 raise

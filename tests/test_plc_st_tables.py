@@ -250,6 +250,27 @@ def test_a_tables_map_the_program_does_not_take_is_refused() -> None:
     assert (status(plc.window).ack_code, status(plc.window).active) == (8, 0)
 
 
+def test_the_center_builds_int32_tables_for_a_program_that_writes_counts() -> None:
+    """A machine that declares int32 and tables but not float32 (this program with the
+    tables bit on) gets its tables map in int32 counts from the center's own builder:
+    the float32 map re-encoded (what the random-point tests hold to ednc lookup), its
+    reversals in whole counts; the program takes it."""
+    from protocol import MapEncoding
+    from server.mapcodec import tables_from_payload
+    from volumetric.model.machine import parse_machine
+
+    counts = MapEncoding.INT32_INCREMENTS | MapEncoding.TABLES | MapEncoding.THERMAL
+    float32 = center_tables(VMC, 2031, backlash={"y": 5.0})
+    int32 = center_tables(VMC, 2031, backlash={"y": 5.0}, formats=counts)
+    assert decode_tables(int32).encoding is MapEncoding.INT32_INCREMENTS
+    assert int32 == int32_tables(float32)
+    back = tables_from_payload(decode_tables(int32),
+                               parse_machine({**VMC, "controller": "fanuc"}))
+    assert back.increment_mm == 0.001 and back.reversal[1] == pytest.approx(-0.005)  # mm
+    plc = _program(int32)
+    assert (status(plc.window).ack_code, status(plc.window).active) == (0, 1)
+
+
 def test_a_restart_keeps_the_tables_map_of_the_retentive_window() -> None:
     """A PLC restart (every variable to its initial value but the window): the start-up
     re-check decodes the active buffer's tables map again and applies it without a new

@@ -187,7 +187,7 @@ def int32_tables(built: bytes, *, limit_mm: float | None = None,
 
 
 def center_tables(description: dict[str, object], seed: int, *,
-                  backlash: dict[str, float]) -> bytes:
+                  backlash: dict[str, float], formats: object = None) -> bytes:
     """The center's tables map (float32) of a machine description with random component
     errors, a spindle drift on Z, an X screw expansion and backlash terms."""
     import numpy as np
@@ -204,4 +204,5 @@ def center_tables(description: dict[str, object], seed: int, *,
     lash = [BacklashTerm(a, v) for a, v in backlash.items()]
     model = MachineModel(m.name, geo, (*thermal, *lash))
     return encode(build_for(m, model, None, kind="tables", tolerance_um=0.5,
-                            formats=MapEncoding.FLOAT32_MM | MapEncoding.TABLES))
+                            formats=formats if formats is not None
+                            else MapEncoding.FLOAT32_MM | MapEncoding.TABLES))

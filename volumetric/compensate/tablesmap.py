@@ -127,6 +127,10 @@ class TablesMap:
     temperatures : mapping of str to float
         The temperatures the build was checked at, °C.
     report : MapReport or None
+    increment_mm : float or None
+        None: the endpoint takes its corrections in mm (float32 encoding); else it writes
+        whole counts of this increment (int32 encoding: a PLC that only writes counts,
+        such as the Structured Text program of ``plc/``), reversals in whole counts.
     """
 
     machine: Machine
@@ -142,6 +146,7 @@ class TablesMap:
     valid_s: int = 0
     temperatures: Mapping[str, float] = field(default_factory=dict)
     report: MapReport | None = None
+    increment_mm: float | None = None
 
     @property
     def outputs(self) -> tuple[str, ...]:
