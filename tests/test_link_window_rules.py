@@ -176,6 +176,26 @@ async def test_temperature_slots_carry_the_map_version_and_follow_a_swap() -> No
         await _end(s, runner)
 
 
+async def test_temperatures_go_on_from_the_windows_sequence() -> None:
+    # a previous center's last temperature write (sequence 7) was taken by the PLC: a new
+    # session starting again at 1..7 would write sequences the PLC may take for old ones
+    one = await asyncio.to_thread(payload, 1)
+    sensors = sorted({r.sensor for r in decode_payload(one).thermal})
+    plc = FakePLC()
+    struct.pack_into("<H", plc.window, TEMP_SEQ_AT, 7)
+    plc.status = replace(plc.status, temp_ack=7)
+    s, runner = await _served(plc)
+    try:
+        async with asyncio.timeout(10):
+            assert (await s.push_map(1, one, 2.0)).applied
+            s.send(Temperatures(0, tuple(TemperatureReading(n, 30.0) for n in sensors)))
+            await until(lambda: any(c.slots[0] == 30_000 for c in plc.temperatures),
+                        0.005)
+        assert plc.temperatures[0].temp_seq == 8, plc.temperatures
+    finally:
+        await _end(s, runner)
+
+
 @pytest.mark.parametrize(("ack_code", "verdict"), [(100, False), (4, True), (0, True)])
 async def test_a_code_100_read_at_open_is_no_missed_verdict(ack_code: int,
                                                            verdict: bool) -> None:

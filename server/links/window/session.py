@@ -36,6 +36,7 @@ from protocol.ctrlmem import (
     STATUS_AT,
     STATUS_SIZE,
     SWITCH_AT,
+    TEMP_SEQ_AT,
     AckCode,
     ControllerMemoryError,
     Identity,
@@ -258,6 +259,9 @@ class ControllerSession:
         (word,) = struct.unpack("<H", await self.memory.read(SWITCH_AT, 2))
         written, buffer = unpack_switch(word)
         self._seq = written
+        # temperatures go on from the window's own sequence: starting again at 1 would
+        # repeat what the PLC last took (a previous center's), and it would take nothing
+        (self._temp_seq,) = struct.unpack("<H", await self.memory.read(TEMP_SEQ_AT, 2))
         if (written and st.ack_seq == written and buffer in (1, 2)
                 and ack_is_verdict(st.ack_code)):  # code 100 says nothing of the map
             # the verdict on the last switch, whoever wrote it: the buffer's header says
