@@ -107,7 +107,8 @@ async def machine_services(
             max_handshakes=max_handshakes))
         controllers = await stack.enter_async_context(ControllerLinks(
             center, feed, server.sessions, push.serve, leases=leases,
-            reconcile_s=settings.controller_reconcile_s))
+            reconcile_s=settings.controller_reconcile_s,
+            telemetry_s=server.timing.telemetry_period_ms / 1000))
         native = await stack.enter_async_context(NativeSdLinks(
             center, feed, temperatures, commit_listeners=push.commit_listeners,
             reconcile_s=settings.controller_reconcile_s,

@@ -29,7 +29,7 @@ from protocol.ctrlmem import STATUS_AT, STATUS_SIZE, Layout, decode_status, plan
 from protocol.maptables import decode_payload
 from server.links.modbus import ModbusMemory
 from server.links.window.memory import LinkError
-from server.links.window.session import ControllerSession
+from server.links.window.session import ControllerSession, map_writes
 from server.mapcodec import encode, with_version
 from server.push.adapter import build_for
 from server.temperatures import column_of
@@ -156,7 +156,8 @@ async def test_a_center_dying_after_any_write_leaves_the_last_good_map() -> None
         layout = Layout(cnc.layout.capacity)
         st = decode_status(cnc.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         target = 2 if st.active == 1 else 1
-        writes = plan_map_write(layout, target, p2, 2, st.ack_seq + 1)
+        # the requests the center sends (the cleared header in the first payload block's)
+        writes = map_writes(layout, target, p2, 2, st.ack_seq + 1, block=s.memory.block)
         mem = memory(srv)
         await mem.connect()
         try:

@@ -83,7 +83,9 @@ def inject(srv: PmcModbusServer, faults: Faults) -> None:
             if faults.refuse_buffer_writes:
                 return bytes([fc | 0x80, 2])
             data = pdu[6:]
-            if faults.tear_headers and offset in faults.headers_at and any(data):
+            # a header written, not one cleared (32 zero bytes, alone or at the start of
+            # the first payload block's request)
+            if faults.tear_headers and offset in faults.headers_at and any(data[:32]):
                 faults.tear_headers -= 1
                 pdu = pdu[:6] + bytes([data[0] ^ 1, data[1] ^ 1]) + data[2:]
         elif offset <= SWITCH_AT < offset + 2 * count:

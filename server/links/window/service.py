@@ -29,6 +29,7 @@ from sqlalchemy.orm import Session
 
 from protocol import Controller
 from protocol.backoff import Backoff
+from protocol.limits import TELEMETRY_PERIOD_MS
 from server.background import Background
 from server.db import events as event_repo
 from server.db import machines as machine_repo
@@ -53,6 +54,9 @@ __all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret", "settle_mi
 log = logging.getLogger(__name__)
 
 _SPEC: TypeAdapter[LinkSpec] = TypeAdapter(LinkSpec)
+
+STOP_TRIES = 10
+"""Cancels of a machine's task at the exit, one a second, before it is left behind."""
 
 Worker = Callable[[Any, MachineRow], Coroutine[Any, Any, None]]
 
@@ -84,11 +88,16 @@ class ControllerLinks:
     reconcile_s : float
         How often the registrations are read again, s.
     backoff : Backoff
+    telemetry_s : float
+        The center's telemetry period (what EDNC machines are told in Welcome), s: a
+        controller's status becomes telemetry at most this often (at once when the map
+        or the machine's state changes).
     """
 
     def __init__(self, center: Any, feed: Feed, sessions: MutableMapping[str, Any],
                  worker: Worker | None, *, leases: LeaseKeeper | None = None,
-                 reconcile_s: float = 2.0, backoff: Backoff | None = None) -> None:
+                 reconcile_s: float = 2.0, backoff: Backoff | None = None,
+                 telemetry_s: float = TELEMETRY_PERIOD_MS / 1000) -> None:
         self.center = center
         self.feed = feed
         self.sessions = sessions
@@ -96,6 +105,7 @@ class ControllerLinks:
         self.leases = leases
         self.reconcile_s = reconcile_s
         self.backoff = backoff or BACKOFF
+        self.telemetry_s = telemetry_s
         self.pacers: dict[str, Pacer] = {}
         """Retry schedules by machine, kept while its registration stays the same (a
         changed one starts afresh: the operator may have corrected it)."""
@@ -117,12 +127,27 @@ class ControllerLinks:
 
     async def __aexit__(self, exc_type: type[BaseException] | None,
                         exc: BaseException | None, tb: TracebackType | None) -> None:
-        tasks = [t for _, t in self._tasks.values()] + list(self._reports)
-        self._tasks.clear()
-        for t in tasks:
-            t.cancel()
-        await asyncio.gather(*tasks, return_exceptions=True)
+        # the reconcile loop first: left running, it sees the cancelled machines without a
+        # task and starts a new session for each (a fleet's shutdown reconnected all of
+        # them over and over, each new session replacing one still closing)
         await self._bg.stop()
+        tasks = {t for _, t in self._tasks.values()} | self._reports
+        for name in self._tasks:  # a session ends by itself too, even if a cancel is lost
+            session = self.sessions.get(name)
+            if isinstance(session, ControllerSession):
+                session.abort(None, "the center stops")
+        self._tasks.clear()
+        # cancelled again until done: Python 3.11's wait_for (pymodbus awaits every
+        # answer with it) swallows a cancel that arrives with the answer, and the session
+        # then goes on; one in a few hundred did at 1,000 PMCs, and the exit hung on it
+        for _ in range(STOP_TRIES):
+            if not tasks:
+                break
+            for t in tasks:
+                t.cancel()
+            _, tasks = await asyncio.wait(tasks, timeout=1.0)
+        for t in tasks:
+            log.error("%s did not stop", t.get_name())
 
     def linked(self) -> list[str]:
         """Names of the machines served through a controller link now (connected or
@@ -195,6 +220,7 @@ class ControllerLinks:
             session = ControllerSession(
                 row.name, row.ip, controller, machine.axis_names, memory,
                 link=spec.kind, chain=machine.chain, poll_s=spec.poll_ms / 1000.0,
+                telemetry_s=self.telemetry_s,
                 on_telemetry=self._telemetry_of(row.name),
                 on_condition=self._condition_of(row.name, spec.kind))
             ended = await self._session(row, session)

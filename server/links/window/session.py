@@ -10,11 +10,16 @@ written in the controller's memory window (protocol/README.md §13) through a
 * :meth:`open` reads the PLC program's identity (its machine name must be this machine's)
   and status (the last switch it handled, so a restarted center resumes the sequence and
   learns the verdict it missed);
-* :meth:`run` polls the status every ``poll_s``: the heartbeat must move (else the PLC
-  program is not running and the session ends), the ack of a pending push resolves it,
-  and positions, corrections and the applied version become the machine's telemetry;
+* :meth:`run` polls the status, every ``poll_s`` while a push waits for its verdict and
+  every ``idle_poll_s`` otherwise: the heartbeat must move (else the PLC program is not
+  running and the session waits for it), the ack of a pending push resolves it, and
+  positions, corrections and the applied version become the machine's telemetry: at once
+  when the map or the state changes, at most every ``telemetry_s`` (the center's
+  telemetry period, as for an EDNC machine) when only positions and corrections move,
+  and every :data:`TELEMETRY_REFRESH_S` when nothing does;
 * :meth:`push_map` writes the map into the buffer that is not active (header cleared
-  first, payload, header, switch word last) and waits for the PLC's verdict;
+  first, payload, header, switch word last: :func:`map_writes`) and waits for the PLC's
+  verdict;
 * :meth:`send` takes a Temperatures message and writes the map's sensor slots.
 """
 
@@ -42,6 +47,7 @@ from protocol.ctrlmem import (
     Identity,
     Layout,
     Status,
+    Write,
     ack_is_verdict,
     decode_buffer_header,
     decode_identity,
@@ -52,6 +58,7 @@ from protocol.ctrlmem import (
     sensor_slots,
     unpack_switch,
 )
+from protocol.limits import TELEMETRY_PERIOD_MS
 from protocol.mapformat import MapFormatError
 from protocol.maptables import decode_payload
 from protocol.messages import Temperatures
@@ -62,13 +69,26 @@ from server.temperatures import column_of
 
 from .memory import LinkError, MemoryClient
 
-__all__ = ["ControllerSession", "LinkAck", "identity_of", "map_slots"]
+__all__ = ["IDLE_POLL_S", "TELEMETRY_REFRESH_S", "ControllerSession", "LinkAck",
+           "identity_of", "map_slots", "map_writes"]
 
 log = logging.getLogger(__name__)
 
 DEAD_AFTER_S: Final = 3.0
 """A PLC heartbeat that has not moved for this long ends the session (the PLC program
 stopped, or the controller's server answers from memory no program reads)."""
+
+IDLE_POLL_S: Final = 2.0
+"""Status reads while no push waits for its verdict, s (the link's ``poll_ms`` when that
+is longer). Below :data:`DEAD_AFTER_S`, so a heartbeat standing still is seen within
+2-5 s (one read that finds it unmoved); a push polls at the link's ``poll_ms`` from its
+switch word on. At 1,000 PMCs a status read every 1 s cost about 0.3 s of the center's
+CPU per second with no push anywhere."""
+
+TELEMETRY_REFRESH_S: Final = 5.0
+"""A status that changed only in its heartbeat (and ack or temperature fields, which are
+not telemetry) is told to the registry this often all the same, s: half the dashboard's
+stale limit (10 s). Each telemetry told is a row the center writes to its database."""
 
 _STATES: Final = {0: "idle", 1: "compensating"}
 
@@ -132,6 +152,34 @@ def map_slots(payload: bytes) -> dict[str, int]:
     return dict(slots)  # the session's own: the remembered one stays as it is
 
 
+def map_writes(layout: Layout, buffer: int, payload: bytes, map_version: int, seq: int,
+               *, block: int) -> list[Write]:
+    """The requests of a push (:func:`protocol.ctrlmem.plan_map_write`'s writes, §13.2
+    steps 2-5) with neighbouring writes joined up to ``block`` bytes: the cleared header
+    and the payload behind it are one region, so the header's 32 zero bytes go in the
+    first payload block's request (one request fewer per push: a 1,090-byte map in 7
+    instead of 8). The order is kept: within that first request the header's registers
+    come first, and nothing later is written before it; the header and the switch word
+    are requests of their own, after the payload, as before.
+    """
+    out: list[Write] = []
+    run: list[Write] = []
+
+    def flush() -> None:
+        if run:
+            data = b"".join(w.data for w in run)
+            at = run[0].offset
+            out.extend(Write(at + k, data[k:k + block]) for k in range(0, len(data), block))
+            run.clear()
+
+    for w in plan_map_write(layout, buffer, payload, map_version, seq, block=block):
+        if run and run[-1].offset + len(run[-1].data) != w.offset:
+            flush()
+        run.append(w)
+    flush()
+    return out
+
+
 def identity_of(raw: bytes, address: str) -> Identity:
     """The identity block read at ``address``, or a :class:`LinkError` saying what is
     wrong with it: ``magic`` (no EDNC program there, or the window's start is wrong),
@@ -166,7 +214,11 @@ class ControllerSession:
     chain : str
         The machine's chain (``w X Y b Z t``), as its Hello would carry it.
     poll_s : float
-        Status reads, s.
+        Status reads while a push waits for its verdict, s.
+    idle_poll_s : float
+        Status reads otherwise, s (``poll_s`` when that is longer).
+    telemetry_s : float
+        Positions and corrections that move become telemetry at most this often, s.
     """
 
     def __init__(self, name: str, ip: str, controller: Controller, axes: Sequence[str],
@@ -174,7 +226,9 @@ class ControllerSession:
                  on_telemetry: Callable[[dict[str, Any]], None] | None = None,
                  dead_after_s: float = DEAD_AFTER_S,
                  on_condition: Callable[[LinkCondition], None] | None = None,
-                 healthy_after_s: float = HEALTHY_AFTER_S) -> None:
+                 healthy_after_s: float = HEALTHY_AFTER_S,
+                 idle_poll_s: float = IDLE_POLL_S,
+                 telemetry_s: float = TELEMETRY_PERIOD_MS / 1000) -> None:
         self._name = name
         self.ip = ip
         self.controller = controller
@@ -183,6 +237,8 @@ class ControllerSession:
         self.memory = memory
         self.link = link
         self.poll_s = poll_s
+        self.idle_poll_s = max(poll_s, idle_poll_s)
+        self.telemetry_s = telemetry_s
         self.on_telemetry = on_telemetry
         self.dead_after_s = dead_after_s
         self.on_condition = on_condition
@@ -198,11 +254,13 @@ class ControllerSession:
         self._busy_last = 0.0
         self._busy_told: float | None = None
         self.push_times: list[float] = []
+        """When each push of this session started (loop time, s), for the pacing."""
         self.last_code: int | None = None
         """The PLC's ack code of the last push answered in this session."""
         self.torn_rewrites = 0
         """Pushes written again after code 100 (a torn header)."""
-        """When each push of this session started (loop time, s), for the pacing."""
+        self.status_reads = 0
+        """Status reads in this session (the polls and the read before each push)."""
         self.address = memory.address
         self.hello: Hello | None = None
         self.identity: Identity | None = None
@@ -226,6 +284,13 @@ class ControllerSession:
         self._temp_seq = 0
         self._temp_dirty = asyncio.Event()
         self._closed = asyncio.Event()
+        self._wake = asyncio.Event()
+        """Set when a push wrote its switch word (and at abort): the poll loop's wait
+        starts again at the push's pace."""
+        self._switched_at: float | None = None
+        """When the pending push wrote its switch word (loop time, s); None otherwise."""
+        self._told: tuple[Any, ...] | None = None
+        self._told_at = 0.0
         self._beat: tuple[int, float] | None = None
         self.temperature_writes = 0
 
@@ -281,6 +346,7 @@ class ControllerSession:
         except ControllerMemoryError as exc:
             raise LinkError(f"{self.address}: {exc}", state="refused",
                             reason="status") from None
+        self.status_reads += 1
         now = asyncio.get_running_loop().time()
         if self._beat is None or st.heartbeat != self._beat[0]:
             self._beat = (st.heartbeat, now)
@@ -300,9 +366,7 @@ class ControllerSession:
                 self._watch_busy()
                 self._resolve(st)
                 self._report(st)
-                with contextlib.suppress(TimeoutError):
-                    async with asyncio.timeout(self.poll_s):
-                        await self._closed.wait()
+                await self._next_poll(asyncio.get_running_loop().time())
             return self.closed_because or "closed"
         except LinkError as exc:
             self._fail(exc)
@@ -311,6 +375,25 @@ class ControllerSession:
             writer.cancel()
             await asyncio.gather(writer, return_exceptions=True)
             await self.memory.close()
+
+    async def _next_poll(self, polled: float) -> None:
+        """Wait for the next status read after the one at ``polled`` (loop time, s):
+        ``poll_s`` after it, or after the switch word, while a push waits for its
+        verdict; ``idle_poll_s`` after it otherwise. A push writing its switch word wakes
+        the wait, so its verdict is read ``poll_s`` after the switch whatever the idle
+        pace was."""
+        loop = asyncio.get_running_loop()
+        while self.closed_because is None:
+            self._wake.clear()
+            switched = self._switched_at
+            due = (polled + self.idle_poll_s if switched is None
+                   else max(polled, switched) + self.poll_s)
+            left = due - loop.time()
+            if left <= 0:
+                return
+            with contextlib.suppress(TimeoutError):
+                async with asyncio.timeout(left):
+                    await self._wake.wait()
 
     def _watch_heartbeat(self) -> None:
         """A PLC program that stopped is waited for, not left: the session stays open
@@ -372,8 +455,20 @@ class ControllerSession:
             future.set_result(Verdict(version, False, reason, text, latency))
 
     def _report(self, st: Status) -> None:
+        """The status as the machine's telemetry (module docstring: at once for a new map
+        or state, at most every ``telemetry_s`` for moving axes, every
+        :data:`TELEMETRY_REFRESH_S` for an unchanged status): each one told is a registry
+        update the center writes to its database, as an EDNC machine's Telemetry is."""
         if self.on_telemetry is None or self.identity is None:
             return
+        told = (st.state, st.applied_version, st.positions, st.applied)
+        now = asyncio.get_running_loop().time()
+        last = self._told
+        age = now - self._told_at
+        if last is not None and age < TELEMETRY_REFRESH_S and (
+                told == last or (told[:2] == last[:2] and age < self.telemetry_s)):
+            return
+        self._told, self._told_at = told, now
         mm = self.identity.increment_nm / 1e6
         state = "releasing" if st.state & 4 else _STATES.get(st.state & 1, "idle")
         self.on_telemetry({
@@ -446,12 +541,14 @@ class ControllerSession:
                 st = await self._read_status()
                 target = 2 if st.active == 1 else 1
                 seq = next_switch_sequence(self._seq, st.ack_seq)
-                writes = plan_map_write(self.layout, target, payload, version, seq,
-                                        block=self.memory.block)
+                writes = map_writes(self.layout, target, payload, version, seq,
+                                    block=self.memory.block)
                 self._pending = (seq, version, loop.time(), future)
                 for w in writes:
                     await self.memory.write(w.offset, w.data)
                 self._seq = seq
+                self._switched_at = loop.time()
+                self._wake.set()  # the verdict is polled at the push's pace from now
             return await self._verdict(future, timeout_s - (loop.time() - started))
         except ControllerMemoryError as exc:
             raise LinkClosed(f"map version {version}: {exc}") from None
@@ -460,6 +557,7 @@ class ControllerSession:
             raise LinkClosed(str(exc)) from None
         finally:
             self._pending = None
+            self._switched_at = None
             if future.done() and not future.cancelled():
                 future.exception()  # retrieved: an abort during writing set it unread
 
@@ -524,6 +622,7 @@ class ControllerSession:
         if pending is not None and not pending[3].done():
             pending[3].set_exception(LinkClosed(text))
         self._closed.set()
+        self._wake.set()
 
     async def wait_closed(self) -> None:
         await self._closed.wait()
