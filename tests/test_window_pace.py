@@ -20,6 +20,7 @@ from typing import Any
 
 import pytest
 
+from protocol import Controller
 from protocol.ctrlmem import (
     BUFFER_HEADER_SIZE,
     SWITCH_AT,
@@ -27,19 +28,26 @@ from protocol.ctrlmem import (
     pack_switch,
     plan_map_write,
 )
+from server.links.modbus import ModbusMemory
 from server.links.window.service import ControllerLinks
-from server.links.window.session import TELEMETRY_REFRESH_S, map_writes
+from server.links.window.session import TELEMETRY_REFRESH_S, ControllerSession, map_writes
 from tests.support.integration import center, spec, until
-from tests.support.pmc import linked, pmc
-from tests.test_modbus_link import machine, payloads, session
+from tests.support.pmc import REGISTER, linked, payload, pmc
 
 pytestmark = pytest.mark.timeout(120)
 
 GANTRY = spec("gantry-02")
+M = GANTRY.machine
+
+
+def session(port: int) -> ControllerSession:
+    return ControllerSession(M.name, "127.0.0.1", Controller.FANUC, M.axis_names,
+                             ModbusMemory("127.0.0.1", port, register=REGISTER),
+                             link="modbus", chain=M.chain, poll_s=0.01)
 
 
 def test_a_push_clears_the_header_in_its_first_payload_request() -> None:
-    p1, _ = payloads()
+    p1 = payload(1)
     layout = Layout(4096)
     planned = plan_map_write(layout, 2, p1, 7, 3, block=246)
     sent = map_writes(layout, 2, p1, 7, 3, block=246)
@@ -61,10 +69,10 @@ def test_a_push_clears_the_header_in_its_first_payload_request() -> None:
 
 
 async def test_the_status_is_read_fast_only_while_a_push_waits_for_its_verdict() -> None:
-    p1, _ = payloads()
+    p1 = await asyncio.to_thread(payload, 1)
     told: list[dict[str, Any]] = []
-    async with asyncio.timeout(60), machine() as (_cnc, srv):
-        s = session(srv)
+    async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc:
+        s = session(cnc.server.port)  # type: ignore[attr-defined]
         s.poll_s, s.idle_poll_s, s.telemetry_s = 0.02, 0.5, 30.0
         s.on_telemetry = told.append
         await s.open()
@@ -89,8 +97,8 @@ async def test_the_status_is_read_fast_only_while_a_push_waits_for_its_verdict()
 
 async def test_a_status_becomes_telemetry_at_the_centers_period_not_at_each_read() -> None:
     told: list[dict[str, Any]] = []
-    async with asyncio.timeout(60), machine() as (_cnc, srv):
-        s = session(srv)
+    async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc:
+        s = session(cnc.server.port)  # type: ignore[attr-defined]
         s.poll_s = s.idle_poll_s = 0.02  # 50 reads a second
         s.telemetry_s = 0.5
         s.on_telemetry = told.append
