@@ -168,10 +168,11 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
 class ChildFleet:
     def __init__(self, count: int, base_port: int, cycle_s: float, *, delay_ms: float = 0.0,
                  five_axis: bool = False, failing: int = 0, first: int = 0,
-                 total: int = 0) -> None:
+                 total: int = 0, nice: int = 0) -> None:
         self.proc = subprocess.Popen(
-            [sys.executable, __file__, "child", "--machines", str(count), "--base-port",
-             str(base_port), "--cycle-s", str(cycle_s), "--delay-ms", str(delay_ms),
+            [*(["nice", "-n", str(nice)] if nice else []), sys.executable, __file__,
+             "child", "--machines", str(count), "--base-port", str(base_port),
+             "--cycle-s", str(cycle_s), "--delay-ms", str(delay_ms),
              "--failing", str(failing), "--first", str(first), "--total", str(total),
              *(["--five-axis"] if five_axis else [])],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
@@ -195,10 +196,11 @@ class PmcProcesses:
     (its status answers late, the center times them out), which a plant's PMCs, each its
     own device, never do."""
 
-    def __init__(self, count: int, procs: int, cycle_s: float, failing: int) -> None:
+    def __init__(self, count: int, procs: int, cycle_s: float, failing: int,
+                 nice: int = 0) -> None:
         edges = [round(k * count / procs) for k in range(procs + 1)]
         self.children = [ChildFleet(b - a, BASE_PORT, cycle_s, failing=failing, first=a,
-                                    total=count)
+                                    total=count, nice=nice)
                          for a, b in itertools.pairwise(edges) if b > a]
 
     def cpu_s(self) -> float:
@@ -298,8 +300,9 @@ class ModbusRound:
 
 
 async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
-                         timeout_s: float) -> tuple[int, list[ModbusRound], dict[str, Any],
-                                                    tuple[float, float]]:
+                         timeout_s: float, nice: int = 0
+                         ) -> tuple[int, list[ModbusRound], dict[str, Any],
+                                    tuple[float, float]]:
     """Round 1 (connect and push) and round 2 (re-push to all) over Modbus; the child's
     report; center CPU per second over 10 s without pushes after round 2 (all threads, the
     event loop's)."""
@@ -322,11 +325,14 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
 
     rounds = []
     with tempfile.TemporaryDirectory() as tmp:
-        child = PmcProcesses(count, procs, cycle_s, failing)
+        child = PmcProcesses(count, procs, cycle_s, failing, nice)
         await child.ready()
         async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
             got: list[Delivery] = []
+            answered: list[float] = []
+            """When each delivery of round 2 was answered (perf_counter, s)."""
             services.push.observers.append(got.append)
+            services.push.observers.append(lambda _d: answered.append(time.perf_counter()))
             t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), child.cpu_s()
             await c.db.run(register, count, BASE_PORT, model, payload)
             await until_applied(got, t0)
@@ -338,12 +344,19 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
             if PROFILE is not None:
                 PROFILE.enable()
             t0, cpu0, pcpu0 = time.perf_counter(), time.process_time(), child.cpu_s()
+            answered.clear()
             for name in list(services.push.connected()):
                 services.push.request(name, "benchmark", resend=True)
             await until_applied(got, t0)
             if PROFILE is not None:
                 PROFILE.disable()
             progress("Modbus round 2 done")
+            starts = sorted(t - t0 - (d.latency_s or 0.0) for t, d in zip(answered, got,
+                                                                          strict=False))
+            if starts:
+                progress(f"round 2: first writes from {starts[0]:.1f} s, median "
+                         f"{starts[len(starts) // 2]:.1f} s, last {starts[-1]:.1f} s after "
+                         "the requests")
             rounds.append(ModbusRound("round 2 (re-push to all at once)", list(got),
                                       time.perf_counter() - t0, time.process_time() - cpu0,
                                       child.cpu_s() - pcpu0, healthy))
@@ -393,7 +406,7 @@ def load_held(n: int) -> Iterator[None]:
 
 
 async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: float,
-                procs: int = 1) -> None:
+                procs: int = 1, nice: int = 0) -> None:
     from push_latency import measure
 
     load0 = os.getloadavg()
@@ -405,14 +418,15 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
         load1 = os.getloadavg()
         progress("Modbus fleet")
         size, rounds, done, quiet = await _modbus_rounds(count, cycle_s, failing, procs,
-                                                           timeout_s)
+                                                           timeout_s, nice)
     load2 = os.getloadavg()
     healthy = count - len(failing_indices(count, failing))
     print(f"machines {count} ({healthy} healthy, {count - healthy} failing: "
           f"{', '.join(FAULT_KINDS)} in turn), busy-looping processes {load}; load average "
           f"(1 min) {load0[0]:.2f} at start, {load1[0]:.2f} after the EDNC link, "
           f"{load2[0]:.2f} at the end")
-    print(f"Modbus: simulated Fanuc PMCs in {procs} child process(es) (PLC cycle "
+    print(f"Modbus: simulated Fanuc PMCs in {procs} child process(es) at nice {nice} "
+          f"(PLC cycle "
           f"{cycle_s * 1000:.0f} ms, status polled every 1 s), factored map {size} bytes, "
           f"{done.get('applied')} "
           f"switches applied by {done.get('machines_applied')} healthy PLCs; EDNC: "
@@ -577,6 +591,9 @@ if __name__ == "__main__":
                    help="fleet: cProfile of the center over the Modbus round 2, to this file")
     p.add_argument("--pmc-procs", type=int, default=1,
                    help="fleet: child processes the simulated PMCs are spread over")
+    p.add_argument("--pmc-nice", type=int, default=0,
+                   help="fleet: the PMC processes' nice value (a plant's PMCs do not take "
+                        "the center's CPU)")
     p.add_argument("--first", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--total", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--round-timeout", type=float, default=300.0,
@@ -593,11 +610,11 @@ if __name__ == "__main__":
             PROFILE = cProfile.Profile()
             try:
                 asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
-                                  a.round_timeout, a.pmc_procs))
+                                  a.round_timeout, a.pmc_procs, a.pmc_nice))
             finally:
                 PROFILE.dump_stats(a.profile)
             sys.exit(0)
         asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
-                          a.round_timeout, a.pmc_procs))
+                          a.round_timeout, a.pmc_procs, a.pmc_nice))
     else:
         asyncio.run(temperature(a.machines or 20, a.rate, a.seconds))

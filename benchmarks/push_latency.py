@@ -74,6 +74,17 @@ class Round:
     wall_s: float
     cpu_s: float
     fleet_cpu_s: float
+    starts: list[float] = dataclasses.field(default_factory=list)
+    """When each push's first send went out, s after the round's start (sorted; from
+    the answer's time less the session's latency)."""
+
+    @property
+    def first_sends(self) -> str:
+        """First, median and last push's start, for the printout."""
+        s = self.starts
+        if not s:
+            return "-"
+        return f"{s[0]:.1f} / {s[len(s) // 2]:.1f} / {s[-1]:.1f} s"
 
     @property
     def applied(self) -> int:
@@ -115,8 +126,11 @@ async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[i
             results = [Round("round 1 (at Welcome, all connecting)", list(got),
                              time.perf_counter() - t0, time.process_time() - cpu0,
                              cpu_of(pid) - fcpu0)]
+            answered: list[float] = []
+            services.push.observers.append(lambda _d: answered.append(time.perf_counter()))
             for r in range(2, rounds + 1):
                 got.clear()
+                answered.clear()
                 t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
                 for name in list(services.push.connected()):
                     services.push.request(name, "benchmark", resend=True)
@@ -124,7 +138,9 @@ async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[i
                     await asyncio.sleep(0.01)
                 results.append(Round(f"round {r} (re-push to all at once)", list(got),
                                      time.perf_counter() - t0, time.process_time() - cpu0,
-                                     cpu_of(pid) - fcpu0))
+                                     cpu_of(pid) - fcpu0, sorted(
+                                         t - t0 - (d.latency_s or 0.0)
+                                         for t, d in zip(answered, got, strict=False))))
             await fleet.finish()
     return size, results
 
@@ -140,7 +156,8 @@ async def main(count: int, rounds: int, tolerance_um: float) -> None:
         print(f"{r.label}: {len(lat)} acks in {r.wall_s:.2f} s, MapBegin->MapAck "
               f"p50 {1000 * p50:.1f} ms, p99 {1000 * p99:.1f} ms, max {1000 * pmax:.1f} ms; "
               f"center CPU {r.cpu_s:.2f} s ({1000 * r.cpu_per_push_s:.2f} ms per push), "
-              f"fleet CPU {r.fleet_cpu_s:.2f} s"
+              f"fleet CPU {r.fleet_cpu_s:.2f} s; pushes started (first / median / last) "
+              f"{r.first_sends}"
               f"{f', {bad} not applied' if bad else ''}")
 
 
