@@ -32,7 +32,7 @@ import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from types import TracebackType
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -171,11 +171,15 @@ class NativeSinumerik:
     thermal_speedup : float
         Machine-temperature seconds per second (:class:`~machine_sim.runtime.
         MachineRuntime`).
+    **server : Any
+        Keywords of its :class:`~machine_sim.opcua_server.SinumerikOpcuaServer` (the
+        endpoints offered, the clients trusted, busy answers...).
     """
 
     def __init__(self, machine: Machine, users: Mapping[str, OpcuaUser], *,
                  config: SiemensConfig | None = None, seed: int = 0,
-                 cycle_s: float | None = None, thermal_speedup: float = 1.0) -> None:
+                 cycle_s: float | None = None, thermal_speedup: float = 1.0,
+                 **server: Any) -> None:
         if machine.controller != "siemens":
             raise ValueError(f"machine {machine.name!r} has a {machine.controller} controller")
         self.machine = machine
@@ -187,7 +191,7 @@ class NativeSinumerik:
         self.cycle_s = cycle_s or self.nc.config.ipo_s
         # the OPC UA server reads machine, window, runtime.controller and runtime.positions
         # only: this machine offers those without the window program of a WindowCNC
-        self.server = SinumerikOpcuaServer(cast("WindowCNC", self), users)
+        self.server = SinumerikOpcuaServer(cast("WindowCNC", self), users, **server)
         self._t0 = 0.0
         self._task: asyncio.Task[None] | None = None
 

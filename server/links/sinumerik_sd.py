@@ -23,7 +23,10 @@ and when (:class:`~server.links.sdwrites.SdWritePlanner`: only changes, at most 
 
 Failures raise or report :class:`~server.links.window.memory.LinkError` with a text that
 says what to fix (a user without ``SeaWrite``, a datum MD32750 does not enable, a value
-the NC refuses).
+the NC refuses), and a state and reason as the window link gives them: both OPC UA links
+log in and classify their failures alike (:mod:`server.links.opcualogin`), so a wrong
+password is ``refused (login)``, an untrusted controller ``refused
+(server_certificate)``, a silent host ``unreachable (no_answer)`` on either.
 """
 
 from __future__ import annotations
@@ -43,8 +46,16 @@ from asyncua.client.client import Client
 from asyncua.ua.attribute_ids import AttributeIds
 
 from protocol.backoff import Backoff
-from server.links.opcua import secure_client
-from server.links.opcuapki import TrustMode
+from server.links.opcualogin import (
+    HINTS,
+    RETRY_DELAYS_S,
+    OpcuaSecurity,
+    close_client,
+    open_session,
+    request_error,
+    status_error,
+)
+from server.links.opcuapki import Pki
 from server.links.sdwrites import (
     SD_ABS_VALUE,
     SD_REF_POSITION,
@@ -52,7 +63,9 @@ from server.links.sdwrites import (
     SdWrite,
     SdWritePlanner,
 )
+from server.links.state import LinkCondition
 from server.links.window.memory import LinkError
+from server.schemas.link import SinumerikSdLink
 from volumetric.compensate.tempcomp import TempCompLimits, temp_comp_setting_data
 
 __all__ = ["FollowerEvents", "SdFollower", "SdSession", "WriteOutcome"]
@@ -62,17 +75,14 @@ log = logging.getLogger(__name__)
 _NAMES: Final = {SD_ABS_VALUE: "TEMP_COMP_ABS_VALUE", SD_SLOPE: "TEMP_COMP_SLOPE",
                  SD_REF_POSITION: "TEMP_COMP_REF_POSITION"}
 _WHY: Final = {
+    **HINTS,
     "BadUserAccessDenied": "the user lacks SeaWrite (setting data)",
     "BadNotWritable": "MD32750 (TEMP_COMP_TYPE) does not enable this datum on the axis",
     "BadOutOfRange": "the NC refuses the value (beyond its limit)",
     "BadNodeIdUnknown": "no such setting datum on the controller (check sd_nodes)",
     "BadTypeMismatch": "the node does not hold a Double",
 }
-
-
-def _status_name(e: BaseException) -> str | None:
-    code = getattr(e, "code", None)
-    return ua.StatusCode(ua.UInt32(code)).name if isinstance(code, int) else None
+"""What a status code asks the operator to fix, for setting data."""
 
 
 class FollowerEvents(Protocol):
@@ -80,7 +90,8 @@ class FollowerEvents(Protocol):
 
     def connected(self) -> None: ...
 
-    def lost(self, why: str) -> None: ...
+    def lost(self, why: LinkCondition) -> None:
+        """The session failed or could not be opened (state, reason, text)."""
 
     def held(self, data: Mapping[str, Mapping[int, float]]) -> None:
         """What the NC holds now per axis and datum (after a read or a write)."""
@@ -121,24 +132,26 @@ class SdSession:
     namespace : int
         Namespace index of the BTSS paths (2 on a SINUMERIK).
     timeout_s : float
-    security_mode : {"SignAndEncrypt", "Sign"} or None
-        Basic256Sha256 with the center's certificate (as the window link,
-        :func:`server.links.opcua.secure_client`); None only when the link asks for
-        security None: the password then crosses the network in clear (warned).
-    trust : {"first_use", "list"}
-        How the controller's certificate is trusted.
+        Per request; the login may take twice this.
+    security : OpcuaSecurity, optional
+        How the channel is secured, as for the window link (default: Basic256Sha256
+        SignAndEncrypt, the controller's certificate trusted on first use). Security
+        None: the password crosses the network in clear (warned, :meth:`take_notices`).
+    pki : Pki, optional
+        The center's certificates (default: :func:`~server.links.opcuapki.pki_at`).
+    retry_delays_s : sequence of float
+        Waits before each new login after a busy answer.
     """
 
     def __init__(self, endpoint: str, user: str, password: str, axes: Sequence[str], *,
                  sd_nodes: Mapping[str, str] | None = None, namespace: int = 2,
-                 timeout_s: float = 5.0, security_mode: str | None = "SignAndEncrypt",
-                 trust: TrustMode = "first_use") -> None:
+                 timeout_s: float = 5.0, security: OpcuaSecurity | None = None,
+                 pki: Pki | None = None,
+                 retry_delays_s: Sequence[float] = RETRY_DELAYS_S) -> None:
         self.endpoint = endpoint
-        self.security_mode = security_mode
-        self.trust: TrustMode = trust
-        if security_mode is None:
-            log.warning("%s: security None: the password of %r crosses the network in "
-                        "clear", endpoint, user)
+        self.security = security if security is not None else OpcuaSecurity()
+        self.pki = pki
+        self.retry_delays_s = tuple(retry_delays_s)
         self.user = user
         self._password = password
         self.axes = [a.upper() for a in axes]
@@ -146,6 +159,24 @@ class SdSession:
         self.namespace = namespace
         self.timeout_s = float(timeout_s)
         self._client: Client | None = None
+        self._notices: list[str] = []
+        notice = self.security.notice(endpoint, user)
+        if notice is not None:
+            self._notices.append(notice)
+
+    @classmethod
+    def from_link(cls, link: SinumerikSdLink, password: str, axes: Sequence[str], *,
+                  timeout_s: float = 5.0, pki: Pki | None = None) -> SdSession:
+        """The session of a machine registered with ``link`` (``password``: the resolved
+        ``password_ref``; ``axes`` the machine's, in the NC's order)."""
+        return cls(link.endpoint, link.user, password, axes, sd_nodes=link.sd_nodes,
+                   timeout_s=timeout_s, security=OpcuaSecurity.of(link), pki=pki)
+
+    def take_notices(self) -> list[str]:
+        """Warnings for the operator gathered since the last call (security None, a
+        controller certificate trusted on first use), each once."""
+        out, self._notices = self._notices, []
+        return out
 
     def node(self, axis: str, number: int) -> ua.NodeId:
         """The node of SD``number`` of ``axis``."""
@@ -157,61 +188,33 @@ class SdSession:
                          ua.Int16(self.namespace))
 
     async def connect(self) -> None:
-        """Open the session; raises :class:`LinkError`."""
+        """Open the session; raises :class:`LinkError` (classified as the window link's:
+        :mod:`server.links.opcualogin`)."""
         await self.close()
-        client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=5.0)
-        client.session_timeout = 60_000  # the SINUMERIK's
-        client.set_user(self.user)
-        client.set_password(self._password)
-        try:
-            async with asyncio.timeout(self.timeout_s * 2):
-                if self.security_mode is not None:
-                    await secure_client(client, self.endpoint, mode=self.security_mode,
-                                        trust=self.trust)
-                await client.connect()
-        except LinkError:
-            client.disconnect_socket()
-            raise
-        except Exception as e:  # asyncua raises many kinds; each becomes one line
-            client.disconnect_socket()
-            name = _status_name(e)
-            if name == "BadUserAccessDenied":
-                raise LinkError(f"{self.endpoint}: login as {self.user!r} refused: wrong "
-                                "user or password") from None
-            raise LinkError(f"{self.endpoint}: cannot open a session "
-                            f"({name or e.__class__.__name__})") from None
-        self._client = client
+        self._client = await open_session(
+            self.endpoint, self.user, self._password, security=self.security, pki=self.pki,
+            timeout_s=self.timeout_s, retry_delays_s=self.retry_delays_s,
+            notices=self._notices)
 
     async def close(self) -> None:
         """End the session (never raises)."""
         client, self._client = self._client, None
-        if client is None:
-            return
-        try:
-            async with asyncio.timeout(self.timeout_s):
-                await client.disconnect()
-        except Exception:  # a dead connection has nothing to close politely
-            pass
-        finally:
-            client.disconnect_socket()
+        await close_client(client, self.timeout_s)
 
     def _session(self) -> Client:
         if self._client is None:
-            raise LinkError(f"{self.endpoint}: not connected")
+            raise LinkError(f"{self.endpoint}: not connected", state="unreachable",
+                            reason="connection_lost")
         return self._client
 
-    async def _request(self, request: Awaitable[Any], what: str) -> Any:
+    async def _request(self, request: Callable[[], Awaitable[Any]], what: str,
+                       right: str) -> Any:
         try:
             async with asyncio.timeout(self.timeout_s):
-                return await request
-        except TimeoutError:
-            raise LinkError(f"{self.endpoint}: {what}: no answer within "
-                            f"{self.timeout_s:g} s") from None
-        except Exception as e:
-            name = _status_name(e)
-            raise LinkError(f"{self.endpoint}: {what}: "
-                            f"{_WHY.get(name or '', 'connection lost')} "
-                            f"({name or e.__class__.__name__})") from None
+                return await request()
+        except Exception as e:  # asyncua raises many kinds; each becomes one clear line
+            raise request_error(e, f"{self.endpoint}: {what}", self.timeout_s,
+                                user=self.user, right=right, hints=_WHY) from None
 
     async def read(self) -> dict[str, dict[int, float]]:
         """What the NC holds per axis and datum, in one Read request; raises
@@ -223,13 +226,14 @@ class SdSession:
             rv.NodeId = self.node(a, n)
             rv.AttributeId = AttributeIds.Value
             params.NodesToRead.append(rv)
-        values = await self._request(self._session().uaclient.read(params),
-                                   "read of SD4390x")
+        values = await self._request(lambda: self._session().uaclient.read(params),
+                                     "read of SD4390x", "SinuReadAll")
         out: dict[str, dict[int, float]] = {a: {} for a in self.axes}
         for (a, n), dv in zip(keys, values, strict=True):
             if dv.StatusCode is not None and not dv.StatusCode.is_good():
-                raise LinkError(f"{self.endpoint}: read of SD{n} axis {a}: "
-                                f"{dv.StatusCode.name}")
+                raise status_error(dv.StatusCode.name,
+                                   f"{self.endpoint}: read of SD{n} axis {a}",
+                                   user=self.user, right="SinuReadAll", hints=_WHY)
             v = dv.Value.Value if dv.Value is not None else None
             if not isinstance(v, float | int) or isinstance(v, bool):
                 raise LinkError(f"{self.endpoint}: SD{n} axis {a} holds "
@@ -239,7 +243,9 @@ class SdSession:
 
     async def write(self, writes: Sequence[SdWrite]) -> list[WriteOutcome]:
         """Write every datum of ``writes`` in one Write request; per axis what the NC
-        answered. Raises :class:`LinkError` when the request itself fails."""
+        answered. Raises :class:`LinkError` when the request itself fails, or the user
+        lacks ``SeaWrite`` (that is the login's, not an axis's refusal: the window link
+        ends its session on it too)."""
         params = ua.WriteParameters()
         owners: list[tuple[int, int]] = []
         for i, w in enumerate(writes):
@@ -252,8 +258,11 @@ class SdSession:
                 owners.append((i, n))
         if not owners:
             return []
-        codes = await self._request(self._session().uaclient.write(params),
-                                  "write of SD4390x")
+        codes = await self._request(lambda: self._session().uaclient.write(params),
+                                    "write of SD4390x", "SeaWrite")
+        if any(c is not None and c.name == "BadUserAccessDenied" for c in codes):
+            raise status_error("BadUserAccessDenied", f"{self.endpoint}: write of SD4390x",
+                               user=self.user, right="SeaWrite")
         errors: dict[int, list[str]] = {}
         for (i, n), code in zip(owners, codes, strict=True):
             if code is not None and not code.is_good():
@@ -367,7 +376,7 @@ class SdFollower:
                 if str(exc) != self.last_error:
                     log.warning("%s: native SINUMERIK link: %s", self.name, exc)
                 if self.events is not None and (self.connected or str(exc) != self.last_error):
-                    self.events.lost(str(exc))
+                    self.events.lost(exc.condition)
                 self.connected = False
                 self.last_error = str(exc)
                 await self.session.close()
