@@ -198,3 +198,31 @@ async def test_ednc_serve_shows_a_native_links_refusal_with_its_reason(
         said = [e["detail"] for e in await plant.events(machine="vmc-sd")
                 if e["kind"] == "link"]
         assert len(said) == 1 and "refused (login)" in said[0], said
+
+
+async def test_a_native_link_refused_after_login_is_paced_as_the_window_links(
+        pki: Pki) -> None:
+    """A user without SeaWrite: the session opens, reads, and its first write is refused.
+    That must not reset the backoff (issue 30's storm: a login per refusal): in 6 s the
+    follower logs in twice (at once, then after the first step of 3-4 s)."""
+    from server.links.sinumerik_sd import SdFollower
+    from volumetric.model.model import ThermalTerm
+
+    users = {"reader": OpcuaUser("r", frozenset({"SinuReadAll"}))}
+    terms = (ThermalTerm("thermal_drift", "z", "T_spindle_C", -2.5, 20.0),)
+    async with NativeSinumerik(MACHINE, users) as cnc:
+        session = SdSession(cnc.endpoint, "reader", "r", MACHINE.axis_names, pki=pki)
+        logins: list[float] = []
+        connect = session.connect
+
+        async def counted() -> None:
+            logins.append(asyncio.get_running_loop().time())
+            await connect()
+
+        session.connect = counted  # type: ignore[method-assign]
+        async with SdFollower(MACHINE.name, session, terms) as follower:
+            follower.set_temperatures({"T_spindle_C": 31.0})
+            await asyncio.sleep(6.0)
+        assert follower.last_error is not None and "lacks SeaWrite" in follower.last_error
+    assert len(logins) == 2, logins
+    assert 3.0 <= logins[1] - logins[0] <= 5.0, logins

@@ -15,8 +15,8 @@ and when (:class:`~server.links.sdwrites.SdWritePlanner`: only changes, at most 
   path ``ns=2;s=/NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_ABS_VALUE[u<k>]`` (machine axis k, 1-based)
   unless ``sd_nodes`` names others; all data due are written in one Write request.
 * :class:`SdFollower`: keeps one machine's setting data current (an async context
-  manager): it connects (jittered, capped backoff after a failure), reads what the NC
-  holds (so only differences are written), then writes whenever the temperatures or the
+  manager): it connects (after a failure, the window links' backoff, 4 to 60 s), reads
+  what the NC holds (so only differences are written), then writes whenever the temperatures or the
   model's terms change, reads the data back every ``verify_s`` (a value changed at the
   machine is written again; a dead session is found), and says what it did
   (:attr:`SdFollower.writes`, the last error, :class:`FollowerEvents`).
@@ -56,6 +56,7 @@ from server.links.opcualogin import (
     status_error,
 )
 from server.links.opcuapki import Pki
+from server.links.pacing import BACKOFF, HEALTHY_AFTER_S
 from server.links.sdwrites import (
     SD_ABS_VALUE,
     SD_REF_POSITION,
@@ -287,6 +288,9 @@ class SdFollower:
     min_interval_s : float
         At most one write per axis per this, s.
     backoff : Backoff, optional
+        Waits after failures in a row (default: the window links',
+        :data:`~server.links.pacing.BACKOFF`, 4, 12, 36, 60 s); only a session that
+        stayed up :data:`~server.links.pacing.HEALTHY_AFTER_S` starts it afresh.
     clock : callable
         Seconds, monotonic (the planner's time).
     events : FollowerEvents, optional
@@ -311,7 +315,7 @@ class SdFollower:
         self.limits = limits or TempCompLimits()
         self.planner = SdWritePlanner(session.axes, limits=self.limits,
                                       min_interval_s=min_interval_s)
-        self.backoff = backoff or Backoff(initial_s=0.5, cap_s=30.0)
+        self.backoff = backoff or BACKOFF
         self.clock = clock
         self._terms = tuple(terms)
         self._temps: dict[str, float] = {}
@@ -359,14 +363,15 @@ class SdFollower:
 
     async def _run(self) -> None:
         attempt = 0
+        since = 0.0
         while True:
             try:
                 await self.session.connect()
                 held = await self.session.read()
-                self._verified_s = self.clock()
+                self._verified_s = since = self.clock()
                 for axis, values in held.items():
                     self.planner.held(axis, values)
-                self.connected, attempt = True, 0
+                self.connected = True
                 self.nc_holds = held
                 if self.events is not None:
                     self.events.connected()
@@ -377,9 +382,14 @@ class SdFollower:
                     log.warning("%s: native SINUMERIK link: %s", self.name, exc)
                 if self.events is not None and (self.connected or str(exc) != self.last_error):
                     self.events.lost(exc.condition)
+                if self.connected and self.clock() - since >= HEALTHY_AFTER_S:
+                    attempt = 0  # the session proved the link: this failure is news
                 self.connected = False
                 self.last_error = str(exc)
                 await self.session.close()
+                # paced as the window links are (issue 30: no storms): a login refused
+                # once is refused again, and a session that opens and fails at its first
+                # write (a user without SeaWrite) must not reset the backoff
                 await asyncio.sleep(self.backoff.delay(attempt, self._rng))
                 attempt = min(attempt + 1, 16)
 
