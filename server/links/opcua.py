@@ -54,20 +54,17 @@ from pathlib import Path
 from typing import Any, Final
 
 from asyncua import ua
-from asyncua.client.client import Client
 from asyncua.ua.attribute_ids import AttributeIds
 
 from server.links.opcualogin import (
     RETRY_DELAYS_S,
     TRANSIENT,
+    OpcuaClient,
     OpcuaSecurity,
-    close_client,
     jittered,
-    open_session,
-    request_error,
     status_error,
 )
-from server.links.opcuapki import Pki, TrustMode, pki_at
+from server.links.opcuapki import Pki, TrustMode
 from server.links.window.memory import LinkError
 from server.schemas.link import OpcuaLink
 
@@ -129,7 +126,7 @@ class AxisReading:
     sd43920_mm: float
 
 
-class OpcuaMemory:
+class OpcuaMemory(OpcuaClient):
     """A SINUMERIK's window over OPC UA (a ``MemoryClient``).
 
     Parameters
@@ -181,10 +178,9 @@ class OpcuaMemory:
                             "the PLC data block holding the window")
         if block < 4 or block % 4:
             raise LinkError(f"block {block}: a multiple of 4 bytes")
-        self.security = OpcuaSecurity(security_policy, security_mode, trust,
-                                      client_certificate, client_private_key)
-        self.endpoint = endpoint
-        self.user = user
+        super().__init__(endpoint, user, security=OpcuaSecurity(
+            security_policy, security_mode, trust, client_certificate, client_private_key),
+            pki=pki, timeout_s=timeout_s, retry_delays_s=retry_delays_s)
         self.password_ref = password_ref
         self._password = password
         self.window_node = window_node
@@ -193,23 +189,15 @@ class OpcuaMemory:
         self.security_policy = self.security.policy
         self.security_mode = self.security.mode
         self.trust: TrustMode = trust
-        self._pki = pki
         self.client_certificate = client_certificate
         self.client_private_key = client_private_key
         self.sd_nodes = dict(sd_nodes or {})
-        self.timeout_s = float(timeout_s)
         self.block = block
-        self.retry_delays_s = tuple(retry_delays_s)
         self.busy_retries = 0
         """Requests asked again after a transient answer (the window session shows the
         link busy while this grows)."""
         self.busy_note = ""
         """The last transient answer, for the operator."""
-        self._notices: list[str] = []
-        self._client: Client | None = None
-        notice = self.security.notice(endpoint, user)
-        if notice is not None:
-            self._notices.append(notice)
 
     @classmethod
     def from_link(cls, link: OpcuaLink, *, password: str | None = None,
@@ -230,23 +218,6 @@ class OpcuaMemory:
     def address(self) -> str:
         return self.endpoint.removeprefix("opc.tcp://").split("/", 1)[0]
 
-    @property
-    def insecure(self) -> bool:
-        """Security policy None: the password travels in clear."""
-        return self.security.insecure
-
-    def take_notices(self) -> list[str]:
-        """Warnings for the operator gathered since the last call (security None, a
-        controller certificate trusted on first use), each once."""
-        out, self._notices = self._notices, []
-        return out
-
-    @property
-    def pki(self) -> Pki:
-        if self._pki is None:
-            self._pki = pki_at()
-        return self._pki
-
     # -- connection
 
     async def connect(self) -> None:
@@ -257,25 +228,11 @@ class OpcuaMemory:
         await self.close()
         password = (self._password if self._password is not None
                     else read_password(self.password_ref, self.user))
-        self._client = await open_session(
-            self.endpoint, self.user, password, security=self.security, pki=self.pki,
-            timeout_s=self.timeout_s, retry_delays_s=self.retry_delays_s,
-            on_busy=self._busy, notices=self._notices)
+        await self._open(password, on_busy=self._busy)
 
     def _busy(self, answer: LinkError) -> None:
         self.busy_retries += 1
         self.busy_note = str(answer)
-
-    async def close(self) -> None:
-        """End the session (never raises)."""
-        client, self._client = self._client, None
-        await close_client(client, self.timeout_s)
-
-    def _session(self) -> Client:
-        if self._client is None:
-            raise LinkError(f"{self.endpoint}: not connected", state="unreachable",
-                            reason="connection_lost")
-        return self._client
 
     # -- the window
 
@@ -372,7 +329,8 @@ class OpcuaMemory:
         for attempt in range(len(self.retry_delays_s) + 1):
             last = attempt == len(self.retry_delays_s)
             try:
-                answer = await self._call_once(request, what, offset, size)
+                answer = await self._ask(request, self._where(what, offset, size),
+                                         self._right(what))
             except LinkError as e:
                 if last or not e.transient:
                     raise
@@ -385,15 +343,6 @@ class OpcuaMemory:
             self.busy_retries += 1
             await asyncio.sleep(jittered(self.retry_delays_s[attempt]))
         raise AssertionError("unreachable")  # the last attempt returned or raised
-
-    async def _call_once(self, request: Callable[[], Awaitable[Any]], what: str, offset: int,
-                         size: int) -> Any:
-        try:
-            async with asyncio.timeout(self.timeout_s):
-                return await request()
-        except Exception as e:  # asyncua raises many kinds; each becomes one clear line
-            raise request_error(e, self._where(what, offset, size), self.timeout_s,
-                                user=self.user, right=self._right(what)) from None
 
     def _good(self, code: ua.StatusCode | None, what: str, offset: int, size: int) -> None:
         if code is not None and not code.is_good():

@@ -26,7 +26,8 @@ the connection dropped during a request        unreachable ``connection_lost``
 
 Here: the channel's security (:class:`OpcuaSecurity`, :func:`secure_client`), one login
 with its retries on busy answers (:func:`open_session`) and its end (:func:`close_client`),
-and the classification of a failed login (:func:`login_error`), of a failed request
+what both links' clients hold (:class:`OpcuaClient`: the session, the operator's
+warnings), and the classification of a failed login (:func:`login_error`), of a failed request
 (:func:`request_error`) and of a node's bad status (:func:`status_error`).
 """
 
@@ -35,9 +36,9 @@ from __future__ import annotations
 import asyncio
 import logging
 import random
-from collections.abc import Callable, Mapping, Sequence
+from collections.abc import Awaitable, Callable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Final
+from typing import TYPE_CHECKING, Any, Final
 
 from asyncua import ua
 from asyncua.client.client import Client
@@ -50,7 +51,7 @@ from server.links.window.memory import LinkError
 if TYPE_CHECKING:
     from server.schemas.link import OpcuaLogin
 
-__all__ = ["HINTS", "RETRY_DELAYS_S", "TRANSIENT", "OpcuaSecurity", "close_client",
+__all__ = ["HINTS", "RETRY_DELAYS_S", "TRANSIENT", "OpcuaClient", "OpcuaSecurity", "close_client",
            "jittered", "login_error", "open_session", "recheck_certificate",
            "request_error", "secure_client", "status_error", "status_name"]
 
@@ -408,3 +409,89 @@ async def close_client(client: Client | None, timeout_s: float) -> None:
         pass
     finally:
         client.disconnect_socket()
+
+
+class OpcuaClient:
+    """What every OPC UA link's client holds: at most one session with one controller as
+    one user, and the warnings for the operator gathered on the way. A link adds its
+    requests (the window's bytes, the setting data).
+
+    Parameters
+    ----------
+    endpoint : str
+        ``opc.tcp://host:port``.
+    user : str
+    security : OpcuaSecurity, optional
+        Default: Basic256Sha256 SignAndEncrypt, the controller trusted on first use.
+        Security None is warned once per controller and user (:meth:`take_notices`).
+    pki : Pki, optional
+        The center's certificates (default: :func:`~server.links.opcuapki.pki_at`).
+    timeout_s : float
+        Per request; the login may take twice this.
+    retry_delays_s : sequence of float
+        Waits before each new try of a request (or login) answered busy.
+    """
+
+    def __init__(self, endpoint: str, user: str, *, security: OpcuaSecurity | None = None,
+                 pki: Pki | None = None, timeout_s: float = 5.0,
+                 retry_delays_s: Sequence[float] = RETRY_DELAYS_S) -> None:
+        self.endpoint = endpoint
+        self.user = user
+        self.security = security if security is not None else OpcuaSecurity()
+        self._pki = pki
+        self.timeout_s = float(timeout_s)
+        self.retry_delays_s = tuple(retry_delays_s)
+        self._client: Client | None = None
+        self._notices: list[str] = []
+        notice = self.security.notice(endpoint, user)
+        if notice is not None:
+            self._notices.append(notice)
+
+    @property
+    def pki(self) -> Pki:
+        if self._pki is None:
+            self._pki = pki_at()
+        return self._pki
+
+    @property
+    def insecure(self) -> bool:
+        """Security policy None: the password travels in clear."""
+        return self.security.insecure
+
+    def take_notices(self) -> list[str]:
+        """Warnings for the operator gathered since the last call (security None, a
+        controller certificate trusted on first use), each once."""
+        out, self._notices = self._notices, []
+        return out
+
+    async def _open(self, password: str,
+                    on_busy: Callable[[LinkError], None] | None = None) -> None:
+        """Open the session (closing any before; :func:`open_session`)."""
+        await self.close()
+        self._client = await open_session(
+            self.endpoint, self.user, password, security=self.security, pki=self.pki,
+            timeout_s=self.timeout_s, retry_delays_s=self.retry_delays_s, on_busy=on_busy,
+            notices=self._notices)
+
+    async def close(self) -> None:
+        """End the session (never raises)."""
+        client, self._client = self._client, None
+        await close_client(client, self.timeout_s)
+
+    def _session(self) -> Client:
+        if self._client is None:
+            raise LinkError(f"{self.endpoint}: not connected", state="unreachable",
+                            reason="connection_lost")
+        return self._client
+
+    async def _ask(self, request: Callable[[], Awaitable[Any]], where: str, right: str,
+                   hints: Mapping[str, str] = HINTS) -> Any:
+        """``request()``'s answer within :attr:`timeout_s`; raises the classified
+        :class:`LinkError` (:func:`request_error`: ``where`` says what was asked, ``right``
+        what a user refused lacks)."""
+        try:
+            async with asyncio.timeout(self.timeout_s):
+                return await request()
+        except Exception as e:  # asyncua raises many kinds; each becomes one clear line
+            raise request_error(e, where, self.timeout_s, user=self.user, right=right,
+                                hints=hints) from None

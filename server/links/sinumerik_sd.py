@@ -36,23 +36,20 @@ import contextlib
 import logging
 import random
 import time
-from collections.abc import Awaitable, Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import TracebackType
-from typing import Any, Final, Protocol
+from typing import Final, Protocol
 
 from asyncua import ua
-from asyncua.client.client import Client
 from asyncua.ua.attribute_ids import AttributeIds
 
 from protocol.backoff import Backoff
 from server.links.opcualogin import (
     HINTS,
     RETRY_DELAYS_S,
+    OpcuaClient,
     OpcuaSecurity,
-    close_client,
-    open_session,
-    request_error,
     status_error,
 )
 from server.links.opcuapki import Pki
@@ -116,7 +113,7 @@ class WriteOutcome:
     error: str | None
 
 
-class SdSession:
+class SdSession(OpcuaClient):
     """An OPC UA session that reads and writes SD43900/43910/43920.
 
     Parameters
@@ -149,21 +146,12 @@ class SdSession:
                  timeout_s: float = 5.0, security: OpcuaSecurity | None = None,
                  pki: Pki | None = None,
                  retry_delays_s: Sequence[float] = RETRY_DELAYS_S) -> None:
-        self.endpoint = endpoint
-        self.security = security if security is not None else OpcuaSecurity()
-        self.pki = pki
-        self.retry_delays_s = tuple(retry_delays_s)
-        self.user = user
+        super().__init__(endpoint, user, security=security, pki=pki, timeout_s=timeout_s,
+                         retry_delays_s=retry_delays_s)
         self._password = password
         self.axes = [a.upper() for a in axes]
         self.sd_nodes = dict(sd_nodes or {})
         self.namespace = namespace
-        self.timeout_s = float(timeout_s)
-        self._client: Client | None = None
-        self._notices: list[str] = []
-        notice = self.security.notice(endpoint, user)
-        if notice is not None:
-            self._notices.append(notice)
 
     @classmethod
     def from_link(cls, link: SinumerikSdLink, password: str, axes: Sequence[str], *,
@@ -172,12 +160,6 @@ class SdSession:
         ``password_ref``; ``axes`` the machine's, in the NC's order)."""
         return cls(link.endpoint, link.user, password, axes, sd_nodes=link.sd_nodes,
                    timeout_s=timeout_s, security=OpcuaSecurity.of(link), pki=pki)
-
-    def take_notices(self) -> list[str]:
-        """Warnings for the operator gathered since the last call (security None, a
-        controller certificate trusted on first use), each once."""
-        out, self._notices = self._notices, []
-        return out
 
     def node(self, axis: str, number: int) -> ua.NodeId:
         """The node of SD``number`` of ``axis``."""
@@ -191,31 +173,7 @@ class SdSession:
     async def connect(self) -> None:
         """Open the session; raises :class:`LinkError` (classified as the window link's:
         :mod:`server.links.opcualogin`)."""
-        await self.close()
-        self._client = await open_session(
-            self.endpoint, self.user, self._password, security=self.security, pki=self.pki,
-            timeout_s=self.timeout_s, retry_delays_s=self.retry_delays_s,
-            notices=self._notices)
-
-    async def close(self) -> None:
-        """End the session (never raises)."""
-        client, self._client = self._client, None
-        await close_client(client, self.timeout_s)
-
-    def _session(self) -> Client:
-        if self._client is None:
-            raise LinkError(f"{self.endpoint}: not connected", state="unreachable",
-                            reason="connection_lost")
-        return self._client
-
-    async def _request(self, request: Callable[[], Awaitable[Any]], what: str,
-                       right: str) -> Any:
-        try:
-            async with asyncio.timeout(self.timeout_s):
-                return await request()
-        except Exception as e:  # asyncua raises many kinds; each becomes one clear line
-            raise request_error(e, f"{self.endpoint}: {what}", self.timeout_s,
-                                user=self.user, right=right, hints=_WHY) from None
+        await self._open(self._password)
 
     async def read(self) -> dict[str, dict[int, float]]:
         """What the NC holds per axis and datum, in one Read request; raises
@@ -227,8 +185,8 @@ class SdSession:
             rv.NodeId = self.node(a, n)
             rv.AttributeId = AttributeIds.Value
             params.NodesToRead.append(rv)
-        values = await self._request(lambda: self._session().uaclient.read(params),
-                                     "read of SD4390x", "SinuReadAll")
+        values = await self._ask(lambda: self._session().uaclient.read(params),
+                                 f"{self.endpoint}: read of SD4390x", "SinuReadAll", _WHY)
         out: dict[str, dict[int, float]] = {a: {} for a in self.axes}
         for (a, n), dv in zip(keys, values, strict=True):
             if dv.StatusCode is not None and not dv.StatusCode.is_good():
@@ -259,8 +217,8 @@ class SdSession:
                 owners.append((i, n))
         if not owners:
             return []
-        codes = await self._request(lambda: self._session().uaclient.write(params),
-                                    "write of SD4390x", "SeaWrite")
+        codes = await self._ask(lambda: self._session().uaclient.write(params),
+                                f"{self.endpoint}: write of SD4390x", "SeaWrite", _WHY)
         if any(c is not None and c.name == "BadUserAccessDenied" for c in codes):
             raise status_error("BadUserAccessDenied", f"{self.endpoint}: write of SD4390x",
                                user=self.user, right="SeaWrite")
