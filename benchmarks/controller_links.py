@@ -29,6 +29,8 @@ temperature's way to the applied compensation. Run by hand:
   ``--pmc-procs n`` spreads the PMCs over n child processes: one Python process with
   several hundred of them stalls on a loaded machine (its answers come later than the
   center's 2 s time-out, which a plant's PMCs, each its own device, do not cause).
+  ``--pmc-nice n`` runs them at that nice value (with other work on the machine, PMCs at
+  nice 5 fell behind their 1 s PLC cycle and looked stopped: not used for the figures).
 * ``temperature``: N machines with a spindle-growth map; temperatures go into the center's
   intake (as MQTT or REST readings do) at ``rate`` per second across the machines; the
   child process stamps when each PLC program took each value from its slots
@@ -409,6 +411,8 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
                 procs: int = 1, nice: int = 0) -> None:
     from push_latency import measure
 
+    from server.links.window.session import IDLE_POLL_S
+
     load0 = os.getloadavg()
     with load_held(load):
         if load:
@@ -426,8 +430,8 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
           f"(1 min) {load0[0]:.2f} at start, {load1[0]:.2f} after the EDNC link, "
           f"{load2[0]:.2f} at the end")
     print(f"Modbus: simulated Fanuc PMCs in {procs} child process(es) at nice {nice} "
-          f"(PLC cycle "
-          f"{cycle_s * 1000:.0f} ms, status polled every 1 s), factored map {size} bytes, "
+          f"(PLC cycle {cycle_s * 1000:.0f} ms; status read every 1 s while a push waits "
+          f"for its verdict, every {IDLE_POLL_S:g} s otherwise), factored map {size} bytes, "
           f"{done.get('applied')} "
           f"switches applied by {done.get('machines_applied')} healthy PLCs; EDNC: "
           f"push_latency.py's fleet, grid map {ednc_size} bytes")
