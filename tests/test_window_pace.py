@@ -138,3 +138,38 @@ async def test_a_stopping_center_starts_no_new_session(tmp_path: Path) -> None:
         assert links.linked() == []
         await asyncio.sleep(1.0)
         assert links.connects == 1
+
+
+async def test_a_request_not_answered_once_in_an_open_session_is_asked_again() -> None:
+    from machine_sim.faultrelay import FaultRelay, Faults
+
+    async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc, FaultRelay(
+            ("127.0.0.1", cnc.server.port)) as relay:  # type: ignore[attr-defined]
+        memory = ModbusMemory("127.0.0.1", relay.port, register=REGISTER, timeout_s=1.0)
+        s = ControllerSession(M.name, "127.0.0.1", Controller.FANUC, M.axis_names, memory,
+                              link="modbus", chain=M.chain, poll_s=0.02, idle_poll_s=0.02)
+        await s.open()
+        runner = asyncio.create_task(s.run())
+        try:
+            relay.faults = Faults(swallow=True)  # the next request gets no answer...
+            await until(lambda: relay.swallowed >= 1, 0.005)
+            relay.faults = Faults()  # ...and the one after it does
+            reads = s.status_reads
+            await until(lambda: s.status_reads >= reads + 5 or runner.done())
+            assert not runner.done() and s.failure is None, s.failure
+            assert memory.no_answer_retries == 1
+        finally:
+            s.abort(None, "test over")
+            await runner
+    # a second time-out in a row still ends the session: a controller that stays silent
+    async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc, FaultRelay(
+            ("127.0.0.1", cnc.server.port)) as relay:  # type: ignore[attr-defined]
+        memory = ModbusMemory("127.0.0.1", relay.port, register=REGISTER, timeout_s=1.0)
+        s = ControllerSession(M.name, "127.0.0.1", Controller.FANUC, M.axis_names, memory,
+                              link="modbus", chain=M.chain, poll_s=0.02, idle_poll_s=0.02)
+        await s.open()
+        runner = asyncio.create_task(s.run())
+        relay.faults = Faults(swallow=True)
+        await runner
+        assert s.failure is not None and s.failure.reason == "no_answer", s.failure
+        assert memory.no_answer_retries == 1 and relay.swallowed == 2

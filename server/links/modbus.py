@@ -4,8 +4,9 @@ Only what that server answers is used: 03h Read Holding Registers (at most 125 p
 request) and 10h Write Multiple Registers (at most 123). A window byte offset is a
 register offset (two bytes a register), placed in PMC memory in the link's byte order.
 Requests go one at a time on the connection (a PMC answers them in turn anyway). A busy
-answer (exception 05 or 06) is asked again a few times within the session; any other
-exception response, time-out or lost connection is a :class:`LinkError` naming it, with
+answer (exception 05 or 06) is asked again a few times within the session, and a request
+not answered on a connection that answered before is asked once more; any other exception
+response, a second time-out or a lost connection is a :class:`LinkError` naming it, with
 its state and reason (:mod:`server.links.state`).
 """
 
@@ -93,6 +94,10 @@ class ModbusMemory:
         """Requests asked again after a busy answer (05, 06)."""
         self.busy_note = ""
         """The last busy answer, for the operator."""
+        self.no_answer_retries = 0
+        """Requests asked again after a time-out on a connection that answered before."""
+        self._answered = False
+        """This connection answered a request (a time-out then is asked once more)."""
 
     @property
     def address(self) -> str:
@@ -104,6 +109,7 @@ class ModbusMemory:
         # backoff and must see every failure
         client = AsyncModbusTcpClient(self.host, port=self.port, timeout=self.timeout_s,
                                       retries=0, reconnect_delay=0)
+        self._answered = False
         try:
             ok = await client.connect()
         except (OSError, ModbusException) as exc:
@@ -134,17 +140,31 @@ class ModbusMemory:
         ``what`` (read or write) and the registers. A busy answer (05, 06: "ask again
         later") is asked again, at most :data:`BUSY_RETRIES` times with a growing pause:
         a controller busy for a moment does not end the session, one busy for seconds
-        does."""
-        for retry in range(BUSY_RETRIES + 1):
+        does. A request not answered within the time-out on a connection that answered
+        before is asked once more (a controller late for a moment, as on a loaded network,
+        does not end the session; a second time-out does): asking again is harmless, a
+        read reads again and a write writes the same registers again (§13.2: nothing
+        before the switch word changes what the PLC uses, and a switch word it handled
+        already is no new one); pymodbus skips the late answer to the first by its
+        transaction id."""
+        timed_out = False
+        busy = 0
+        while True:
             try:
-                return await self._once(what, first, count, call)
+                rr = await self._once(what, first, count, call)
+                self._answered = True
+                return rr
             except LinkError as exc:
-                if not exc.transient or retry == BUSY_RETRIES:
+                if exc.reason == "no_answer" and self._answered and not timed_out:
+                    timed_out = True
+                    self.no_answer_retries += 1
+                    continue
+                if not exc.transient or busy == BUSY_RETRIES:
                     raise
                 self.busy_retries += 1
                 self.busy_note = str(exc)
-                await asyncio.sleep(min(BUSY_PAUSE_CAP_S, BUSY_PAUSE_S * 1.5 ** retry))
-        raise AssertionError("unreachable")  # the loop returns or raises
+                await asyncio.sleep(min(BUSY_PAUSE_CAP_S, BUSY_PAUSE_S * 1.5 ** busy))
+                busy += 1
 
     async def _once(self, what: str, first: int, count: int,
                     call: Callable[[], Awaitable[Any]]) -> Any:
