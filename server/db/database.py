@@ -11,6 +11,7 @@ thread per call costs nothing that matters while keeping the event loop free.
 from __future__ import annotations
 
 import asyncio
+import json
 import os
 import sqlite3
 from collections.abc import AsyncIterator, Callable, Iterator
@@ -33,7 +34,7 @@ from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session, sessionmaker
 from sqlalchemy.pool import StaticPool
-from sqlalchemy.schema import CreateTable
+from sqlalchemy.schema import CreateIndex, CreateTable
 
 from server.db.machines import link_kind
 from server.db.secretbox import SecretBox
@@ -147,7 +148,7 @@ def _fill_link(conn: Connection) -> None:
     are spelled differently on SQLite and PostgreSQL)."""
     table = Base.metadata.tables["machines"]
     for machine_id, description in conn.execute(select(table.c.id, table.c.description)):
-        kind = link_kind(description if isinstance(description, dict) else {})
+        kind = link_kind(_json_object(description))
         if kind != "ednc":
             conn.execute(update(table).where(table.c.id == machine_id).values(link=kind))
 
@@ -180,6 +181,14 @@ def _rebuild_sqlite_machines(engine: Engine) -> None:
                 db.execute(f"INSERT INTO machines_new ({listed}) SELECT {listed} FROM machines")
                 db.execute("DROP TABLE machines")
                 db.execute("ALTER TABLE machines_new RENAME TO machines")
+                # in the same transaction: a start that stops half way finds the old table
+                for machine_id, stored in db.execute("SELECT id, description FROM machines"):
+                    kind = link_kind(_json_object(stored))
+                    if kind != "ednc":
+                        db.execute("UPDATE machines SET link = ? WHERE id = ?",
+                                   (kind, machine_id))
+                for index in Base.metadata.tables["machines"].indexes:
+                    db.execute(str(CreateIndex(index).compile(dialect=engine.dialect)))
                 broken = db.execute("PRAGMA foreign_key_check").fetchall()
                 if broken:
                     raise RuntimeError(f"machines rebuild broke foreign keys: {broken[:3]}")
@@ -192,10 +201,12 @@ def _rebuild_sqlite_machines(engine: Engine) -> None:
             db.isolation_level = level
     finally:
         raw.close()
-    with engine.begin() as conn:
-        _fill_link(conn)
-        for index in Base.metadata.tables["machines"].indexes:
-            index.create(conn, checkfirst=True)
+
+
+def _json_object(stored: object) -> dict[str, Any]:
+    """A JSON column's text read through the driver: the object, or {} for anything else."""
+    value = json.loads(stored) if isinstance(stored, str | bytes) else stored
+    return value if isinstance(value, dict) else {}
 
 
 class Database:
