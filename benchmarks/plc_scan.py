@@ -25,7 +25,9 @@ from __future__ import annotations
 
 import argparse
 import time
+from collections.abc import Callable
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -59,6 +61,21 @@ def operations(p: FactoredPayload) -> tuple[int, int]:
     return ops, mul
 
 
+def scan_time_us(var: Any, scan: Callable[[], None], rows: list[list[int]]) -> float:
+    """Mean time of one compiled scan, µs: each row of axis counts written into the
+    program's ``q`` variable (``var``, a ctypes array) and ``scan()`` called, less the
+    same loop without the scan (the Python side's share)."""
+    t0 = time.perf_counter()
+    for row in rows:
+        var[:len(row)] = row
+        scan()
+    t1 = time.perf_counter()
+    for row in rows:
+        var[:len(row)] = row
+    t2 = time.perf_counter()
+    return ((t1 - t0) - (t2 - t1)) / len(rows) * 1e6
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--map", type=Path, default=ROOT / "tests/vectors/factored_5axis.bin")
@@ -74,17 +91,7 @@ def main() -> None:
     rows = q.tolist()
 
     def timed(plc: StPlc) -> float:
-        var = plc.program.var("q")
-        scan = plc.program.scan
-        t0 = time.perf_counter()
-        for row in rows:
-            var[:len(row)] = row
-            scan()
-        t1 = time.perf_counter()
-        for row in rows:  # the same loop without the scan: the Python side's share
-            var[:len(row)] = row
-        t2 = time.perf_counter()
-        return ((t1 - t0) - (t2 - t1)) / len(rows) * 1e6
+        return scan_time_us(plc.program.var("q"), plc.program.scan, rows)
 
     idle = StPlc(p.machine, axes)
     idle.scan([0] * len(axes))

@@ -30,15 +30,14 @@ import argparse
 import json
 import sys
 import time
-from collections.abc import Callable
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # tests.support, run as a script
 
+from benchmarks.plc_scan import scan_time_us  # noqa: E402
 from machine_sim.lookup import TablesMap  # noqa: E402
 from machine_sim.stplc import StPlc  # noqa: E402
 from protocol.ctrlmem import plan_map_write  # noqa: E402
@@ -130,24 +129,13 @@ def main() -> None:
             sweeps += int(fb.program.var("sweeps")[0])
         return steps / len(rows), sweeps / len(rows)
 
-    def timed(var: Any, scan: Callable[[], None], rows: list[list[int]]) -> float:
-        t0 = time.perf_counter()
-        for row in rows:
-            var[:len(row)] = row
-            scan()
-        t1 = time.perf_counter()
-        for row in rows:  # the same loop without the scan: the Python side's share
-            var[:len(row)] = row
-        t2 = time.perf_counter()
-        return ((t1 - t0) - (t2 - t1)) / len(rows) * 1e6
-
     figures = {}
     for name, q, one_step in (("moving", path, 0), ("scattered", scattered, 0),
                          ("moving, oneStep", path, 1)):
         fb.program.var("oneStep")[0] = one_step
         rows = np.floor(q * 1000 + 0.5).astype(np.int64).tolist()
         n_steps, n_sweeps = counted(rows)
-        t_fb = min(timed(var, scan, rows) for _ in range(3))
+        t_fb = min(scan_time_us(var, scan, rows) for _ in range(3))
         figures[name] = (n_steps, n_sweeps, t_fb, rows)
     fb.program.var("oneStep")[0] = 0
     whole = StPlc(p.machine, axes, formats=TABLES_FORMATS)
@@ -159,8 +147,8 @@ def main() -> None:
     idle = StPlc(p.machine, axes, formats=TABLES_FORMATS)
     idle.scan([0] * len(axes))
     rows = figures["moving"][3]
-    t_map = min(timed(whole.program.var("q"), whole.program.scan, rows) for _ in range(3))
-    t_idle = min(timed(idle.program.var("q"), idle.program.scan, rows) for _ in range(3))
+    t_map = min(scan_time_us(whole.program.var("q"), whole.program.scan, rows) for _ in range(3))
+    t_idle = min(scan_time_us(idle.program.var("q"), idle.program.scan, rows) for _ in range(3))
     tm = TablesMap.from_payload(p, {s: temps_c.get(s, 20.0) for s in sensors})
     mm = path[:1000]
     t0 = time.perf_counter()

@@ -26,10 +26,9 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable, Mapping, Sequence
-from dataclasses import dataclass
 
 from protocol.mapformat import THERMAL_DRIFT, ThermalRecord
-from volumetric.compensate.tempcomp import ActingTerm, cancelling_setting_data
+from volumetric.compensate.tempcomp import ActingTerm, AxisTempComp, cancelling_setting_data
 from volumetric.model.model import ThermalTerm
 
 from .chaineval import sensor_key
@@ -37,32 +36,9 @@ from .chaineval import sensor_key
 __all__ = ["TempCompData", "record_setting_data", "temp_comp_data"]
 
 
-@dataclass(frozen=True)
-class TempCompData:
-    """One axis's temperature compensation setting data.
-
-    Attributes
-    ----------
-    offset_mm : float
-        SD43900, mm.
-    slope : float
-        SD43910, mm per mm of travel.
-    ref_mm : float
-        SD43920, mm.
-    """
-
-    offset_mm: float = 0.0
-    slope: float = 0.0
-    ref_mm: float = 0.0
-
-    def correction_mm(self, position_mm: float) -> float:
-        """The NC's correction at an axis position, mm (module docstring)."""
-        return self.offset_mm + self.slope * (position_mm - self.ref_mm)
-
-    @property
-    def needs_slope(self) -> bool:
-        """Whether SD43910/SD43920 (MD32750 bit 1) are needed."""
-        return self.slope != 0.0
+TempCompData = AxisTempComp
+"""One axis's setting data: the numeric core's type (the center computes the same data for
+a native SINUMERIK), by the name the simulated NC has used for it."""
 
 
 def _setting_data(names: Sequence[str], acting: Iterable[ActingTerm]) -> dict[str, TempCompData]:

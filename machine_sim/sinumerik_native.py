@@ -31,8 +31,7 @@ import asyncio
 import time
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
-from types import TracebackType
-from typing import TYPE_CHECKING, cast
+from typing import TYPE_CHECKING, Any, cast
 
 import numpy as np
 from numpy.typing import NDArray
@@ -42,6 +41,7 @@ from volumetric.model.machine import Machine
 from .cec_tables import CecTables
 from .opcua_server import OpcuaUser, SinumerikOpcuaServer
 from .runtime import MachineRuntime
+from .scanned import ScannedController
 from .siemens import (
     MD_TEMP_COMP_TYPE,
     MD_VELO_FACTOR,
@@ -156,7 +156,7 @@ class NativeSinumerikNC(SiemensNC):
         return self.applied
 
 
-class NativeSinumerik:
+class NativeSinumerik(ScannedController):
     """A simulated SINUMERIK reached only through its OPC UA server's NC data.
 
     Parameters
@@ -171,11 +171,15 @@ class NativeSinumerik:
     thermal_speedup : float
         Machine-temperature seconds per second (:class:`~machine_sim.runtime.
         MachineRuntime`).
+    **server : Any
+        Keywords of its :class:`~machine_sim.opcua_server.SinumerikOpcuaServer` (the
+        endpoints offered, the clients trusted, busy answers...).
     """
 
     def __init__(self, machine: Machine, users: Mapping[str, OpcuaUser], *,
                  config: SiemensConfig | None = None, seed: int = 0,
-                 cycle_s: float | None = None, thermal_speedup: float = 1.0) -> None:
+                 cycle_s: float | None = None, thermal_speedup: float = 1.0,
+                 **server: Any) -> None:
         if machine.controller != "siemens":
             raise ValueError(f"machine {machine.name!r} has a {machine.controller} controller")
         self.machine = machine
@@ -187,30 +191,18 @@ class NativeSinumerik:
         self.cycle_s = cycle_s or self.nc.config.ipo_s
         # the OPC UA server reads machine, window, runtime.controller and runtime.positions
         # only: this machine offers those without the window program of a WindowCNC
-        self.server = SinumerikOpcuaServer(cast("WindowCNC", self), users)
-        self._t0 = 0.0
-        self._task: asyncio.Task[None] | None = None
+        self.server = SinumerikOpcuaServer(cast("WindowCNC", self), users, **server)
+
+    server: SinumerikOpcuaServer
+    task_name = "nc"
 
     @property
     def endpoint(self) -> str:
         return self.server.endpoint
 
-    async def __aenter__(self) -> NativeSinumerik:
-        self._t0 = asyncio.get_running_loop().time()
-        await self.server.start()
-        self._task = asyncio.create_task(self._loop(), name=f"{self.machine.name}:nc")
-        return self
-
-    async def __aexit__(self, exc_type: type[BaseException] | None,
-                        exc: BaseException | None, tb: TracebackType | None) -> None:
-        if self._task is not None:
-            self._task.cancel()
-            await asyncio.gather(self._task, return_exceptions=True)
-        await self.server.stop()
-
-    def now(self) -> float:
-        """Machine time since start, s."""
-        return asyncio.get_running_loop().time() - self._t0
+    def cycle(self) -> None:
+        """One IPO cycle of motion, temperatures and the NC's compensation."""
+        self.runtime.step(self.now())
 
     async def _loop(self) -> None:
         while True:

@@ -12,11 +12,9 @@ compiled program's.
 
 from __future__ import annotations
 
-import asyncio
 import ctypes
 from collections.abc import Callable, Sequence
 from pathlib import Path
-from types import TracebackType
 from typing import Any
 
 import numpy as np
@@ -27,6 +25,7 @@ from volumetric.model.machine import Machine
 
 from .iec import ROOT, StProgram, StVar, build_program
 from .runtime import MachineRuntime
+from .scanned import ScannedController
 
 __all__ = ["ST_SOURCES", "ST_VARIABLES", "WINDOW_CAPACITY", "StPlc", "StWindowCNC", "st_library"]
 
@@ -205,7 +204,7 @@ class StPlc:
         return self.target
 
 
-class StWindowCNC:
+class StWindowCNC(ScannedController):
     """A simulated machine whose PLC is the compiled program: the controller's server
     (Modbus/TCP for a Fanuc PMC, :class:`machine_sim.modbus_server.PmcModbusServer`)
     serves the program's own window variable, and every cycle the program scans at the
@@ -236,31 +235,15 @@ class StWindowCNC:
         self.window = self.plc.window
         self.cycle_s = float(cycle_s)
         self.server = server_factory(self)
-        self._t0 = 0.0
-        self._task: asyncio.Task[None] | None = None
 
-    async def __aenter__(self) -> StWindowCNC:
-        self._t0 = asyncio.get_running_loop().time()
-        self.cycle()  # the first scan writes the identity before anyone reads it
-        await self.server.start()
-        self._task = asyncio.create_task(self._loop(), name=f"{self.machine.name}:st-plc")
-        return self
+    task_name = "st-plc"
 
-    async def __aexit__(self, exc_type: type[BaseException] | None,
-                        exc: BaseException | None, tb: TracebackType | None) -> None:
-        if self._task is not None:
-            self._task.cancel()
-            await asyncio.gather(self._task, return_exceptions=True)
-        await self.server.stop()
+    def boot(self) -> None:
+        """The first scan writes the identity before anyone reads it."""
+        self.cycle()
 
     def cycle(self) -> None:
         """One scan at the machine's commanded positions now."""
-        now = asyncio.get_running_loop().time() - self._t0
-        positions, _ = self.runtime.motion.at(now)
+        positions, _ = self.runtime.motion.at(self.now())
         counts = np.rint(np.asarray(positions, dtype=float) * 1000.0).astype(np.int64)
         self.plc.scan(counts, round(self.cycle_s * 1000))
-
-    async def _loop(self) -> None:
-        while True:
-            self.cycle()
-            await asyncio.sleep(self.cycle_s)

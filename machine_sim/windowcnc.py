@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import Callable
-from types import TracebackType
 from typing import Protocol
 
 import numpy as np
@@ -25,6 +24,7 @@ from volumetric.model.machine import Machine
 
 from .plcmap import PlcMapProgram
 from .runtime import MachineRuntime
+from .scanned import ScannedController
 
 __all__ = ["ControllerServer", "WindowCNC"]
 
@@ -42,7 +42,7 @@ class ControllerServer(Protocol):
     async def stop(self) -> None: ...
 
 
-class WindowCNC:
+class WindowCNC(ScannedController):
     """A machine whose controller serves its memory window to the center.
 
     Parameters
@@ -75,26 +75,12 @@ class WindowCNC:
         self.server = server_factory(self)
         self.running = True
         """False while the PLC program is stopped (:meth:`stop_plc`)."""
-        self._t0 = 0.0
-        self._task: asyncio.Task[None] | None = None
 
-    async def __aenter__(self) -> WindowCNC:
-        self._t0 = asyncio.get_running_loop().time()
+    server: ControllerServer
+
+    def boot(self) -> None:
+        """The program's start-up: the window's identity before anyone reads it."""
         self.program.boot(self.now(), self.machine.name)
-        await self.server.start()
-        self._task = asyncio.create_task(self._plc_loop(), name=f"{self.machine.name}:plc")
-        return self
-
-    async def __aexit__(self, exc_type: type[BaseException] | None,
-                        exc: BaseException | None, tb: TracebackType | None) -> None:
-        if self._task is not None:
-            self._task.cancel()
-            await asyncio.gather(self._task, return_exceptions=True)
-        await self.server.stop()
-
-    def now(self) -> float:
-        """Machine time since start, s."""
-        return asyncio.get_running_loop().time() - self._t0
 
     def cycle(self) -> None:
         """One controller cycle and one PLC-program scan (what the loop runs)."""
@@ -124,7 +110,7 @@ class WindowCNC:
         self.program.boot(self.now(), self.machine.name)
         self.running = True
 
-    async def _plc_loop(self) -> None:
+    async def _loop(self) -> None:
         loop = asyncio.get_running_loop()
         next_t = loop.time()
         while True:

@@ -30,6 +30,7 @@ from machine_sim.siemens import MD_TEMP_COMP_TYPE, SiemensAlarm
 from machine_sim.sinumerik_native import NativeSinumerik, NativeSinumerikNC, SdWriteRecord
 from machine_sim.testprograms import diagonal_test
 from machine_sim.truth import random_geometry
+from server.links.opcualogin import OpcuaSecurity
 from server.links.sdwrites import (
     SD_ABS_VALUE,
     SD_REF_POSITION,
@@ -278,10 +279,10 @@ async def test_the_sd_password_never_crosses_the_wire_in_clear_by_default() -> N
     password = "Sea-Writer-4b9e1d"  # distinctive: found only where it really is
     async with NativeSinumerik(m, {"ednc": OpcuaUser(password, SEA_WRITER)}) as cnc:
         port = int(cnc.endpoint.rsplit(":", 1)[1])
-        for mode, seen in (("SignAndEncrypt", False), (None, True)):
+        for mode, seen in (("SignAndEncrypt", False), ("None", True)):
             async with Relay(port) as relay:
                 session = SdSession(relay.endpoint, "ednc", password, m.axis_names,
-                                    security_mode=mode)
+                                    security=OpcuaSecurity(mode=mode))
                 await session.connect()
                 try:
                     await session.read()

@@ -37,6 +37,7 @@ from server.db import error_models as model_repo
 from server.db import machines as machine_repo
 from server.events import EventKind
 from server.feed import Feed
+from server.links.state import LinkCondition, Throttle
 from server.links.window.memory import LinkError
 from server.links.window.service import read_secret
 from server.schemas.link import LinkSpec, SinumerikSdLink
@@ -46,7 +47,7 @@ from volumetric.model.machine import parse_machine
 from volumetric.model.model import MachineModel, ThermalTerm
 
 if TYPE_CHECKING:
-    from server.links.sinumerik_sd import SdFollower
+    from server.links.sinumerik_sd import SdFollower, SdSession
 
 __all__ = ["NativeSdLinks"]
 
@@ -68,22 +69,39 @@ def native_link(description: dict[str, Any]) -> SinumerikSdLink | None:
 
 
 class _Events:
-    """A follower's news into the registry (status, dashboard) and the event log."""
+    """A follower's news into the registry (status, dashboard, metric) and the event log:
+    a failure's state and reason at once, as the window links show theirs, an event for
+    the first of each reason and then at most once a minute
+    (:class:`~server.links.state.Throttle`)."""
 
-    def __init__(self, links: NativeSdLinks, name: str, endpoint: str) -> None:
+    def __init__(self, links: NativeSdLinks, name: str, session: SdSession) -> None:
         self.links = links
         self.name = name
-        self.endpoint = endpoint
+        self.session = session
+        self.endpoint = session.endpoint
+        self.was_connected = False
+
+    def _notices(self) -> None:
+        for text in self.session.take_notices():  # security None, first-use trust
+            self.links.record(EventKind.WARNING, self.name, text)
 
     def connected(self) -> None:
         address = self.endpoint.removeprefix("opc.tcp://").split("/", 1)[0]
+        self.was_connected = True
         self.links.center.registry.connected(self.name, address)
+        self.links.throttle.forget(self.name)
+        self._notices()
         self.links.record(EventKind.CONNECTED, self.name,
                           f"sinumerik_sd link to {self.endpoint}")
 
-    def lost(self, why: str) -> None:
-        self.links.center.registry.disconnected(self.name)
-        self.links.record(EventKind.DISCONNECTED, self.name, why)
+    def lost(self, why: LinkCondition) -> None:
+        self._notices()
+        registry = self.links.center.registry
+        if self.was_connected:
+            self.was_connected = False
+            registry.disconnected(self.name)
+            self.links.record(EventKind.DISCONNECTED, self.name, why.text)
+        self.links.report(self.name, why)
 
     def held(self, data: Mapping[str, Mapping[int, float]]) -> None:
         self.links.center.registry.seen(self.name, {
@@ -146,6 +164,7 @@ class NativeSdLinks:
         self.commit_listeners = commit_listeners
         self._reloads: set[asyncio.Task[None]] = set()
         self._records: set[asyncio.Task[None]] = set()
+        self.throttle = Throttle()
 
     async def __aenter__(self) -> NativeSdLinks:
         if not self.enabled:
@@ -178,6 +197,15 @@ class NativeSdLinks:
         task = asyncio.create_task(self.feed.record(kind, name, text))
         self._records.add(task)
         task.add_done_callback(self._records.discard)
+
+    def report(self, name: str, why: LinkCondition) -> None:
+        """Show why a machine's native link is down: the registry at once, a warning and
+        an event for the first of each reason, then at most once a minute per reason."""
+        self.center.registry.condition(name, why.state, why.reason, why.text)
+        if not self.throttle.allow(name, why.reason or why.state, time.monotonic()):
+            return
+        log.warning("%s: sinumerik_sd link %s", name, why.summary)
+        self.record(EventKind.LINK, name, f"sinumerik_sd link {why.summary}")
 
     # -- inputs
 
@@ -235,20 +263,26 @@ class NativeSdLinks:
         except (LinkError, ValueError) as exc:
             if self._keys.get(name) != key:  # said once per registration
                 self._keys[name] = key
-                await self.feed.record(EventKind.ERROR, name, f"native link: {exc}")
+                if isinstance(exc, LinkError):  # a password reference not set: refused
+                    self.report(name, exc.condition)
+                else:
+                    await self.feed.record(EventKind.ERROR, name, f"native link: {exc}")
             return
         # asyncua is imported only where OPC UA is used (as server.links.window.service does)
         from server.links.sinumerik_sd import SdFollower, SdSession
 
-        secure = "None" not in (spec.security_policy, spec.security_mode)
-        session = SdSession(spec.endpoint, spec.user, password, axes, sd_nodes=spec.sd_nodes,
-                            security_mode=spec.security_mode if secure else None,
-                            trust=spec.trust)
+        try:
+            session = SdSession.from_link(spec, password, axes)
+        except LinkError as exc:  # security fields that do not go together
+            self._keys[name] = key
+            self.report(name, exc.condition)
+            return
+        self.center.registry.condition(name, "connecting", "", "sinumerik_sd link")
         terms = await self.center.db.run(_terms, machine_id)
         follower = SdFollower(name, session, terms,
                               limits=TempCompLimits(spec.max_offset_mm, spec.max_slope),
                               min_interval_s=spec.min_interval_ms / 1000.0,
-                              events=_Events(self, name, spec.endpoint))
+                              events=_Events(self, name, session))
         sensors = {t.sensor for t in terms}
         follower.set_temperatures(self.temperatures.columns(name, sensors))
         await follower.__aenter__()

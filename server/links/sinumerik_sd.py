@@ -15,15 +15,18 @@ and when (:class:`~server.links.sdwrites.SdWritePlanner`: only changes, at most 
   path ``ns=2;s=/NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_ABS_VALUE[u<k>]`` (machine axis k, 1-based)
   unless ``sd_nodes`` names others; all data due are written in one Write request.
 * :class:`SdFollower`: keeps one machine's setting data current (an async context
-  manager): it connects (jittered, capped backoff after a failure), reads what the NC
-  holds (so only differences are written), then writes whenever the temperatures or the
+  manager): it connects (after a failure, the window links' backoff, 4 to 60 s), reads
+  what the NC holds (so only differences are written), then writes whenever the temperatures or the
   model's terms change, reads the data back every ``verify_s`` (a value changed at the
   machine is written again; a dead session is found), and says what it did
   (:attr:`SdFollower.writes`, the last error, :class:`FollowerEvents`).
 
 Failures raise or report :class:`~server.links.window.memory.LinkError` with a text that
 says what to fix (a user without ``SeaWrite``, a datum MD32750 does not enable, a value
-the NC refuses).
+the NC refuses), and a state and reason as the window link gives them: both OPC UA links
+log in and classify their failures alike (:mod:`server.links.opcualogin`), so a wrong
+password is ``refused (login)``, an untrusted controller ``refused
+(server_certificate)``, a silent host ``unreachable (no_answer)`` on either.
 """
 
 from __future__ import annotations
@@ -33,18 +36,24 @@ import contextlib
 import logging
 import random
 import time
-from collections.abc import Awaitable, Callable, Iterable, Mapping, Sequence
+from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
 from types import TracebackType
-from typing import Any, Final, Protocol
+from typing import Final, Protocol
 
 from asyncua import ua
-from asyncua.client.client import Client
 from asyncua.ua.attribute_ids import AttributeIds
 
 from protocol.backoff import Backoff
-from server.links.opcua import secure_client
-from server.links.opcuapki import TrustMode
+from server.links.opcualogin import (
+    HINTS,
+    RETRY_DELAYS_S,
+    OpcuaClient,
+    OpcuaSecurity,
+    status_error,
+)
+from server.links.opcuapki import Pki
+from server.links.pacing import BACKOFF, HEALTHY_AFTER_S
 from server.links.sdwrites import (
     SD_ABS_VALUE,
     SD_REF_POSITION,
@@ -52,7 +61,9 @@ from server.links.sdwrites import (
     SdWrite,
     SdWritePlanner,
 )
+from server.links.state import LinkCondition
 from server.links.window.memory import LinkError
+from server.schemas.link import SinumerikSdLink
 from volumetric.compensate.tempcomp import TempCompLimits, temp_comp_setting_data
 
 __all__ = ["FollowerEvents", "SdFollower", "SdSession", "WriteOutcome"]
@@ -62,17 +73,14 @@ log = logging.getLogger(__name__)
 _NAMES: Final = {SD_ABS_VALUE: "TEMP_COMP_ABS_VALUE", SD_SLOPE: "TEMP_COMP_SLOPE",
                  SD_REF_POSITION: "TEMP_COMP_REF_POSITION"}
 _WHY: Final = {
+    **HINTS,
     "BadUserAccessDenied": "the user lacks SeaWrite (setting data)",
     "BadNotWritable": "MD32750 (TEMP_COMP_TYPE) does not enable this datum on the axis",
     "BadOutOfRange": "the NC refuses the value (beyond its limit)",
     "BadNodeIdUnknown": "no such setting datum on the controller (check sd_nodes)",
     "BadTypeMismatch": "the node does not hold a Double",
 }
-
-
-def _status_name(e: BaseException) -> str | None:
-    code = getattr(e, "code", None)
-    return ua.StatusCode(ua.UInt32(code)).name if isinstance(code, int) else None
+"""What a status code asks the operator to fix, for setting data."""
 
 
 class FollowerEvents(Protocol):
@@ -80,7 +88,8 @@ class FollowerEvents(Protocol):
 
     def connected(self) -> None: ...
 
-    def lost(self, why: str) -> None: ...
+    def lost(self, why: LinkCondition) -> None:
+        """The session failed or could not be opened (state, reason, text)."""
 
     def held(self, data: Mapping[str, Mapping[int, float]]) -> None:
         """What the NC holds now per axis and datum (after a read or a write)."""
@@ -104,7 +113,7 @@ class WriteOutcome:
     error: str | None
 
 
-class SdSession:
+class SdSession(OpcuaClient):
     """An OPC UA session that reads and writes SD43900/43910/43920.
 
     Parameters
@@ -121,31 +130,36 @@ class SdSession:
     namespace : int
         Namespace index of the BTSS paths (2 on a SINUMERIK).
     timeout_s : float
-    security_mode : {"SignAndEncrypt", "Sign"} or None
-        Basic256Sha256 with the center's certificate (as the window link,
-        :func:`server.links.opcua.secure_client`); None only when the link asks for
-        security None: the password then crosses the network in clear (warned).
-    trust : {"first_use", "list"}
-        How the controller's certificate is trusted.
+        Per request; the login may take twice this.
+    security : OpcuaSecurity, optional
+        How the channel is secured, as for the window link (default: Basic256Sha256
+        SignAndEncrypt, the controller's certificate trusted on first use). Security
+        None: the password crosses the network in clear (warned, :meth:`take_notices`).
+    pki : Pki, optional
+        The center's certificates (default: :func:`~server.links.opcuapki.pki_at`).
+    retry_delays_s : sequence of float
+        Waits before each new login after a busy answer.
     """
 
     def __init__(self, endpoint: str, user: str, password: str, axes: Sequence[str], *,
                  sd_nodes: Mapping[str, str] | None = None, namespace: int = 2,
-                 timeout_s: float = 5.0, security_mode: str | None = "SignAndEncrypt",
-                 trust: TrustMode = "first_use") -> None:
-        self.endpoint = endpoint
-        self.security_mode = security_mode
-        self.trust: TrustMode = trust
-        if security_mode is None:
-            log.warning("%s: security None: the password of %r crosses the network in "
-                        "clear", endpoint, user)
-        self.user = user
+                 timeout_s: float = 5.0, security: OpcuaSecurity | None = None,
+                 pki: Pki | None = None,
+                 retry_delays_s: Sequence[float] = RETRY_DELAYS_S) -> None:
+        super().__init__(endpoint, user, security=security, pki=pki, timeout_s=timeout_s,
+                         retry_delays_s=retry_delays_s)
         self._password = password
         self.axes = [a.upper() for a in axes]
         self.sd_nodes = dict(sd_nodes or {})
         self.namespace = namespace
-        self.timeout_s = float(timeout_s)
-        self._client: Client | None = None
+
+    @classmethod
+    def from_link(cls, link: SinumerikSdLink, password: str, axes: Sequence[str], *,
+                  timeout_s: float = 5.0, pki: Pki | None = None) -> SdSession:
+        """The session of a machine registered with ``link`` (``password``: the resolved
+        ``password_ref``; ``axes`` the machine's, in the NC's order)."""
+        return cls(link.endpoint, link.user, password, axes, sd_nodes=link.sd_nodes,
+                   timeout_s=timeout_s, security=OpcuaSecurity.of(link), pki=pki)
 
     def node(self, axis: str, number: int) -> ua.NodeId:
         """The node of SD``number`` of ``axis``."""
@@ -157,61 +171,9 @@ class SdSession:
                          ua.Int16(self.namespace))
 
     async def connect(self) -> None:
-        """Open the session; raises :class:`LinkError`."""
-        await self.close()
-        client = Client(self.endpoint, timeout=self.timeout_s, watchdog_intervall=5.0)
-        client.session_timeout = 60_000  # the SINUMERIK's
-        client.set_user(self.user)
-        client.set_password(self._password)
-        try:
-            async with asyncio.timeout(self.timeout_s * 2):
-                if self.security_mode is not None:
-                    await secure_client(client, self.endpoint, mode=self.security_mode,
-                                        trust=self.trust)
-                await client.connect()
-        except LinkError:
-            client.disconnect_socket()
-            raise
-        except Exception as e:  # asyncua raises many kinds; each becomes one line
-            client.disconnect_socket()
-            name = _status_name(e)
-            if name == "BadUserAccessDenied":
-                raise LinkError(f"{self.endpoint}: login as {self.user!r} refused: wrong "
-                                "user or password") from None
-            raise LinkError(f"{self.endpoint}: cannot open a session "
-                            f"({name or e.__class__.__name__})") from None
-        self._client = client
-
-    async def close(self) -> None:
-        """End the session (never raises)."""
-        client, self._client = self._client, None
-        if client is None:
-            return
-        try:
-            async with asyncio.timeout(self.timeout_s):
-                await client.disconnect()
-        except Exception:  # a dead connection has nothing to close politely
-            pass
-        finally:
-            client.disconnect_socket()
-
-    def _session(self) -> Client:
-        if self._client is None:
-            raise LinkError(f"{self.endpoint}: not connected")
-        return self._client
-
-    async def _request(self, request: Awaitable[Any], what: str) -> Any:
-        try:
-            async with asyncio.timeout(self.timeout_s):
-                return await request
-        except TimeoutError:
-            raise LinkError(f"{self.endpoint}: {what}: no answer within "
-                            f"{self.timeout_s:g} s") from None
-        except Exception as e:
-            name = _status_name(e)
-            raise LinkError(f"{self.endpoint}: {what}: "
-                            f"{_WHY.get(name or '', 'connection lost')} "
-                            f"({name or e.__class__.__name__})") from None
+        """Open the session; raises :class:`LinkError` (classified as the window link's:
+        :mod:`server.links.opcualogin`)."""
+        await self._open(self._password)
 
     async def read(self) -> dict[str, dict[int, float]]:
         """What the NC holds per axis and datum, in one Read request; raises
@@ -223,13 +185,14 @@ class SdSession:
             rv.NodeId = self.node(a, n)
             rv.AttributeId = AttributeIds.Value
             params.NodesToRead.append(rv)
-        values = await self._request(self._session().uaclient.read(params),
-                                   "read of SD4390x")
+        values = await self._ask(lambda: self._session().uaclient.read(params),
+                                 f"{self.endpoint}: read of SD4390x", "SinuReadAll", _WHY)
         out: dict[str, dict[int, float]] = {a: {} for a in self.axes}
         for (a, n), dv in zip(keys, values, strict=True):
             if dv.StatusCode is not None and not dv.StatusCode.is_good():
-                raise LinkError(f"{self.endpoint}: read of SD{n} axis {a}: "
-                                f"{dv.StatusCode.name}")
+                raise status_error(dv.StatusCode.name,
+                                   f"{self.endpoint}: read of SD{n} axis {a}",
+                                   user=self.user, right="SinuReadAll", hints=_WHY)
             v = dv.Value.Value if dv.Value is not None else None
             if not isinstance(v, float | int) or isinstance(v, bool):
                 raise LinkError(f"{self.endpoint}: SD{n} axis {a} holds "
@@ -239,7 +202,9 @@ class SdSession:
 
     async def write(self, writes: Sequence[SdWrite]) -> list[WriteOutcome]:
         """Write every datum of ``writes`` in one Write request; per axis what the NC
-        answered. Raises :class:`LinkError` when the request itself fails."""
+        answered. Raises :class:`LinkError` when the request itself fails, or the user
+        lacks ``SeaWrite`` (that is the login's, not an axis's refusal: the window link
+        ends its session on it too)."""
         params = ua.WriteParameters()
         owners: list[tuple[int, int]] = []
         for i, w in enumerate(writes):
@@ -252,8 +217,11 @@ class SdSession:
                 owners.append((i, n))
         if not owners:
             return []
-        codes = await self._request(self._session().uaclient.write(params),
-                                  "write of SD4390x")
+        codes = await self._ask(lambda: self._session().uaclient.write(params),
+                                f"{self.endpoint}: write of SD4390x", "SeaWrite", _WHY)
+        if any(c is not None and c.name == "BadUserAccessDenied" for c in codes):
+            raise status_error("BadUserAccessDenied", f"{self.endpoint}: write of SD4390x",
+                               user=self.user, right="SeaWrite")
         errors: dict[int, list[str]] = {}
         for (i, n), code in zip(owners, codes, strict=True):
             if code is not None and not code.is_good():
@@ -278,6 +246,9 @@ class SdFollower:
     min_interval_s : float
         At most one write per axis per this, s.
     backoff : Backoff, optional
+        Waits after failures in a row (default: the window links',
+        :data:`~server.links.pacing.BACKOFF`, 4, 12, 36, 60 s); only a session that
+        stayed up :data:`~server.links.pacing.HEALTHY_AFTER_S` starts it afresh.
     clock : callable
         Seconds, monotonic (the planner's time).
     events : FollowerEvents, optional
@@ -302,7 +273,7 @@ class SdFollower:
         self.limits = limits or TempCompLimits()
         self.planner = SdWritePlanner(session.axes, limits=self.limits,
                                       min_interval_s=min_interval_s)
-        self.backoff = backoff or Backoff(initial_s=0.5, cap_s=30.0)
+        self.backoff = backoff or BACKOFF
         self.clock = clock
         self._terms = tuple(terms)
         self._temps: dict[str, float] = {}
@@ -350,14 +321,15 @@ class SdFollower:
 
     async def _run(self) -> None:
         attempt = 0
+        since = 0.0
         while True:
             try:
                 await self.session.connect()
                 held = await self.session.read()
-                self._verified_s = self.clock()
+                self._verified_s = since = self.clock()
                 for axis, values in held.items():
                     self.planner.held(axis, values)
-                self.connected, attempt = True, 0
+                self.connected = True
                 self.nc_holds = held
                 if self.events is not None:
                     self.events.connected()
@@ -367,10 +339,15 @@ class SdFollower:
                 if str(exc) != self.last_error:
                     log.warning("%s: native SINUMERIK link: %s", self.name, exc)
                 if self.events is not None and (self.connected or str(exc) != self.last_error):
-                    self.events.lost(str(exc))
+                    self.events.lost(exc.condition)
+                if self.connected and self.clock() - since >= HEALTHY_AFTER_S:
+                    attempt = 0  # the session proved the link: this failure is news
                 self.connected = False
                 self.last_error = str(exc)
                 await self.session.close()
+                # paced as the window links are (issue 30: no storms): a login refused
+                # once is refused again, and a session that opens and fails at its first
+                # write (a user without SeaWrite) must not reset the backoff
                 await asyncio.sleep(self.backoff.delay(attempt, self._rng))
                 attempt = min(attempt + 1, 16)
 

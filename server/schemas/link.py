@@ -22,7 +22,7 @@ from typing import Annotated, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-__all__ = ["EdncLink", "LinkSpec", "ModbusLink", "OpcuaLink", "SinumerikSdLink"]
+__all__ = ["EdncLink", "LinkSpec", "ModbusLink", "OpcuaLink", "OpcuaLogin", "SinumerikSdLink"]
 
 Host = Annotated[str, Field(min_length=1, max_length=253, pattern=r"^[A-Za-z0-9.\-:\[\]]+$")]
 
@@ -63,11 +63,12 @@ class ModbusLink(BaseModel):
                          description="how often the center reads the PLC's status, ms")
 
 
-class OpcuaLink(BaseModel):
-    """A SINUMERIK reached through its OPC UA server (option; login required)."""
+class OpcuaLogin(BaseModel):
+    """Where and how the center logs in to a SINUMERIK's OPC UA server: what every OPC UA
+    link has (the window link and the native one log in alike:
+    server/links/opcualogin.py)."""
 
     model_config = ConfigDict(extra="forbid")
-    kind: Literal["opcua"]
     endpoint: Annotated[str, Field(pattern=r"^opc\.tcp://[^\s]+$", max_length=300)]
     security_policy: Literal["None", "Basic256Sha256"] = Field(
         default="Basic256Sha256", description="None (either field) only if asked: the "
@@ -76,14 +77,27 @@ class OpcuaLink(BaseModel):
     trust: Literal["first_use", "list"] = Field(
         default="first_use", description="the controller's certificate: kept on first use, "
         "or only those in the center's trust list (server/links/opcuapki.py)")
-    plc_class: Literal["s7-300", "s7-1500"] = Field(
-        default="s7-300", description="the PLC's class: its PDU sets the write block (240 "
-        "bytes for an S7-300 class, the 840D sl's; 960 for an S7-1500, SINUMERIK ONE)")
-    user: Annotated[str, Field(min_length=1, max_length=64)]
     password_ref: Annotated[str, Field(
         pattern=r"^(env:[A-Za-z_][A-Za-z0-9_]*|file:/.+)$",
         description="where the center reads the user's password: env:NAME or file:/path "
                     "(never the password itself: the description is returned by the API)")]
+    client_certificate: str | None = Field(
+        default=None, min_length=1, max_length=500,
+        description="path of another application certificate (PEM or DER) than the "
+                    "center's own (made on first start)")
+    client_private_key: str | None = Field(
+        default=None, min_length=1, max_length=500,
+        description="path of that certificate's private key")
+
+
+class OpcuaLink(OpcuaLogin):
+    """A SINUMERIK reached through its OPC UA server (option; login required)."""
+
+    kind: Literal["opcua"]
+    plc_class: Literal["s7-300", "s7-1500"] = Field(
+        default="s7-300", description="the PLC's class: its PDU sets the write block (240 "
+        "bytes for an S7-300 class, the 840D sl's; 960 for an S7-1500, SINUMERIK ONE)")
+    user: Annotated[str, Field(min_length=1, max_length=64)]
     window_node: Annotated[str, Field(
         min_length=1, max_length=200,
         description="node id of the PLC data block that holds the window")] = \
@@ -93,13 +107,6 @@ class OpcuaLink(BaseModel):
         description="node ids of SD43900/43910/43920 the center reads back, keyed "
                     "'<AXIS>.<number>' (e.g. 'X.43900'); the rest default to the SINUMERIK "
                     "paths of machine axis k, /NC/_N_AX_SEA_ACX/$SA_TEMP_COMP_...[uk]")
-    client_certificate: str | None = Field(
-        default=None, min_length=1, max_length=500,
-        description="path of another application certificate (PEM or DER) than the "
-                    "center's own (made on first start)")
-    client_private_key: str | None = Field(
-        default=None, min_length=1, max_length=500,
-        description="path of that certificate's private key")
     block_bytes: int | None = Field(
         default=None, ge=4, le=16_384, multiple_of=4,
         description="largest window write per request, bytes (default: by plc_class)")
@@ -108,26 +115,14 @@ class OpcuaLink(BaseModel):
                                      "100 ms)")
 
 
-class SinumerikSdLink(BaseModel):
+class SinumerikSdLink(OpcuaLogin):
     """A SINUMERIK whose NC temperature compensation the center writes itself (issue 31):
     SD43900/43910/43920 per axis from the model's drift and expansion terms, within the
     NC's limits and at most once per ``min_interval_ms`` per axis."""
 
-    model_config = ConfigDict(extra="forbid")
     kind: Literal["sinumerik_sd"]
-    endpoint: Annotated[str, Field(pattern=r"^opc\.tcp://[^\s]+$", max_length=300)]
-    security_policy: Literal["None", "Basic256Sha256"] = Field(
-        default="Basic256Sha256", description="None (either field) only if asked: the "
-        "password then crosses the network in clear, with a warning")
-    security_mode: Literal["None", "Sign", "SignAndEncrypt"] = "SignAndEncrypt"
-    trust: Literal["first_use", "list"] = Field(
-        default="first_use", description="the controller's certificate: kept on first use, "
-        "or only those in the center's trust list (server/links/opcuapki.py)")
     user: Annotated[str, Field(min_length=1, max_length=64,
                                description="an OPC UA user with SeaWrite and SinuReadAll")]
-    password_ref: Annotated[str, Field(
-        pattern=r"^(env:[A-Za-z_][A-Za-z0-9_]*|file:/.+)$",
-        description="where the center reads the user's password: env:NAME or file:/path")]
     sd_nodes: dict[str, str] = Field(
         default_factory=dict,
         description="node ids of SD43900/43910/43920 keyed '<AXIS>.<number>'; the rest "

@@ -66,7 +66,9 @@ class TempCompLimits:
 
 @dataclass(frozen=True)
 class AxisTempComp:
-    """One axis's SD43900/43910/43920.
+    """One axis's SD43900/43910/43920: what the center writes to a native SINUMERIK
+    (:mod:`server.links.sinumerik_sd`) and what the simulated NC holds and applies
+    (:mod:`machine_sim.siemens_thermal`).
 
     Attributes
     ----------
@@ -88,6 +90,11 @@ class AxisTempComp:
     def correction_mm(self, position_mm: float) -> float:
         """What the NC adds at an axis position, mm (module docstring)."""
         return self.offset_mm + self.slope * (position_mm - self.ref_mm)
+
+    @property
+    def needs_slope(self) -> bool:
+        """Whether SD43910/SD43920 (MD32750 bit 1) are needed."""
+        return self.slope != 0.0
 
 
 @dataclass(frozen=True)
