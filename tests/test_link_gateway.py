@@ -1,8 +1,10 @@
 """Several controllers behind one address: a Modbus/TCP gateway, one unit id each.
 
-Each machine is registered with its own ``unit_id`` on the same host and port (and its
-own ``ip``): the center reaches each window through the one address, ``ednc discover
---unit-id`` finds them all, and two registrations on one window are refused, visibly.
+Each machine is registered with its own ``unit_id`` on the same host and port, and may
+share its ``ip`` (the gateway's address) with the others: the ip keys EDNC logins only.
+The center reaches each window through the one address and gives each its own map,
+registered through the REST API or a machines file; ``ednc discover --unit-id`` finds
+them all, and two registrations on one window are refused, visibly.
 """
 
 from __future__ import annotations
@@ -11,12 +13,26 @@ import asyncio
 from contextlib import AsyncExitStack
 from pathlib import Path
 
+import pytest
+
+from machine_sim.lookup import ActiveMap
 from server.links import BACKENDS, memory_for
 from server.links.discover import discover
 from server.links.modbus import ModbusMemory
 from server.schemas.link import ModbusLink
-from tests.support.integration import FANUC_5AX, Spec, center, spec, until
-from tests.support.pmc import gateway, linked
+from tests.support.integration import (
+    DEADLINE_S,
+    FANUC_5AX,
+    Spec,
+    applied_map,
+    campaign,
+    center,
+    check_diagonals,
+    machines_file,
+    spec,
+    until,
+)
+from tests.support.pmc import gateway, linked, modbus_link
 
 GANTRY = spec("gantry-02")
 
@@ -65,3 +81,44 @@ async def test_two_pmcs_behind_one_address_are_found_and_served(tmp_path: Path) 
         st = await plant.status("gantry-02b")
         assert st["link_reason"] == "duplicate_link" and GANTRY.name in st["link_text"], st
         assert (await plant.status(GANTRY.name))["connected"]
+
+
+def at_gateway(s: Spec, port: int, unit: int) -> Spec:
+    """``s`` behind the gateway on loopback ``port`` as unit ``unit``, registered at the
+    gateway's address: its ``ip``, which the link's host defaults to."""
+    link = {k: v for k, v in modbus_link(port, unit_id=unit).items() if k != "host"}
+    return Spec({**s.description, "ip": "127.0.0.1", "link": link}, s.secret, s.seed,
+                s.effects)
+
+
+HMC = spec("hmc-03")  # a second Fanuc, another chain: another map
+
+
+@pytest.mark.parametrize("via", ["rest", "machines file"])
+async def test_two_pmcs_registered_at_the_gateways_address_get_their_own_maps(
+        tmp_path: Path, via: str) -> None:
+    # the laser campaigns come before the center is involved (off the clock)
+    sims = {s.name: (await asyncio.to_thread(campaign, s.name))[0] for s in (GANTRY, HMC)}
+    received: dict[int, ActiveMap] = {}
+    async with asyncio.timeout(DEADLINE_S), AsyncExitStack() as stack:
+        port, cncs = await stack.enter_async_context(gateway({1: GANTRY, 2: HMC}))
+        specs = {1: at_gateway(GANTRY, port, 1), 2: at_gateway(HMC, port, 2)}
+        listed = (machines_file(tmp_path / "machines.json", list(specs.values()))
+                  if via == "machines file" else None)
+        plant = await stack.enter_async_context(center(f"sqlite:///{tmp_path / 'c.db'}",
+                                                       machines_file=listed))
+        if via == "rest":
+            for s in specs.values():
+                await plant.register(s)
+        listing = (await plant.client.get("/api/machines")).json()
+        assert sorted((m["name"], m["ip"]) for m in listing) == sorted(
+            (s.name, "127.0.0.1") for s in specs.values()), listing
+        for s in specs.values():
+            assert await plant.fit_from_campaign(s.name) == 1
+        for unit, s in specs.items():
+            received[unit] = await applied_map(plant, cncs[unit].runtime.controller.store,
+                                               s.name)
+            assert (await plant.status(s.name))["telemetry"]["link"] == "modbus"
+    # the map each unit applied compensates its own machine (not its neighbour)
+    for unit, s in specs.items():
+        check_diagonals(sims[s.name], received[unit], f"behind the gateway as unit {unit}")

@@ -179,6 +179,26 @@ async def test_duplicate_name_or_ip_is_409(client: httpx.AsyncClient,
     assert r.status_code == 409
 
 
+async def test_link_machines_share_an_ip_an_ednc_machine_does_not(
+        client: httpx.AsyncClient) -> None:
+    """Two controllers behind one Modbus gateway at its address; an EDNC machine there is
+    409 either way round (the machine port would admit the address for both)."""
+    gateway = "10.0.0.50"
+    for unit in (1, 2):
+        r = await client.post("/api/machines", headers=WRITE, json={
+            **VMC, "secret": SECRET, "name": f"pmc-{unit}", "ip": gateway,
+            "link": {"kind": "modbus", "unit_id": unit}})
+        assert r.status_code == 201, r.text
+    r = await client.post("/api/machines", headers=WRITE,
+                          json={**VMC, "secret": SECRET, "name": "vmc-09", "ip": gateway})
+    assert r.status_code == 409 and "EDNC machine" in r.json()["detail"], r.text
+    await add_vmc(client)  # an EDNC machine at 10.0.0.21
+    r = await client.patch("/api/machines/pmc-2", json={"ip": "10.0.0.21"}, headers=WRITE)
+    assert r.status_code == 409 and "EDNC machine" in r.json()["detail"], r.text
+    listed = {m["name"]: m["ip"] for m in (await client.get("/api/machines")).json()}
+    assert listed == {"pmc-1": gateway, "pmc-2": gateway, "vmc-01": "10.0.0.21"}
+
+
 @pytest.mark.parametrize("path", [
     "/api/machines/ghost", "/api/machines/ghost/status", "/api/machines/ghost/models",
     "/api/machines/ghost/models/latest", "/api/machines/ghost/measurements",

@@ -39,6 +39,7 @@ from server.dashboard.schemas import (
 from server.dashboard.telemetry import live_values
 from server.db import events as event_repo
 from server.db import machines as machine_repo
+from server.db.machines import link_kind
 from server.db.maps import delivery_state
 from server.db.tables import AppliedRow, DiagnosisRow, MachineRow, MapVersionRow, ModelRow
 from server.health import DEFAULT_LIMITS, LABELS, Inputs, Limits, assess, tolerance_of
@@ -232,14 +233,6 @@ def chain_text(description: Mapping[str, Any]) -> str:
         return chain
     return (f"type {description.get('translational_type', '?')}"
             f"/{description.get('rotary_type', 0)}")
-
-
-def link_kind(description: Mapping[str, Any]) -> str:
-    """``ednc``, ``modbus``, ``opcua`` or ``sinumerik_sd``: the description's link
-    (server/schemas/link.py)."""
-    link = description.get("link")
-    kind = link.get("kind") if isinstance(link, Mapping) else None
-    return kind if kind in ("ednc", "modbus", "opcua", "sinumerik_sd") else "ednc"
 
 
 def residual(v: VerificationSummary | None) -> tuple[float | None, bool]:

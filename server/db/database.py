@@ -11,17 +11,32 @@ thread per call costs nothing that matters while keeping the event loop free.
 from __future__ import annotations
 
 import asyncio
+import json
 import os
+import sqlite3
 from collections.abc import AsyncIterator, Callable, Iterator
 from contextlib import asynccontextmanager, contextmanager
 from typing import Any, Concatenate, ParamSpec, TypeVar
 
-from sqlalchemy import Engine, create_engine, event, inspect, text
+from sqlalchemy import (
+    Connection,
+    Engine,
+    MetaData,
+    Table,
+    create_engine,
+    event,
+    inspect,
+    select,
+    text,
+    update,
+)
 from sqlalchemy.engine import make_url
 from sqlalchemy.exc import OperationalError
 from sqlalchemy.orm import Session, sessionmaker
 from sqlalchemy.pool import StaticPool
+from sqlalchemy.schema import CreateIndex, CreateTable
 
+from server.db.machines import link_kind
 from server.db.secretbox import SecretBox
 from server.db.tables import Base
 
@@ -101,6 +116,99 @@ def _add_missing_columns(engine: Engine) -> None:
                 conn.execute(text(f"ALTER TABLE {table} ADD COLUMN {column} {kind}"))
 
 
+def _share_link_ips(engine: Engine) -> None:
+    """Bring a ``machines`` table made before link machines could share an ip to today's:
+    no unique constraint on ``ip`` alone, a ``link`` column filled from each description,
+    the partial unique index on the EDNC machines' ips (:class:`~server.db.tables.MachineRow`).
+
+    Rows, ids and the other tables' foreign keys to ``machines`` are kept. The table made
+    by ``create_all`` today has ``link``; one without it is the old schema.
+    """
+    if "machines" not in inspect(engine).get_table_names():
+        return
+    if "link" in {c["name"] for c in inspect(engine).get_columns("machines")}:
+        return
+    if engine.dialect.name == "sqlite":
+        _rebuild_sqlite_machines(engine)
+    else:
+        uniques = inspect(engine).get_unique_constraints("machines")
+        with engine.begin() as conn:
+            for u in uniques:
+                if u["column_names"] == ["ip"] and u["name"]:
+                    conn.execute(text(f'ALTER TABLE machines DROP CONSTRAINT "{u["name"]}"'))
+            conn.execute(text("ALTER TABLE machines ADD COLUMN IF NOT EXISTS "
+                              "link varchar(16) NOT NULL DEFAULT 'ednc'"))
+            _fill_link(conn)
+            for index in Base.metadata.tables["machines"].indexes:
+                index.create(conn, checkfirst=True)
+
+
+def _fill_link(conn: Connection) -> None:
+    """Set ``machines.link`` from each description's ``link.kind`` (in Python: JSON paths
+    are spelled differently on SQLite and PostgreSQL)."""
+    table = Base.metadata.tables["machines"]
+    for machine_id, description in conn.execute(select(table.c.id, table.c.description)):
+        kind = link_kind(_json_object(description))
+        if kind != "ednc":
+            conn.execute(update(table).where(table.c.id == machine_id).values(link=kind))
+
+
+def _rebuild_sqlite_machines(engine: Engine) -> None:
+    """SQLite cannot drop a column's UNIQUE: make the table anew and copy the rows over.
+
+    The order is SQLite's own for schema changes (https://sqlite.org/lang_altertable.html,
+    "Making Other Kinds Of Table Schema Changes"): with foreign keys off, create
+    ``machines_new``, copy, drop ``machines``, rename ``machines_new``; the other tables'
+    ``REFERENCES machines`` are text and name the new table once it has the name.
+    Renaming the old table away first instead would rewrite those references to it.
+    """
+    old = Table("machines", MetaData(), autoload_with=engine)
+    new = Base.metadata.tables["machines"].to_metadata(MetaData(), name="machines_new")
+    columns = [c.name for c in old.columns if c.name in new.c]
+    raw = engine.raw_connection()
+    try:
+        db = raw.driver_connection
+        assert isinstance(db, sqlite3.Connection)
+        level = db.isolation_level
+        db.isolation_level = None  # autocommit: BEGIN and COMMIT are ours, PRAGMA outside
+        try:
+            # a no-op inside a transaction, hence before BEGIN
+            db.execute("PRAGMA foreign_keys=OFF")
+            db.execute("BEGIN IMMEDIATE")
+            try:
+                db.execute(str(CreateTable(new).compile(dialect=engine.dialect)))
+                listed = ", ".join(columns)
+                db.execute(f"INSERT INTO machines_new ({listed}) SELECT {listed} FROM machines")
+                db.execute("DROP TABLE machines")
+                db.execute("ALTER TABLE machines_new RENAME TO machines")
+                # in the same transaction: a start that stops half way finds the old table
+                for machine_id, stored in db.execute("SELECT id, description FROM machines"):
+                    kind = link_kind(_json_object(stored))
+                    if kind != "ednc":
+                        db.execute("UPDATE machines SET link = ? WHERE id = ?",
+                                   (kind, machine_id))
+                for index in Base.metadata.tables["machines"].indexes:
+                    db.execute(str(CreateIndex(index).compile(dialect=engine.dialect)))
+                broken = db.execute("PRAGMA foreign_key_check").fetchall()
+                if broken:
+                    raise RuntimeError(f"machines rebuild broke foreign keys: {broken[:3]}")
+                db.execute("COMMIT")
+            except BaseException:
+                db.execute("ROLLBACK")
+                raise
+        finally:
+            db.execute("PRAGMA foreign_keys=ON")
+            db.isolation_level = level
+    finally:
+        raw.close()
+
+
+def _json_object(stored: object) -> dict[str, Any]:
+    """A JSON column's text read through the driver: the object, or {} for anything else."""
+    value = json.loads(stored) if isinstance(stored, str | bytes) else stored
+    return value if isinstance(value, dict) else {}
+
+
 class Database:
     """An engine plus a session factory; the one object the service holds for persistence.
 
@@ -139,6 +247,7 @@ class Database:
         try:
             Base.metadata.create_all(self.engine)
             _add_missing_columns(self.engine)
+            _share_link_ips(self.engine)
             if self.engine.dialect.name == "postgresql":
                 # tables made before secrets were sealed have varchar(256)
                 with self.engine.begin() as conn:

@@ -12,9 +12,12 @@ class DuplicateError(ValueError):
         The unique field, e.g. ``"name"`` or ``"ip"``.
     value : str
         The value that is already taken.
+    why : str
+        Why the value cannot be shared, when that is not obvious (appended to the message).
     """
 
-    def __init__(self, what: str, field: str, value: str) -> None:
-        super().__init__(f"a {what} with {field} {value!r} already exists")
+    def __init__(self, what: str, field: str, value: str, why: str = "") -> None:
+        super().__init__(f"a {what} with {field} {value!r} already exists"
+                         + (f": {why}" if why else ""))
         self.field = field
         self.value = value

@@ -23,6 +23,7 @@ from sqlalchemy import (
     Text,
     TypeDecorator,
     UniqueConstraint,
+    text,
 )
 from sqlalchemy.engine import Dialect
 from sqlalchemy.orm import DeclarativeBase, Mapped, mapped_column
@@ -76,13 +77,27 @@ class MachineRow(Base):
     ``secret`` is sealed (AES-GCM, :mod:`server.db.secretbox`) because the center must
     compute HMAC responses with it, so a hash would not do; the API never returns it. 512
     characters: a sealed 256-byte secret takes 388.
+
+    ``ip`` is the key of EDNC logins (the server admits a peer by its address and checks
+    it against the Hello's), so it is unique among machines whose ``link`` is ``ednc``;
+    machines the center reaches through a controller link may share one (controllers
+    behind one gateway). The partial index enforces the first half; the rest, that a link
+    machine does not take an EDNC machine's address, is checked by
+    :func:`server.db.machines.create_machine` (a rule across rows no portable index holds).
+    ``link`` repeats the description's ``link.kind`` for that index.
     """
 
     __tablename__ = "machines"
+    __table_args__ = (
+        # SQLite (3.8+) and PostgreSQL both take a partial unique index with this WHERE.
+        Index("uq_machines_ednc_ip", "ip", unique=True,
+              sqlite_where=text("link = 'ednc'"), postgresql_where=text("link = 'ednc'")),
+    )
 
     id: Mapped[int] = mapped_column(primary_key=True)
     name: Mapped[str] = mapped_column(String(64), unique=True)
-    ip: Mapped[str] = mapped_column(String(45), unique=True)
+    ip: Mapped[str] = mapped_column(String(45), index=True)
+    link: Mapped[str] = mapped_column(String(16), default="ednc", server_default="ednc")
     controller: Mapped[str] = mapped_column(String(16))
     description: Mapped[dict[str, Any]]
     secret: Mapped[str] = mapped_column(String(512))

@@ -127,11 +127,13 @@ Procedure (``ednc diagnose``):
    (:func:`~volumetric.diagnose.further.list_alternatives`). A drift and an expansion of
    one axis share variance (the expansion's mean over positions is a drift of its sensor):
    every pair of them on an axis that holds either is judged with both in the model
-   (:mod:`~volumetric.diagnose.joint`); the best replaces the axis's thermal effects (a
-   lagged drift included) when it beats them and its weaker member passes the gates
-   against the best single one (its gain over the readings of the axis), and both are
-   estimated in one fit, each entry giving ``correlation``: the other's effect, axis,
-   sensor and ``r``, the correlation of the two estimates.
+   (:mod:`~volumetric.diagnose.joint`); the best (a pair on two sensors unless one on a
+   single sensor, one body's growth about another fixed point, beats them all by more
+   than ``TIE``: :func:`~volumetric.diagnose.joint.best_pair`) replaces the axis's
+   thermal effects (a lagged drift included) when it beats them and its weaker member
+   passes the gates against the best single one (its gain over the readings of the
+   axis), and both are estimated in one fit, each entry giving ``correlation``: the
+   other's effect, axis, sensor and ``r``, the correlation of the two estimates.
 7. **Unexplained structure** (:mod:`volumetric.diagnose.unexplained`): the final held-out
    residuals are searched for what they still follow (position, a period along an axis,
    approach direction, time, a temperature). Structure there is reported as an

@@ -31,6 +31,7 @@ from volumetric.diagnose.gates import (
     MIN_GAIN,
     T_MIN,
     THERMAL_FAMILY,
+    TIE,
     Z_MIN,
     Scored,
     significance,
@@ -104,6 +105,35 @@ def _t(fit: JointFit, i: int) -> float:
     return float(np.linalg.norm(coef) / max(float(np.linalg.norm(std)), 1e-300))
 
 
+def best_pair(tried: list[tuple[float, Candidate, Candidate, F64]]
+              ) -> tuple[float, Candidate, Candidate, F64]:
+    """The pair of a drift and an expansion of one axis to judge, of every pair ``tried``
+    (held-out RMS in µm, drift, expansion, held-out residuals (N,)): the lowest held-out
+    RMS among those whose two members read different sensors, unless a pair on one sensor
+    beats every such pair by more than ``TIE``.
+
+    A drift and an expansion of one sensor are one body's growth about another fixed
+    point (``k ΔT + α ΔT (q − q_min) = α ΔT (q − q_0)``), not two effects. Where the
+    screws follow the same shop air, every pair of them fits the readings to within a
+    few tenths of a percent, and the pair on one sensor wins that tie by the sensors'
+    reading noise alone: its two columns carry the same noise, which cancels where the
+    drift and the expansion cancel, while two sensors' noises add (errors in the
+    variables). It then names the expansion's sensor for the drift too, with both sizes
+    right (issue 33: 3 of the 7 misses of the same-axis family at noise x2, the true pair
+    within 0.1-0.8 % of it). Where the readings cannot tell them apart (``TIE``, the
+    margin that lists another sensor as an alternative), two sensors are kept.
+    """
+    if not tried:
+        raise ValueError("no pair to judge")
+    best = min(tried, key=lambda t: t[0])
+    two = [t for t in tried if t[1].sensor != t[2].sensor]
+    if two:
+        best_two = min(two, key=lambda t: t[0])
+        if best_two[0] <= best[0] * (1 + TIE):
+            return best_two
+    return best
+
+
 def same_axis_pairs(
     chosen: list[Candidate], scored: list[Scored],
     heldout_of: Callable[[list[Candidate]], F64], judge: NDArray[np.bool_],
@@ -133,17 +163,17 @@ def same_axis_pairs(
             continue
         singles = [(c, heldout_of([*others, c])) for e in PAIR for c in pool[e]]
         single, r_single = min(singles, key=lambda cr: rms_of(cr[1][judge]))
-        best: tuple[float, Candidate, Candidate, F64] | None = None
-        for d in pool[PAIR[0]]:
-            for e in pool[PAIR[1]]:
-                r = heldout_of([*others, d, e])
-                rms = rms_of(r[judge])
-                if best is None or rms < best[0]:
-                    best = (rms, d, e, r)
-        assert best is not None
-        rms_pair, d, e, r_pair = best
+        rms_pair, d, e, r_pair = best_pair(
+            [(rms_of(r[judge]), d, e, r) for d in pool[PAIR[0]] for e in pool[PAIR[1]]
+             for r in (heldout_of([*others, d, e]),)])
         rms_now = rms_of(heldout_of(out)[judge])
-        if rms_pair >= rms_now:
+        # what is named may itself be a drift and an expansion on one sensor (forward
+        # selection and refine choose each with the other in): best_pair's rule, not
+        # the lower RMS alone, decides between it and a pair on two sensors
+        one_sensor = (sorted(c.effect for c in on_axis) == sorted(PAIR)
+                      and len({c.sensor for c in on_axis}) == 1
+                      and not any("lagged" in c.extra for c in on_axis))
+        if rms_pair >= rms_now * (1 + TIE if one_sensor else 1):
             continue
         touched = np.any(d.columns != 0, axis=1) | np.any(e.columns != 0, axis=1)
         z = significance(r_single, r_pair, order_judge, touched)
@@ -200,12 +230,11 @@ def masked_pair(
         top = min((s for s in scored if s.candidate.effect in PAIR
                    and s.candidate.axis == axis and "lagged" not in s.candidate.extra),
                   key=lambda s: s.rms_after_um)
-        for d in pool[PAIR[0]]:
-            for e in pool[PAIR[1]]:
-                r = heldout_of([d, e])
-                rms = rms_of(r[judge])
-                if best is None or rms < best[0]:
-                    best = (rms, d, e, r, top.candidate, top.heldout)
+        rms, d, e, r = best_pair(
+            [(rms_of(r[judge]), d, e, r) for d in pool[PAIR[0]] for e in pool[PAIR[1]]
+             for r in (heldout_of([d, e]),)])
+        if best is None or rms < best[0]:
+            best = (rms, d, e, r, top.candidate, top.heldout)
     if best is None:
         return None
     rms_pair, d, e, r_pair, single, r_single = best

@@ -5,7 +5,10 @@ secret it gets, in order:
 
 1. :class:`AddressBook`: admission at accept. Every machine is registered at one address;
    a connection from any other address is closed before it takes a handshake slot, a
-   buffer or a database row (counted, logged at most once a minute per address).
+   buffer or a database row (counted, logged at most once a minute per address). An
+   address is one EDNC machine's, or shared by machines reached through a link (a
+   gateway's; :mod:`server.db.machines`): those are admitted too, so a controller
+   registered with a link that dials in anyway is told why it is refused.
 2. :class:`HandshakeSlots`: a bounded number of handshakes in progress, per address and
    in total. When all are taken, a newcomer from an address without a handshake takes the
    slot of the oldest handshake that is waiting for its peer (a holder that sent nothing,
