@@ -29,8 +29,10 @@ temperature's way to the applied compensation. Run by hand:
   ``--pmc-procs n`` spreads the PMCs over n child processes: one Python process with
   several hundred of them stalls on a loaded machine (its answers come later than the
   center's 2 s time-out, which a plant's PMCs, each its own device, do not cause).
-  ``--pmc-nice n`` runs them at that nice value (with other work on the machine, PMCs at
-  nice 5 fell behind their 1 s PLC cycle and looked stopped: not used for the figures).
+  ``--pmc-nice n`` runs them at that nice value: ``-5`` with ``--load`` keeps the busy
+  loops off the PMCs (in a plant the load is on the center's computer, each PMC is a device
+  of its own); at nice 0, 1,000 simulated PMCs sharing 2 cores with two busy loops answer
+  status reads later than the link's time-out twice in a row and the fleet collapses.
 * ``temperature``: N machines with a spindle-growth map; temperatures go into the center's
   intake (as MQTT or REST readings do) at ``rate`` per second across the machines; the
   child process stamps when each PLC program took each value from its slots
