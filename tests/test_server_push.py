@@ -8,11 +8,14 @@ import asyncio
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
+from typing import Any
 
 from machine_sim.lookup import GridMap
 from protocol import (
+    Controller,
     Error,
     ErrorCode,
+    Hello,
     MapAck,
     MapAssembler,
     MapBegin,
@@ -28,7 +31,9 @@ from server.db import error_models as model_repo
 from server.db import machines as machine_repo
 from server.db import maps as map_repo
 from server.events import EventKind
+from server.links.ednc.session import Verdict
 from server.push import Delivery, thermal_sensors
+from server.push.scheduler import PREPARING
 from tests.support.link import (
     DEADLINE_S,
     RawMachine,
@@ -299,3 +304,78 @@ async def test_a_deleted_machine_is_disconnected(tmp_path: Path) -> None:
             pass
         assert isinstance(msg, Error) and msg.code is ErrorCode.SHUTDOWN
         assert "no longer registered" in msg.text
+
+
+class _SlowPlcLink:
+    """A controller link whose verdict takes a PLC cycle: what the scheduler sees."""
+
+    def __init__(self, name: str, ip: str) -> None:
+        self._name = name
+        self.address = f"{ip}:502"
+        self.closed_because: str | None = None
+        self.hello = Hello(name=name, ip=ip, controller=Controller.FANUC,
+                           map_formats=MapEncoding.FLOAT32_MM | MapEncoding.INT32_INCREMENTS,
+                           software_version="plc/test", translational_type=1)
+        self.pushed: list[int] = []
+
+    @property
+    def name(self) -> str:
+        return self._name
+
+    @property
+    def reported_version(self) -> int | None:
+        return None
+
+    def adopt(self, version: int, payload: bytes) -> None:
+        pass
+
+    async def push_map(self, version: int, payload: bytes, timeout_s: float) -> Verdict:
+        self.pushed.append(version)
+        await asyncio.sleep(0.2)
+        return Verdict(version, True, None, "", 0.2)
+
+    def send(self, msg: object) -> None:
+        pass
+
+    def abort(self, code: ErrorCode | None, text: str) -> None:
+        self.closed_because = text
+
+    async def wait_closed(self) -> None:
+        await asyncio.Event().wait()
+
+
+async def test_machines_woken_together_get_maps_before_all_are_prepared(
+        tmp_path: Path) -> None:
+    """40 machines woken at once: the first maps leave while others are still being
+    prepared, not after every machine's first database step (the database threads are
+    one FIFO: unbounded, each machine took its first step before any took its second)."""
+    count = 40
+    async with asyncio.timeout(DEADLINE_S), rig(tmp_path, period_s=600.0) as r:
+        rows = []
+        for i in range(count):
+            ip = f"10.0.0.{i + 1}"
+            await r.register(f"m-{i:02d}", ip=ip, model=model_body(f"m-{i:02d}"))
+            rows.append((await r.db.run(machine_repo.get_machine, f"m-{i:02d}"), ip))
+        steps: list[str] = []
+        run = r.db.run
+
+        async def logged(fn: Any, *args: Any, **kwargs: Any) -> Any:
+            steps.append(fn.__name__)
+            return await run(fn, *args, **kwargs)
+
+        r.db.run = logged  # type: ignore[method-assign]
+        links = [_SlowPlcLink(row.name, ip) for row, ip in rows if row is not None]
+        workers = [asyncio.create_task(r.services.push.serve(link, row))
+                   for link, (row, _ip) in zip(links, rows, strict=True) if row is not None]
+        try:
+            await until(lambda: all(link.pushed for link in links))
+        finally:
+            for w in workers:
+                w.cancel()
+            await asyncio.gather(*workers, return_exceptions=True)
+        loads = [k for k, s in enumerate(steps) if s == "load_inputs"]
+        first_sent = steps.index("store_and_send")
+        assert len(loads) == count
+        assert first_sent < loads[-1], (
+            f"the first map was noted after all {count} machines' first step")
+        assert first_sent < loads[PREPARING + 1]

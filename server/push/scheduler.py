@@ -65,6 +65,14 @@ THRESHOLD_K: Final = 0.05
 VERDICT_TIMEOUT_S: Final = MAP_VERDICT_TIMEOUT_MS / 1000
 """MapAck or MapReject within 30 s of sending (protocol README §9)."""
 
+PREPARING: Final = 8
+"""Refreshes in their database steps at once (load, build, store, note the delivery).
+The steps share one FIFO of database threads: 1,000 machines woken together would each
+take their first step before any took its second, so no map left before every machine's
+steps but the last were done, and a controller link's wait for its PLC (a cycle and a
+status poll, 1-2 s) came after all of them instead of beside them. Bounded, machines go
+through their steps a few at a time and the first maps leave at once."""
+
 # -- the scheduler
 
 @dataclass
@@ -109,6 +117,24 @@ class Delivery:
     why: str
 
 
+class _Slot:
+    """One refresh's place among the :data:`PREPARING`; given back once (at the push, or
+    when the refresh ends without one)."""
+
+    def __init__(self, semaphore: asyncio.Semaphore) -> None:
+        self._semaphore = semaphore
+        self._held = False
+
+    async def acquire(self) -> None:
+        await self._semaphore.acquire()
+        self._held = True
+
+    def release(self) -> None:
+        if self._held:
+            self._held = False
+            self._semaphore.release()
+
+
 class PushScheduler:
     """Keeps every connected machine's map current; an async context manager.
 
@@ -145,6 +171,7 @@ class PushScheduler:
         SINUMERIK links follow models this way: one CommitWatcher per process sees them)."""
         self._targets: dict[str, _Target] = {}
         self._by_id: dict[int, _Target] = {}
+        self._preparing = asyncio.Semaphore(PREPARING)
         self._pool: ThreadPoolExecutor | None = None
         self._stack = contextlib.ExitStack()
 
@@ -199,14 +226,18 @@ class PushScheduler:
                 why = ", ".join(dict.fromkeys(target.why)) or ("period" if periodic else "")
                 target.why.clear()
                 resend, target.resend = target.resend, False
+                slot = _Slot(self._preparing)
                 try:
-                    await self._refresh(target, send_anyway=first or resend,
+                    await slot.acquire()
+                    await self._refresh(target, slot, send_anyway=first or resend,
                                         periodic=periodic, why=why or "session start",
                                         first=first and not resend)
                 except SQLAlchemyError as exc:  # e.g. a busy database: try again later
                     log.warning("%s: push skipped, database error: %s", target.name,
                                 str(exc).splitlines()[0])
                     target.resend = target.resend or first or resend
+                finally:
+                    slot.release()
                 first = False
                 try:
                     async with asyncio.timeout(self.period_s):
@@ -221,8 +252,8 @@ class PushScheduler:
             if self._by_id.get(machine.id) is target:
                 del self._by_id[machine.id]
 
-    async def _refresh(self, target: _Target, *, send_anyway: bool, periodic: bool,
-                       why: str, first: bool = False) -> None:
+    async def _refresh(self, target: _Target, slot: _Slot, *, send_anyway: bool,
+                       periodic: bool, why: str, first: bool = False) -> None:
         inputs = await self.db.run(steps.load_inputs, target.machine_id)
         machine, model, current = inputs.machine, inputs.model, inputs.map
         if machine is None:
@@ -281,7 +312,7 @@ class PushScheduler:
             payload = await self.db.run(steps.stored_payload, target.machine_id, current.version)
             if payload is None:
                 return
-        await self._deliver(target, current.version, payload,
+        await self._deliver(target, slot, current.version, payload,
                             f"{why}: {rebuild}" if fresh else f"{why}: re-send", applied_id)
 
     def _rebuild_reason(self, machine: MachineRow, model: ModelRow,
@@ -322,10 +353,11 @@ class PushScheduler:
                  row.version, " with thermal terms" if target.thermal_in_map else "", why)
         return row, applied_id
 
-    async def _deliver(self, target: _Target, version: int, payload: bytes, why: str,
-                       applied_id: int | None = None) -> None:
+    async def _deliver(self, target: _Target, slot: _Slot, version: int, payload: bytes,
+                       why: str, applied_id: int | None = None) -> None:
         """Send a map and record the answer; ``applied_id``: its delivery row, if the
-        build already wrote it."""
+        build already wrote it. ``slot`` is given back once the delivery is noted: the
+        wait for the machine's answer takes no place among the refreshes preparing."""
         name = target.name
         detail = steps.detail_of(version, len(payload), why)
         if applied_id is None:
@@ -333,6 +365,7 @@ class PushScheduler:
                                            detail)
         self.center.metrics.events.labels(kind=EventKind.PUSHED.value).inc()
         self.feed.publish(Notice(EventKind.PUSHED, name, detail, version))
+        slot.release()
         try:
             verdict = await target.session.push_map(version, payload, self.verdict_timeout_s)
         except TimeoutError:
@@ -411,4 +444,4 @@ class PushScheduler:
         return iter(list(self._targets))
 
 
-__all__ = ["THRESHOLD_K", "Delivery", "PushScheduler"]
+__all__ = ["PREPARING", "THRESHOLD_K", "Delivery", "PushScheduler"]
