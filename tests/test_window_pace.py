@@ -30,7 +30,14 @@ from protocol.ctrlmem import (
 )
 from server.links.modbus import ModbusMemory
 from server.links.window.service import ControllerLinks
-from server.links.window.session import TELEMETRY_REFRESH_S, ControllerSession, map_writes
+from server.links.window.session import (
+    IDLE_POLL_S,
+    STATUS_READS_PER_S,
+    TELEMETRY_REFRESH_S,
+    ControllerSession,
+    StatusPace,
+    map_writes,
+)
 from tests.support.integration import center, spec, until
 from tests.support.pmc import REGISTER, linked, payload, pmc
 
@@ -173,3 +180,36 @@ async def test_a_request_not_answered_once_in_an_open_session_is_asked_again() -
         await runner
         assert s.failure is not None and s.failure.reason == "no_answer", s.failure
         assert memory.no_answer_retries == 1 and relay.swallowed == 2
+
+
+async def test_many_sessions_read_their_idle_status_less_often() -> None:
+    """The idle reads of one center's sessions share a budget (``StatusPace``): with as
+    many sessions as the budget's reads per second times the idle period, each reads
+    less often; the heartbeat watch keeps working at that pace."""
+    async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc:
+        counts = []
+        for others in (0, 7):  # 8 sessions at 2 reads a second: one read every 4 s
+            pace = StatusPace(reads_per_s=2.0)
+            pace.sessions = others
+            s = session(cnc.server.port)  # type: ignore[attr-defined]
+            s.poll_s, s.idle_poll_s, s.telemetry_s, s.pace = 0.02, 0.5, 30.0, pace
+            s.dead_after_s = 10.0
+            await s.open()
+            runner = asyncio.create_task(s.run())
+            try:
+                await until(lambda p=pace, n=others: p.sessions == n + 1, 2.0)  # type: ignore[misc]
+                reads0 = s.status_reads
+                await asyncio.sleep(3.0)
+                counts.append(s.status_reads - reads0)
+                assert s.plc_running
+            finally:
+                s.abort(None, "test over")
+                await runner
+            assert pace.sessions == others  # an ended session leaves the budget
+    alone, crowded = counts
+    assert 5 <= alone <= 7, alone  # every 0.5 s: the session's own idle period
+    assert crowded <= 1, crowded  # every 4 s
+    assert StatusPace().idle_s(IDLE_POLL_S) == IDLE_POLL_S
+    busy = StatusPace()
+    busy.sessions = 1000
+    assert busy.idle_s(IDLE_POLL_S) == 1000 / STATUS_READS_PER_S == 5.0

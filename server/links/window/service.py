@@ -46,7 +46,7 @@ from server.links.window.memory import LinkError, MemoryClient
 from server.schemas.link import LinkSpec, ModbusLink, OpcuaLink
 from volumetric.model.machine import parse_machine
 
-from .session import ControllerSession, LinkAck, reason_of
+from .session import ControllerSession, LinkAck, StatusPace, reason_of
 
 __all__ = ["ControllerLinks", "link_of", "memory_for", "read_secret", "settle_missed",
            "window_of"]
@@ -106,6 +106,8 @@ class ControllerLinks:
         self.reconcile_s = reconcile_s
         self.backoff = backoff or BACKOFF
         self.telemetry_s = telemetry_s
+        self.status_pace = StatusPace()
+        """Idle status reads spread over this center's sessions (at most 200 a second)."""
         self.pacers: dict[str, Pacer] = {}
         """Retry schedules by machine, kept while its registration stays the same (a
         changed one starts afresh: the operator may have corrected it)."""
@@ -220,7 +222,7 @@ class ControllerLinks:
             session = ControllerSession(
                 row.name, row.ip, controller, machine.axis_names, memory,
                 link=spec.kind, chain=machine.chain, poll_s=spec.poll_ms / 1000.0,
-                telemetry_s=self.telemetry_s,
+                telemetry_s=self.telemetry_s, pace=self.status_pace,
                 on_telemetry=self._telemetry_of(row.name),
                 on_condition=self._condition_of(row.name, spec.kind))
             ended = await self._session(row, session)

@@ -69,7 +69,8 @@ from server.temperatures import column_of
 
 from .memory import LinkError, MemoryClient
 
-__all__ = ["IDLE_POLL_S", "TELEMETRY_REFRESH_S", "ControllerSession", "LinkAck",
+__all__ = ["IDLE_POLL_S", "STATUS_READS_PER_S", "TELEMETRY_REFRESH_S", "ControllerSession",
+           "LinkAck", "StatusPace",
            "identity_of", "map_slots", "map_writes"]
 
 log = logging.getLogger(__name__)
@@ -84,6 +85,29 @@ is longer). Below :data:`DEAD_AFTER_S`, so a heartbeat standing still is seen wi
 2-5 s (one read that finds it unmoved); a push polls at the link's ``poll_ms`` from its
 switch word on. At 1,000 PMCs a status read every 1 s cost about 0.3 s of the center's
 CPU per second with no push anywhere."""
+
+STATUS_READS_PER_S: Final = 200.0
+"""Idle status reads per second across one center's controller sessions: with more than
+``IDLE_POLL_S`` x this many sessions, each idle read comes less often (1,000 PMCs: every
+5 s), so a fleet's polling takes a bounded share of the center. At 1,000 PMCs, reads every
+2 s cost 0.16 s of CPU a second and, in a re-push to all, about a fifth of the center's
+CPU per push (each read is a send and a receive on the socket, 0.4 ms of system time on
+this 2-core machine). A heartbeat standing still is then seen within DEAD_AFTER_S + 5 s."""
+
+
+class StatusPace:
+    """How often an idle session reads its controller's status, shared by one center's
+    controller sessions (:data:`STATUS_READS_PER_S` among all of them)."""
+
+    def __init__(self, reads_per_s: float = STATUS_READS_PER_S) -> None:
+        self.reads_per_s = reads_per_s
+        self.sessions = 0
+        """Sessions running (:meth:`ControllerSession.run`)."""
+
+    def idle_s(self, base_s: float) -> float:
+        """The idle period of a session whose own is ``base_s``, s."""
+        return max(base_s, self.sessions / self.reads_per_s)
+
 
 TELEMETRY_REFRESH_S: Final = 5.0
 """A status that changed only in its heartbeat (and ack or temperature fields, which are
@@ -216,7 +240,10 @@ class ControllerSession:
     poll_s : float
         Status reads while a push waits for its verdict, s.
     idle_poll_s : float
-        Status reads otherwise, s (``poll_s`` when that is longer).
+        Status reads otherwise, s (``poll_s`` when that is longer; longer when ``pace``
+        says so).
+    pace : StatusPace, optional
+        Shared by the center's sessions: many sessions read their idle status less often.
     telemetry_s : float
         Positions and corrections that move become telemetry at most this often, s.
     """
@@ -227,7 +254,7 @@ class ControllerSession:
                  dead_after_s: float = DEAD_AFTER_S,
                  on_condition: Callable[[LinkCondition], None] | None = None,
                  healthy_after_s: float = HEALTHY_AFTER_S,
-                 idle_poll_s: float = IDLE_POLL_S,
+                 idle_poll_s: float = IDLE_POLL_S, pace: StatusPace | None = None,
                  telemetry_s: float = TELEMETRY_PERIOD_MS / 1000) -> None:
         self._name = name
         self.ip = ip
@@ -238,6 +265,7 @@ class ControllerSession:
         self.link = link
         self.poll_s = poll_s
         self.idle_poll_s = max(poll_s, idle_poll_s)
+        self.pace = pace
         self.telemetry_s = telemetry_s
         self.on_telemetry = on_telemetry
         self.dead_after_s = dead_after_s
@@ -359,6 +387,8 @@ class ControllerSession:
         """Poll the status and write temperatures until the session ends; returns why."""
         writer = asyncio.create_task(self._temperature_writer(),
                                      name=f"{self._name}:temperatures")
+        if self.pace is not None:
+            self.pace.sessions += 1
         try:
             while self.closed_because is None:
                 st = await self._read_status()
@@ -372,6 +402,8 @@ class ControllerSession:
             self._fail(exc)
             return str(exc)
         finally:
+            if self.pace is not None:
+                self.pace.sessions -= 1
             writer.cancel()
             await asyncio.gather(writer, return_exceptions=True)
             await self.memory.close()
@@ -383,10 +415,11 @@ class ControllerSession:
         the wait, so its verdict is read ``poll_s`` after the switch whatever the idle
         pace was."""
         loop = asyncio.get_running_loop()
+        idle_s = self.idle_poll_s if self.pace is None else self.pace.idle_s(self.idle_poll_s)
         while self.closed_because is None:
             self._wake.clear()
             switched = self._switched_at
-            due = (polled + self.idle_poll_s if switched is None
+            due = (polled + idle_s if switched is None
                    else max(polled, switched) + self.poll_s)
             left = due - loop.time()
             if left <= 0:
