@@ -8,8 +8,11 @@ line on stderr with exit code 2, never as a traceback.
 from __future__ import annotations
 
 import importlib
+import logging
+import os
 import pkgutil
 import sys
+from typing import NoReturn
 
 import typer
 from typer.core import TyperOption
@@ -72,11 +75,35 @@ def main() -> None:
     # only the command asked for is imported: the others' imports (the service, plotting)
     # cost a second before a 15 s fit of a big file even starts
     _load_commands(command_module(sys.argv))
+    code: int | str | None = 0
     try:
         app()
     except UserError as exc:
         print(f"ednc: error: {error_line(exc)}", file=sys.stderr)
-        sys.exit(2)
+        code = 2
+    except SystemExit as exc:
+        code = exc.code
+    leave(code)
+
+
+def leave(code: int | str | None) -> NoReturn:
+    """End the command with ``code`` (``sys.exit``'s meaning).
+
+    A command that parsed a CSV with pyarrow ends without the interpreter's finalization,
+    once its output and logs are flushed: pyarrow's C++ thread pool, torn down there, now
+    and then aborts the process ("terminate called without an active exception", exit -6
+    instead of the command's own; apache/arrow#34314, seen once in the suite on
+    ``ednc diagnose`` refusing a file). Everything the command writes is closed by then.
+    """
+    if "pyarrow" not in sys.modules:
+        sys.exit(code)
+    if isinstance(code, str):
+        print(code, file=sys.stderr)
+    status = code if isinstance(code, int) else (0 if code is None else 1)
+    logging.shutdown()
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(status)
 
 
 def error_line(exc: UserError) -> str:
