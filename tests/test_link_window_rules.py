@@ -152,6 +152,14 @@ async def test_the_switch_sequence_differs_from_switch_word_and_ack_seq(
         await _end(s, runner)
 
 
+async def _applied_and_warm(s: ControllerSession, plc: FakePLC, payload_1: bytes,
+                            sensors: list[str]) -> None:
+    """Map version 1 pushed and applied, then 30 °C on every sensor until the PLC took it."""
+    assert (await s.push_map(1, payload_1, 2.0)).applied
+    s.send(Temperatures(0, tuple(TemperatureReading(n, 30.0) for n in sensors)))
+    await until(lambda: any(c.slots[0] == 30_000 for c in plc.temperatures), 0.005)
+
+
 async def test_temperature_slots_carry_the_map_version_and_follow_a_swap() -> None:
     one, two = await asyncio.to_thread(lambda: (payload(1), payload(2)))
     sensors = sorted({r.sensor for r in decode_payload(one).thermal})
@@ -160,10 +168,7 @@ async def test_temperature_slots_carry_the_map_version_and_follow_a_swap() -> No
     s, runner = await _served(plc)
     try:
         async with asyncio.timeout(10):
-            assert (await s.push_map(1, one, 2.0)).applied
-            s.send(Temperatures(0, tuple(TemperatureReading(n, 30.0) for n in sensors)))
-            await until(lambda: any(c.slots[0] == 30_000 for c in plc.temperatures),
-                        0.005)
+            await _applied_and_warm(s, plc, one, sensors)
             assert {c.slots_version for c in plc.temperatures} == {1}
             written = len(plc.temperatures)
             assert (await s.push_map(2, two, 2.0)).applied
@@ -187,10 +192,7 @@ async def test_temperatures_go_on_from_the_windows_sequence() -> None:
     s, runner = await _served(plc)
     try:
         async with asyncio.timeout(10):
-            assert (await s.push_map(1, one, 2.0)).applied
-            s.send(Temperatures(0, tuple(TemperatureReading(n, 30.0) for n in sensors)))
-            await until(lambda: any(c.slots[0] == 30_000 for c in plc.temperatures),
-                        0.005)
+            await _applied_and_warm(s, plc, one, sensors)
         assert plc.temperatures[0].temp_seq == 8, plc.temperatures
     finally:
         await _end(s, runner)

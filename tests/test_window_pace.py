@@ -53,6 +53,14 @@ def session(port: int) -> ControllerSession:
                              link="modbus", chain=M.chain, poll_s=0.01)
 
 
+def relayed_session(port: int) -> tuple[ModbusMemory, ControllerSession]:
+    """A session through a fault relay at ``port``: 1-s time-outs, status every 20 ms."""
+    memory = ModbusMemory("127.0.0.1", port, register=REGISTER, timeout_s=1.0)
+    return memory, ControllerSession(M.name, "127.0.0.1", Controller.FANUC, M.axis_names,
+                                     memory, link="modbus", chain=M.chain, poll_s=0.02,
+                                     idle_poll_s=0.02)
+
+
 def test_a_push_clears_the_header_in_its_first_payload_request() -> None:
     p1 = payload(1)
     layout = Layout(4096)
@@ -152,9 +160,7 @@ async def test_a_request_not_answered_once_in_an_open_session_is_asked_again() -
 
     async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc, FaultRelay(
             ("127.0.0.1", cnc.server.port)) as relay:  # type: ignore[attr-defined]
-        memory = ModbusMemory("127.0.0.1", relay.port, register=REGISTER, timeout_s=1.0)
-        s = ControllerSession(M.name, "127.0.0.1", Controller.FANUC, M.axis_names, memory,
-                              link="modbus", chain=M.chain, poll_s=0.02, idle_poll_s=0.02)
+        memory, s = relayed_session(relay.port)
         await s.open()
         runner = asyncio.create_task(s.run())
         try:
@@ -171,9 +177,7 @@ async def test_a_request_not_answered_once_in_an_open_session_is_asked_again() -
     # a second time-out in a row still ends the session: a controller that stays silent
     async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc, FaultRelay(
             ("127.0.0.1", cnc.server.port)) as relay:  # type: ignore[attr-defined]
-        memory = ModbusMemory("127.0.0.1", relay.port, register=REGISTER, timeout_s=1.0)
-        s = ControllerSession(M.name, "127.0.0.1", Controller.FANUC, M.axis_names, memory,
-                              link="modbus", chain=M.chain, poll_s=0.02, idle_poll_s=0.02)
+        memory, s = relayed_session(relay.port)
         await s.open()
         runner = asyncio.create_task(s.run())
         relay.faults = Faults(swallow=True)
