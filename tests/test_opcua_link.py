@@ -32,6 +32,7 @@ from protocol import Controller, MapEncoding
 from protocol.ctrlmem import STATUS_AT, STATUS_SIZE, Layout, decode_status, plan_map_write
 from protocol.maptables import decode_payload
 from server.links.opcua import OpcuaMemory
+from server.links.secret import read_secret
 from server.links.window.memory import LinkError
 from server.links.window.session import ControllerSession
 from server.mapcodec import encode, with_version
@@ -120,6 +121,22 @@ def raw_client(cnc: WindowCNC, user: str | None = None, password: str | None = N
         c.set_user(user)
         c.set_password(password or "")
     return c
+
+
+def test_one_secret_reader_for_both_opcua_links_keeps_a_password_s_spaces(
+        tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    # the window link and the native SINUMERIK link read a password_ref through one
+    # function: a file's line break goes, its spaces stay (they may be the password's)
+    (tmp_path / "pw").write_text(" two words \n", encoding="utf-8")
+    assert read_secret(f"file:{tmp_path}/pw") == " two words "
+    monkeypatch.setenv("EDNC_TEST_SECRET", " x ")
+    assert read_secret("env:EDNC_TEST_SECRET") == " x "
+    with pytest.raises(LinkError, match="password of OPC UA user 'u': environment variable "
+                                        "EDNC_UNSET_SECRET is not set") as err:
+        read_secret("env:EDNC_UNSET_SECRET", "OPC UA user 'u'")
+    assert err.value.reason == "password_ref"
+    with pytest.raises(LinkError, match="neither env:NAME nor file:/path"):
+        read_secret("vault:x")
 
 
 async def test_login_needs_a_known_user_and_password_and_anonymous_reads_nothing(

@@ -33,7 +33,7 @@ __all__ = ["BACKENDS", "memory_for"]
 
 BACKENDS: Final[dict[str, str]] = {
     "modbus": "server.links.modbus:memory_for_link",
-    "opcua": "server.links.secret:opcua_memory_for_link",
+    "opcua": "server.links.opcua:memory_for_link",
 }
 """Link name (a registration's ``link.kind``) -> ``module:function`` making its memory
 client from the link's settings and the machine's ip. Modules are imported on first use,

@@ -46,11 +46,9 @@ from __future__ import annotations
 
 import asyncio
 import logging
-import os
 import re
 from collections.abc import Awaitable, Callable, Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any, Final
 
 from asyncua import ua
@@ -65,11 +63,12 @@ from server.links.opcualogin import (
     status_error,
 )
 from server.links.opcuapki import Pki, TrustMode
+from server.links.secret import read_secret
 from server.links.window.memory import LinkError
 from server.schemas.link import OpcuaLink
 
 __all__ = ["PLC_BLOCK", "RETRY_DELAYS_S", "SD_NUMBERS", "TRANSIENT", "AxisReading",
-           "OpcuaMemory", "read_password"]
+           "OpcuaMemory", "memory_for_link"]
 
 log = logging.getLogger(__name__)
 
@@ -83,27 +82,6 @@ _SD_NAMES: Final = {43900: "TEMP_COMP_ABS_VALUE", 43910: "TEMP_COMP_SLOPE",
 _DB_NODE = re.compile(r"^ns=(\d+);s=(/Plc/DB\d+)$")
 _READ_CHUNK: Final = 16_384
 """Bytes of the window per Read request (responses stay well inside one 64 kB chunk)."""
-def read_password(ref: str, user: str) -> str:
-    """The password ``ref`` points at (``env:NAME`` or ``file:/path``; a file's trailing
-    newline dropped); raises :class:`LinkError` naming what is missing."""
-    kind, _, where = ref.partition(":")
-    if kind == "env":
-        value = os.environ.get(where)
-        if value is None:
-            raise LinkError(f"password of OPC UA user {user!r}: environment variable "
-                            f"{where} is not set", state="refused", reason="password_ref")
-        return value
-    if kind == "file":
-        try:
-            return Path(where).read_text(encoding="utf-8").rstrip("\r\n")
-        except (OSError, UnicodeDecodeError) as e:
-            raise LinkError(f"password of OPC UA user {user!r}: cannot read {where} "
-                            f"({e.__class__.__name__})", state="refused",
-                            reason="password_ref") from None
-    raise LinkError(f"password of OPC UA user {user!r}: reference {ref!r} is neither "
-                    "env:NAME nor file:/path", state="refused", reason="password_ref")
-
-
 @dataclass(frozen=True, slots=True)
 class AxisReading:
     """One axis as the NC reports it.
@@ -227,7 +205,7 @@ class OpcuaMemory(OpcuaClient):
         the retry budget: a SINUMERIK frees a session that was never activated."""
         await self.close()
         password = (self._password if self._password is not None
-                    else read_password(self.password_ref, self.user))
+                    else read_secret(self.password_ref, f"OPC UA user {self.user!r}"))
         await self._open(password, on_busy=self._busy)
 
     def _busy(self, answer: LinkError) -> None:
@@ -401,3 +379,11 @@ class OpcuaMemory(OpcuaClient):
                 got.append(float(v))
             out[axis] = AxisReading(*got)
         return out
+
+
+def memory_for_link(spec: OpcuaLink, ip: str) -> OpcuaMemory:
+    """The memory client of a registration's ``opcua`` link (the registry's entry,
+    :data:`server.links.BACKENDS`); its password is read now, so that a reference not set
+    is a refusal at registration, not at each connect."""
+    return OpcuaMemory.from_spec(spec, password=read_secret(
+        spec.password_ref, f"OPC UA user {spec.user!r}"))

@@ -258,7 +258,7 @@ class NativeSdLinks:
     async def _start(self, machine_id: int, name: str, description: dict[str, Any],
                      spec: SinumerikSdLink, key: tuple[str, Any]) -> None:
         try:
-            password = read_secret(spec.password_ref)
+            password = read_secret(spec.password_ref, f"OPC UA user {spec.user!r}")
             axes = parse_machine(description).axis_names
         except (LinkError, ValueError) as exc:
             if self._keys.get(name) != key:  # said once per registration
