@@ -11,7 +11,7 @@ import pytest
 
 from tests.support.browser import live_server  # noqa: F401  (fixture, by name)
 from tests.support.data import unpack_real_data
-from tests.support.db import database_url, postgres_url  # noqa: F401  (fixtures, by name)
+from tests.support.db import database_url, db, postgres_url  # noqa: F401  (fixtures, by name)
 from tests.support.services import reachable, require
 
 

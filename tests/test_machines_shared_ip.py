@@ -24,14 +24,6 @@ from server.db.tables import Base, MachineRow, ModelRow, utcnow
 GATEWAY = "10.20.0.5"
 
 
-@pytest.fixture
-def db(database_url: str) -> Iterator[Database]:
-    database = Database(make_engine(database_url))
-    database.create_schema()
-    yield database
-    database.engine.dispose()
-
-
 def description(name: str, ip: str, link: str | None = None, unit: int = 1) -> dict[str, Any]:
     """A fanuc machine at ``ip``; with ``link`` (``modbus``) behind a gateway at ``ip``."""
     d: dict[str, Any] = {"name": name, "ip": ip, "controller": "fanuc",

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import datetime as dt
 import hashlib
-from collections.abc import Iterator
 
 import pytest
 from sqlalchemy import inspect
@@ -27,14 +26,6 @@ from server.db import (
     measurements,
     reports,
 )
-
-
-@pytest.fixture
-def db(database_url: str) -> Iterator[Database]:
-    database = Database(make_engine(database_url))
-    database.create_schema()
-    yield database
-    database.engine.dispose()
 
 
 def _machine(db: Database, name: str = "vmc-01", ip: str = "10.0.0.21") -> int:

@@ -51,14 +51,6 @@ def at(seconds: float) -> dt.datetime:
     return T0 + dt.timedelta(seconds=seconds)
 
 
-@pytest.fixture
-def db(database_url: str) -> Iterator[Database]:  # noqa: F811 - the imported fixture
-    database = Database(make_engine(database_url))
-    database.create_schema()
-    yield database
-    database.engine.dispose()
-
-
 def machine(db: Database, name: str = "vmc-01", ip: str = "10.0.0.21") -> int:
     row = db.call(machines.create_machine, name=name, ip=ip, controller="fanuc",
                   description={"name": name, "ip": ip, "controller": "fanuc",

@@ -1,6 +1,6 @@
 """The test databases: SQLite in a temporary directory, and PostgreSQL on loopback with a
-fresh database per session (fixtures ``postgres_url`` and ``database_url``, registered for
-every test module by ``tests/conftest.py``)."""
+fresh database per session (fixtures ``postgres_url``, ``database_url`` and ``db``,
+registered for every test module by ``tests/conftest.py``)."""
 
 from __future__ import annotations
 
@@ -12,6 +12,7 @@ import psycopg
 import pytest
 from sqlalchemy import create_engine
 
+from server.db import Database, make_engine
 from server.db.tables import Base
 from tests.support.services import reachable, require
 
@@ -45,3 +46,12 @@ def database_url(request: pytest.FixtureRequest, tmp_path: Path) -> Iterator[str
     engine = create_engine(url)
     Base.metadata.drop_all(engine)
     engine.dispose()
+
+
+@pytest.fixture
+def db(database_url: str) -> Iterator[Database]:
+    """The center's :class:`~server.db.Database` on :func:`database_url`, schema created."""
+    database = Database(make_engine(database_url))
+    database.create_schema()
+    yield database
+    database.engine.dispose()
