@@ -111,8 +111,9 @@ def fault_of(k: int) -> Any:
 
 async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float = 0.0,
                      five_axis: bool = False, failing: int = 0, first: int = 0,
-                     total: int = 0) -> None:
-    """PMCs ``first`` .. ``first + count - 1`` of a fleet of ``total`` (0: ``count``)."""
+                     total: int = 0, profile: Path | None = None) -> None:
+    """PMCs ``first`` .. ``first + count - 1`` of a fleet of ``total`` (0: ``count``);
+    ``profile``: a cProfile of this process from ready to the end, to that file."""
     from machine_sim.faultrelay import FaultRelay
     from machine_sim.modbus_server import PmcModbusServer
     from machine_sim.plcmap import PlcMapProgram
@@ -159,7 +160,14 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
                     ("127.0.0.1", int(cnc.server.port)), port=base_port + i,
                     faults=fault_of(bad.index(i)), seed=i)))
         print(json.dumps({"ready": len(cncs)}), flush=True)
+        # CPU time, not wall: on a shared machine a wall-clock profile counts the waits
+        prof = cProfile.Profile(time.process_time) if profile is not None else None
+        if prof is not None:
+            prof.enable()
         await asyncio.get_running_loop().run_in_executor(None, sys.stdin.read)
+        if prof is not None and profile is not None:
+            prof.disable()
+            prof.dump_stats(profile)
         healthy = [c for i, c in enumerate(cncs, start=first) if i not in bad]
         print(json.dumps({"applied": sum(c.program.applied_switches for c in healthy),
                           "machines_applied": sum(c.program.applied_switches > 0
@@ -172,13 +180,14 @@ async def fleet_main(count: int, base_port: int, cycle_s: float, delay_s: float 
 class ChildFleet:
     def __init__(self, count: int, base_port: int, cycle_s: float, *, delay_ms: float = 0.0,
                  five_axis: bool = False, failing: int = 0, first: int = 0,
-                 total: int = 0, nice: int = 0) -> None:
+                 total: int = 0, nice: int = 0, profile: Path | None = None) -> None:
         self.proc = subprocess.Popen(
             [*(["nice", "-n", str(nice)] if nice else []), sys.executable, __file__,
              "child", "--machines", str(count), "--base-port", str(base_port),
              "--cycle-s", str(cycle_s), "--delay-ms", str(delay_ms),
              "--failing", str(failing), "--first", str(first), "--total", str(total),
-             *(["--five-axis"] if five_axis else [])],
+             *(["--five-axis"] if five_axis else []),
+             *(["--pmc-profile", str(profile)] if profile is not None else [])],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
 
     async def ready(self) -> int:
@@ -201,10 +210,12 @@ class PmcProcesses:
     own device, never do."""
 
     def __init__(self, count: int, procs: int, cycle_s: float, failing: int,
-                 nice: int = 0) -> None:
+                 nice: int = 0, profile: Path | None = None) -> None:
         edges = [round(k * count / procs) for k in range(procs + 1)]
         self.children = [ChildFleet(b - a, BASE_PORT, cycle_s, failing=failing, first=a,
-                                    total=count, nice=nice)
+                                    total=count, nice=nice,
+                                    profile=None if profile is None
+                                    else profile / f"pmc-{a:04d}.prof")
                          for a, b in itertools.pairwise(edges) if b > a]
 
     def cpu_s(self) -> float:
@@ -304,7 +315,7 @@ class ModbusRound:
 
 
 async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
-                         timeout_s: float, nice: int = 0
+                         timeout_s: float, nice: int = 0, pmc_profile: Path | None = None
                          ) -> tuple[int, list[ModbusRound], dict[str, Any],
                                     tuple[float, float]]:
     """Round 1 (connect and push) and round 2 (re-push to all) over Modbus; the child's
@@ -329,7 +340,7 @@ async def _modbus_rounds(count: int, cycle_s: float, failing: int, procs: int,
 
     rounds = []
     with tempfile.TemporaryDirectory() as tmp:
-        child = PmcProcesses(count, procs, cycle_s, failing, nice)
+        child = PmcProcesses(count, procs, cycle_s, failing, nice, pmc_profile)
         await child.ready()
         async with center(Path(tmp), heartbeat_s=10.0, telemetry_ms=5000) as (c, services):
             got: list[Delivery] = []
@@ -410,7 +421,7 @@ def load_held(n: int) -> Iterator[None]:
 
 
 async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: float,
-                procs: int = 1, nice: int = 0) -> None:
+                procs: int = 1, nice: int = 0, pmc_profile: Path | None = None) -> None:
     from push_latency import measure
 
     from server.links.window.session import IDLE_POLL_S
@@ -424,7 +435,7 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
         load1 = os.getloadavg()
         progress("Modbus fleet")
         size, rounds, done, quiet = await _modbus_rounds(count, cycle_s, failing, procs,
-                                                           timeout_s, nice)
+                                                           timeout_s, nice, pmc_profile)
     load2 = os.getloadavg()
     healthy = count - len(failing_indices(count, failing))
     print(f"machines {count} ({healthy} healthy, {count - healthy} failing: "
@@ -608,15 +619,19 @@ if __name__ == "__main__":
     p.add_argument("--pmc-nice", type=int, default=0,
                    help="fleet: the PMC processes' nice value (a plant's PMCs do not take "
                         "the center's CPU)")
+    p.add_argument("--pmc-profile", type=Path, default=None,
+                   help="fleet: cProfile (CPU time) of each PMC process from ready to its "
+                        "end, to DIR/pmc-<first>.prof")
     p.add_argument("--first", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--total", type=int, default=0, help=argparse.SUPPRESS)
     p.add_argument("--round-timeout", type=float, default=300.0,
                    help="fleet: longest wait for a round's maps, s")
     a = p.parse_args()
     os.environ.setdefault("EDNC_NODE_ID", "bench")
+    BASE_PORT = a.base_port  # the PMCs' first port (two runs at once need two ranges)
     if a.what == "child":
         asyncio.run(fleet_main(a.machines, a.base_port, a.cycle_s, a.delay_ms / 1000,
-                               a.five_axis, a.failing, a.first, a.total))
+                               a.five_axis, a.failing, a.first, a.total, a.pmc_profile))
     elif a.what == "delivery":
         asyncio.run(delivery(a.delay_ms, a.repeats))
     elif a.what == "fleet":
@@ -624,11 +639,11 @@ if __name__ == "__main__":
             PROFILE = cProfile.Profile()
             try:
                 asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
-                                  a.round_timeout, a.pmc_procs, a.pmc_nice))
+                                  a.round_timeout, a.pmc_procs, a.pmc_nice, a.pmc_profile))
             finally:
                 PROFILE.dump_stats(a.profile)
             sys.exit(0)
         asyncio.run(fleet(a.machines or 1000, a.cycle_s, a.load, a.failing,
-                          a.round_timeout, a.pmc_procs, a.pmc_nice))
+                          a.round_timeout, a.pmc_procs, a.pmc_nice, a.pmc_profile))
     else:
         asyncio.run(temperature(a.machines or 20, a.rate, a.seconds))

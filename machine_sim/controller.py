@@ -31,6 +31,7 @@ from numpy.typing import NDArray
 
 from protocol.messages import MapAck, MapBegin, MapChunk, MapEnd, MapReject
 
+from .lookup import ActiveMap
 from .mapstore import MapStore
 from .temperatures import TemperatureStore
 
@@ -70,6 +71,7 @@ class Compensator:
         self.temperatures = TemperatureStore()
         """Latest temperatures (own sensors or the center's Temperatures), read each cycle."""
         self._folded_s = float("-inf")  # updated_s of the readings folded into the map
+        self._axes_of: tuple[ActiveMap, list[int], list[int]] | None = None
 
     # -- to be provided by the personality
     def applied_mm(self) -> F64:
@@ -145,6 +147,19 @@ class Compensator:
         wanted = np.zeros(len(self.axes))
         if m is None:
             return wanted
+        at = getattr(m, "lookup_directed_at", None)
+        if at is not None:
+            # one point in Python numbers (a scan's case; the same values as below)
+            ins, outs = self._map_axes(m)
+            p = pos.tolist()
+            if directions is None:
+                neg = [False] * len(outs)
+            else:
+                dl = self._vector(directions, float).tolist()
+                neg = [dl[i] < 0 for i in outs]
+            for i, v in zip(outs, at([p[i] for i in ins], neg), strict=True):
+                wanted[i] = v
+            return wanted
         q = np.array([pos[self.axes.index(g)] for g in m.inputs])
         dirs = (np.zeros(len(self.axes)) if directions is None
                 else self._vector(directions, float))
@@ -162,6 +177,16 @@ class Compensator:
             wanted[self.axes.index(name)] = values[k] + (m.reversal[k] if negative[k]
                                                          else 0.0)
         return wanted
+
+    def _map_axes(self, m: ActiveMap) -> tuple[list[int], list[int]]:
+        """The controller's index of each of the map's inputs and outputs (kept while
+        the map is in use)."""
+        held = self._axes_of
+        if held is None or held[0] is not m:
+            held = (m, [self.axes.index(g) for g in m.inputs],
+                    [self.axes.index(name) for name in m.outputs])
+            self._axes_of = held
+        return held[1], held[2]
 
     def _vector(self, values: Mapping[str, float] | Mapping[str, int] | NDArray[np.generic],
                 kind: type[float]) -> F64:

@@ -38,6 +38,7 @@ Controlled axis k is the machine's k-th axis (``Machine.axes`` order).
 
 from __future__ import annotations
 
+import math
 import struct
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -183,9 +184,11 @@ class FanucPMC(Compensator):
 
     def shifts(self) -> NDArray[np.int64]:
         """EMZPS shift per axis, increments."""
-        lay = self.config.layout
-        return np.array([self.read_i32(self._addr(lay.shift, k)) for k in range(len(self.axes))],
-                        dtype=np.int64)
+        return np.array(self._shift_list(), dtype=np.int64)
+
+    def _shift_list(self) -> list[int]:
+        return list(struct.unpack_from(f"<{len(self.axes)}i", self.r,
+                                       self._addr(self.config.layout.shift)))
 
     def applied_mm(self) -> F64:
         return np.asarray(self.shifts() * self.config.increment_mm, dtype=np.float64)
@@ -227,28 +230,31 @@ class FanucPMC(Compensator):
             self._expired_seen = True
         if self.store.active is not None:
             self._expired_seen = False
+        # one axis at a time in Python numbers: a scan has one point, where array calls
+        # cost more than their arithmetic; each step is the IEEE operation the array form
+        # did (a division, an add, a floor), so the integers are the same
+        inc, lim, most = c.increment_mm, c.limit_counts, c.max_step_counts
         # halves up, the one tie rule of protocol/README.md §6 (np.rint would round a half
         # to even)
-        target = np.floor(wanted / c.increment_mm + 0.5).astype(np.int64)
-        clamped = bool(np.any(np.abs(target) > c.limit_counts))
-        target = np.clip(target, -c.limit_counts, c.limit_counts)
-        current = self.shifts()
-        delta = target - current
-        jump = np.abs(delta) > c.max_step_counts
+        target = [math.floor(w / inc + 0.5) for w in wanted.tolist()]
+        clamped = any(abs(t) > lim for t in target)
+        target = [min(max(t, -lim), lim) for t in target]
+        current = self._shift_list()
+        delta = [t - cur for t, cur in zip(target, current, strict=True)]
         if self.alarm:
             new = current
-        elif np.any(jump) and c.on_jump == "alarm" and not self.releasing:
+        elif c.on_jump == "alarm" and not self.releasing and any(abs(d) > most for d in delta):
             self.r[self._addr(lay.alarm)] = ALARM_JUMP
             new = current
         else:
-            new = current + np.clip(delta, -c.max_step_counts, c.max_step_counts)
-        for k in range(len(self.axes)):
-            struct.pack_into("<i", self.r, self._addr(lay.shift, k), int(new[k]))
-            struct.pack_into("<i", self.r, self._addr(lay.target, k), int(target[k]))
-            struct.pack_into("<i", self.r, self._addr(lay.position, k),
-                             int(np.floor(pos[k] / c.increment_mm + 0.5)))
+            new = [cur + min(max(d, -most), most) for cur, d in zip(current, delta, strict=True)]
+        n = len(self.axes)
+        struct.pack_into(f"<{n}i", self.r, self._addr(lay.shift), *new)
+        struct.pack_into(f"<{n}i", self.r, self._addr(lay.target), *target)
+        struct.pack_into(f"<{n}i", self.r, self._addr(lay.position),
+                         *[math.floor(q / inc + 0.5) for q in pos.tolist()])
         status = (1 if self.store.active is not None else 0)
-        status |= 2 if np.any(new != target) else 0
+        status |= 2 if new != target else 0
         status |= 4 if self.releasing else 0
         status |= 8 if self.alarm else 0
         status |= 16 if clamped else 0
@@ -257,4 +263,4 @@ class FanucPMC(Compensator):
         struct.pack_into("<I", self.r, self._addr(lay.version), self.store.version)
         self.scans += 1
         struct.pack_into("<I", self.r, self._addr(lay.counter), self.scans & 0xFFFFFFFF)
-        return new
+        return np.array(new, dtype=np.int64)

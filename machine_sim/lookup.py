@@ -26,6 +26,7 @@ the same :func:`interpolate`.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from fractions import Fraction
@@ -40,6 +41,7 @@ from protocol.maptables import TablesPayload
 
 from . import ladder
 from .chaineval import ChainBatch, sensor_key
+from .ladder_point import FactoredPoint, Wide
 
 __all__ = ["ActiveMap", "FactoredLadder", "FleetLadder", "FleetLookup", "GridLadder", "GridMap",
            "TablesMap", "active_map", "interpolate", "positions_in_counts", "readings_mC"]
@@ -346,8 +348,11 @@ class FactoredLadder:
         self.inc = p.increment_mm
         self.reversal = self.program.reversal.astype(np.float64) * self.inc
         d = len(self.grid)
+        self._point: FactoredPoint | None = None
         self.c0 = np.zeros(d, dtype=np.int64)
         self.c1 = np.zeros(d, dtype=np.int64)
+        self._consts: tuple[list[int], list[int]] = ([0] * d, [0] * d)
+        """c0 and c1 as Python ints, for :attr:`point`."""
         self.thermal_mm = np.zeros((2, d))
         """(2, D) the thermal constant (mm) and slope (mm per mm) the ladder holds, in
         float for display and tests: ``c0 / 2^16`` counts and ``c1 / 2^32``."""
@@ -359,10 +364,19 @@ class FactoredLadder:
         """The axes whose positions :meth:`lookup` takes: all of the map's, in order."""
         return self.grid
 
+    @property
+    def point(self) -> FactoredPoint:
+        """The one-point evaluation of :attr:`program` (built at the first scan: a map
+        the store only probes never needs it)."""
+        if self._point is None:
+            self._point = FactoredPoint(self.program)
+        return self._point
+
     def set_temperatures(self, temperatures: Mapping[str, float]) -> None:
         """Fold the latest temperatures (°C by sensor label) into constants and slopes."""
         self.c0, self.c1 = ladder.thermal_constants(self.program.thermal, len(self.grid),
                                                     readings_mC(temperatures))
+        self._consts = (self.c0.tolist(), self.c1.tolist())
         self.thermal_mm = _thermal_view(self.c0, self.c1, self.per_unit)
 
     def _counts_in(self, q: F64) -> I64:
@@ -386,6 +400,29 @@ class FactoredLadder:
         step 6)."""
         return ladder.factored_counts(self.program, self._counts_in(q), self.c0, self.c1,
                                       negative)
+
+    def counts_at(self, q: Sequence[float], negative: Sequence[bool] | None = None
+                  ) -> list[int]:
+        """:meth:`counts` at one point, q (D,) mm or degrees → (D,) counts, the same
+        integers (a scan's case: Python ints, :class:`~machine_sim.ladder_point.FactoredPoint`;
+        a point whose arithmetic leaves int64 goes through :meth:`counts`, which wraps)."""
+        per = self.per_unit
+        try:
+            # floor(q · P + 0.5) in double precision, as positions_in_counts
+            qc = [math.floor(v * per + 0.5) for v in q]
+            if all(-(1 << 63) <= v < (1 << 63) for v in qc):
+                return self.point.counts(qc, self._consts[0], self._consts[1], negative)
+        except (Wide, ValueError, OverflowError):  # a wrap, NaN or infinity: the arrays'
+            pass
+        neg = None if negative is None else np.array([negative], dtype=bool)
+        out: list[int] = self.counts(np.array([q], dtype=float), neg)[0].tolist()
+        return out
+
+    def lookup_directed_at(self, q: Sequence[float], negative: Sequence[bool]
+                           ) -> list[float]:
+        """:meth:`lookup_directed` at one point: q (D,) → (D,), mm or degrees."""
+        inc = self.inc
+        return [float(n) * inc for n in self.counts_at(q, negative)]
 
     def lookup_directed(self, q: F64, negative: NDArray[np.bool_]) -> F64:
         """Applied corrections at positions q (N, D) with the axes ``negative`` (N, D)

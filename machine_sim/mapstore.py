@@ -84,6 +84,9 @@ class MapStore:
         self.limit_mm = float(limit_mm)
         self.assembler = MapAssembler(machine, accepted, max_bytes)
         self.active: ActiveMap | None = None
+        self.applied_payload: ErrorMapPayload | TablesPayload | FactoredPayload | None = None
+        """The active map as decoded from the bytes pushed (before this controller's
+        clamp of a factored map's limits); None with no map."""
         self.applied_at_s: float | None = None
         self.events: list[StoreEvent] = []
         self.temperatures: dict[str, float] = {}
@@ -132,6 +135,7 @@ class MapStore:
                 else:
                     built = TablesMap.from_payload(self._clamped(p), self.temperatures)
                 self.active = built  # the one-step swap, after everything is built
+                self.applied_payload = verdict.payload
                 self.applied_at_s = now_s
                 self.assembler.applied_version = verdict.version
                 self.events.append(StoreEvent(now_s, "applied", verdict.version, ""))
@@ -233,6 +237,7 @@ class MapStore:
         if self.active is not None:
             self.events.append(StoreEvent(now_s, why, self.active.version, ""))
         self.active = None
+        self.applied_payload = None
         self.applied_at_s = None
 
     @property

@@ -30,6 +30,7 @@ server maps its registers or nodes onto); nothing here does I/O.
 
 from __future__ import annotations
 
+import math
 import struct
 
 import numpy as np
@@ -61,6 +62,14 @@ from protocol.mapformat import MapFormatError
 from .controller import Compensator
 
 __all__ = ["PlcMapProgram"]
+
+_MAP_IN_USE = int(State.MAP_IN_USE)
+_RAMPING = int(State.RAMPING)
+_RELEASING = int(State.RELEASING)
+_ALARM = int(State.ALARM)
+_EXPIRED = int(State.EXPIRED)
+_R_STATUS_KEPT = int(State.RAMPING | State.ALARM | State.CLAMPED | State.EXPIRED)
+"""The bits a Fanuc-style ladder's R status byte gives the status word (of its low 6)."""
 
 
 class PlcMapProgram:
@@ -143,7 +152,7 @@ class PlcMapProgram:
         self._take_temperatures(now_s)
         self.heartbeat = (self.heartbeat + 1) & 0xFFFFFFFF
         self._write_status(active=active, ack_code=ack_code, positions=positions,
-                           applied_mm=applied_mm)
+                           applied_mm=applied_mm, old=st)
 
     def _apply(self, payload: bytes, version: int, now_s: float) -> tuple[int, str]:
         """Hand a checked payload to the map store (its own checks and swap rule)."""
@@ -151,10 +160,16 @@ class PlcMapProgram:
         for msg in split_into_chunks(payload, version):
             reply = self.controller.feed_map(msg, now_s)
         if isinstance(reply, MapAck):
-            try:
-                records = decode_payload(payload).thermal
-            except MapFormatError:  # cannot happen: the store decoded it already
-                records = ()
+            # the records of the map just applied, as the store decoded them from these
+            # bytes (decoding them again here cost as much as the rest of a push)
+            decoded = self.controller.store.applied_payload
+            if decoded is not None:
+                records = decoded.thermal
+            else:
+                try:
+                    records = decode_payload(payload).thermal
+                except MapFormatError:  # cannot happen: the store decoded it already
+                    records = ()
             slots = sensor_slots([r.sensor for r in records])
             self._slots = {i: s for s, i in slots.items()}
             self._temp_seq = None  # read the slots again for the new map's sensors
@@ -168,10 +183,12 @@ class PlcMapProgram:
         """§13.1: take the slots when their sequence is new (not 0, not the one last
         taken), they follow the applied map's sensor order (stamp 0 or its version), and
         the sequence reads the same after them."""
-        cmd = decode_command(self.window)
-        seq = cmd.temp_seq
+        # the sequence alone first: most scans find nothing new (the slots are read below)
+        (seq,) = struct.unpack_from("<H", self.window, TEMP_SEQ_AT)
         if seq == 0 or seq == self._temp_seq:
             return
+        cmd = decode_command(self.window)
+        seq = cmd.temp_seq
         if cmd.slots_version not in (0, self.controller.store.version):
             return  # written for another map: its slot order is another
         (again,) = struct.unpack_from("<H", self.window, TEMP_SEQ_AT)
@@ -190,15 +207,21 @@ class PlcMapProgram:
 
     def _write_status(self, *, active: int, ack_code: int | None = None,
                       positions: NDArray[np.float64] | None = None,
-                      applied_mm: NDArray[np.float64] | None = None) -> None:
-        old = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
+                      applied_mm: NDArray[np.float64] | None = None,
+                      old: Status | None = None) -> None:
+        """The status block; ``old``: the block as this scan read it (unchanged since:
+        the center writes only between scans), else it is read here."""
+        if old is None:
+            old = decode_status(self.window[STATUS_AT:STATUS_AT + STATUS_SIZE])
         c = self.controller
         state = self._state_bits()
-        # counts as the position registers hold them, halves up (§6)
+        # counts as the position registers hold them, halves up (§6), one value at a time
+        # (the same division, add and floor as the array form, without its call overhead)
+        inc = self.increment_mm
         pos = old.positions if positions is None else tuple(
-            int(v) for v in np.floor(positions / self.increment_mm + 0.5))
+            math.floor(v / inc + 0.5) for v in positions.tolist())
         app = old.applied if applied_mm is None else tuple(
-            int(v) for v in np.floor(applied_mm / self.increment_mm + 0.5))
+            math.floor(v / inc + 0.5) for v in applied_mm.tolist())
         st = Status(self.heartbeat, self._handled_seq,
                     old.ack_code if ack_code is None else ack_code, active, state,
                     c.store.version, self._temp_ack, pos, app, self._temp_refused)
@@ -207,22 +230,22 @@ class PlcMapProgram:
     def _state_bits(self) -> int:
         """The status state word (§13.1): a Fanuc-style ladder keeps exactly these bits
         in its R status byte; otherwise they come from the controller's state."""
+        # plain ints: IntFlag's operators cost microseconds a scan, the bits are the same
         c = self.controller
-        state = State(0)
+        state = 0
         if c.store.active is not None:  # as of this scan's swap, not the ladder's last
-            state |= State.MAP_IN_USE
+            state |= _MAP_IN_USE
         if c.releasing:
-            state |= State.RELEASING
+            state |= _RELEASING
         r_status = getattr(c, "status", None)
         if isinstance(r_status, int):
-            keep = State.RAMPING | State.ALARM | State.CLAMPED | State.EXPIRED
-            return int(state | (State(r_status & 0x3F) & keep))
+            return state | (r_status & _R_STATUS_KEPT)
         label = getattr(c, "state", "")
         if label == "ramping":
-            state |= State.RAMPING
+            state |= _RAMPING
         if label == "alarm":
-            state |= State.ALARM
+            state |= _ALARM
         events = c.store.events
         if c.store.active is None and events and events[-1].kind == "expired":
-            state |= State.EXPIRED
-        return int(state)
+            state |= _EXPIRED
+        return state

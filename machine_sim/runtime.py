@@ -13,7 +13,7 @@ Synchronous and free of I/O: :mod:`machine_sim.link` drives it from the event lo
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
@@ -37,6 +37,11 @@ class Motion:
     amplitude: F64
     period_s: F64
     phase: F64
+    _w: F64 = field(init=False, repr=False, compare=False)
+    """2π / period_s, rad/s: the same array every call, so computed once."""
+
+    def __post_init__(self) -> None:
+        object.__setattr__(self, "_w", 2 * np.pi / self.period_s)
 
     @staticmethod
     def random(machine: Machine, rng: np.random.Generator) -> Motion:
@@ -48,7 +53,7 @@ class Motion:
 
     def at(self, t: float) -> tuple[F64, NDArray[np.int8]]:
         """Positions (n_axes,) and last directions (n_axes,) at time t, s."""
-        w = 2 * np.pi / self.period_s
+        w = self._w
         arg = w * t + self.phase
         q: F64 = self.centre + self.amplitude * np.sin(arg)
         d = np.sign(np.cos(arg)).astype(np.int8)

@@ -14,6 +14,7 @@ is nonvolatile memory and keeps its contents).
 from __future__ import annotations
 
 import asyncio
+import math
 from collections.abc import Callable
 from typing import Protocol
 
@@ -56,12 +57,20 @@ class WindowCNC(ScannedController):
     seed : int
     cycle_s : float, optional
         Controller cycle; the controller's own by default.
+    wake_grid_s : float, optional
+        The scans of the machines in one process wake on a common grid of this step on
+        the event loop's clock: a scan due at t runs at the first grid point at or after
+        t (never earlier, at most this much later), so machines whose scans fall in one
+        step are scanned in one wake-up of the process. Each scan's deadline still
+        advances by ``cycle_s``, so none is skipped and the period is kept. By default
+        ``cycle_s / 20``; 0 wakes at each deadline exactly.
     """
 
     def __init__(self, machine: Machine,
                  server_factory: Callable[[WindowCNC], ControllerServer], *,
                  runtime: MachineRuntime | None = None, capacity: int = DEFAULT_CAPACITY,
-                 seed: int = 0, cycle_s: float | None = None) -> None:
+                 seed: int = 0, cycle_s: float | None = None,
+                 wake_grid_s: float | None = None) -> None:
         self.machine = machine
         self.runtime = runtime or MachineRuntime(machine, seed=seed)
         self.layout = Layout(capacity)
@@ -72,6 +81,13 @@ class WindowCNC(ScannedController):
                                      formats=ctl.store.assembler.accepted,
                                      increment_mm=increment)
         self.cycle_s = cycle_s or self.runtime.cycle_s
+        self.wake_grid_s = self.cycle_s / 20 if wake_grid_s is None else float(wake_grid_s)
+        # why: on a 2-core VM shared with other work, a wake-up of the process costs
+        # about as much CPU as four scans (caches refilled, the timer and epoll in the
+        # kernel); 250 PMCs of one process scanned at their own instants cost ~0.38 ms of
+        # CPU per PMC-second, the same scans woken together ~0.12 ms (issue 30)
+        if not 0 <= self.wake_grid_s <= self.cycle_s:
+            raise ValueError(f"wake_grid_s must be in 0..cycle_s, got {wake_grid_s!r}")
         self.server = server_factory(self)
         self.running = True
         """False while the PLC program is stopped (:meth:`stop_plc`)."""
@@ -113,10 +129,15 @@ class WindowCNC(ScannedController):
     async def _loop(self) -> None:
         loop = asyncio.get_running_loop()
         next_t = loop.time()
+        grid = self.wake_grid_s
         while True:
             self.cycle()
             next_t += self.cycle_s
-            delay = next_t - loop.time()
+            now = loop.time()
+            delay = next_t - now
             if delay < -10 * self.cycle_s:
-                next_t = loop.time()
+                next_t = now
+            if grid > 0 and delay > 0:  # the grid point at or after the deadline
+                wake = math.ceil(next_t / grid) * grid
+                delay = (wake if wake >= next_t else wake + grid) - now
             await asyncio.sleep(max(delay, 0.0))
