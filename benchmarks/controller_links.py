@@ -606,6 +606,8 @@ if __name__ == "__main__":
                    help="fleet: longest wait for a round's maps, s")
     a = p.parse_args()
     os.environ.setdefault("EDNC_NODE_ID", "bench")
+    # every mode's PMC ports start here (two runs on one machine need different ones)
+    BASE_PORT = a.base_port
     if a.what == "child":
         asyncio.run(fleet_main(a.machines, a.base_port, a.cycle_s, a.delay_ms / 1000,
                                a.five_axis, a.failing, a.first, a.total))

@@ -68,30 +68,31 @@ def store_and_send(session: Session, machine_id: int, name: str, built: MapConte
     way from a temperature change to the machine)."""
     row = store_map(session, machine_id, built, model_version, temperatures)
     detail = detail_of(row.version, row.size_bytes, why)
-    return row, record_sent(session, machine_id, name, row.version, detail)
+    return row, record_sent(session, machine_id, name, row.version, row.id, detail)
 
 
-def record_sent(session: Session, machine_id: int, name: str, version: int,
+def record_sent(session: Session, machine_id: int, name: str, version: int, map_id: int,
                 detail: str) -> int:
-    """Note that ``version`` is on its way to the machine; the delivery row's id."""
-    row = map_repo.record_sent(session, machine_id, version)
-    if row is None:
+    """Note that ``version`` (the machine's map row ``map_id``, read by the caller) is on
+    its way to the machine; the delivery row's id."""
+    applied_id = map_repo.note_sent(session, machine_id, map_id, version)
+    if applied_id is None:
         raise RuntimeError(f"{name} has no map version {version}")
-    event_repo.add_event(session, kind=EventKind.PUSHED.value, machine=name, detail=detail)
-    return row.id
+    event_repo.note_event(session, kind=EventKind.PUSHED.value, machine=name, detail=detail)
+    return applied_id
 
 
 def record_answer(session: Session, applied_id: int, name: str, kind: EventKind, *,
                   acked: bool, reason: str | None, detail: str) -> None:
     """Store the machine's answer to a delivery and its event."""
-    map_repo.record_answer(session, applied_id, acked=acked, reject_reason=reason)
-    event_repo.add_event(session, kind=kind.value, machine=name, detail=detail)
+    map_repo.note_answer(session, applied_id, acked=acked, reject_reason=reason)
+    event_repo.note_event(session, kind=kind.value, machine=name, detail=detail)
 
 
 def record_failure(session: Session, applied_id: int, name: str, *, failure: str) -> None:
     """Store that a delivery got no answer (the transport failed) and its event."""
-    map_repo.record_failure(session, applied_id, failure)
-    event_repo.add_event(session, kind=EventKind.ERROR.value, machine=name, detail=failure)
+    map_repo.note_failure(session, applied_id, failure)
+    event_repo.note_event(session, kind=EventKind.ERROR.value, machine=name, detail=failure)
 
 
 __all__ = ["Inputs", "detail_of", "load_inputs", "record_answer", "record_failure",
