@@ -64,9 +64,9 @@ class _Plc:
 
 def _log_steps(r: Any) -> list[str]:
     """The names of the database steps the center runs from now on, in order (through
-    ``Database.run``)."""
+    ``Database.run`` or the scheduler's group commit)."""
     ran: list[str] = []
-    for owner in (r.db,):
+    for owner in (r.db, r.services.push.writes):
         def logged(fn: Any, *args: Any, __run: Any = owner.run, **kwargs: Any) -> Any:
             ran.append(fn.__name__)
             return __run(fn, *args, **kwargs)
