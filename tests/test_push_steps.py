@@ -255,3 +255,37 @@ def test_a_delivery_of_a_map_not_the_machines_is_refused_whole(db: Any) -> None:
     # refused before the event: only the first delivery's is there
     pushed = db.call(event_repo.list_events, machine="m-01", kind="pushed")
     assert [e.detail for e in pushed] == ["map version 1: first"]
+
+
+def test_load_inputs_reads_what_the_orm_reads(db: Any) -> None:
+    mid, _ = _machine_with_map(db)
+    db.call(map_repo.add_map_version, mid, payload=b"second", model_version=1,
+            temperatures={"T_spindle_C": 21.5})
+    inputs = db.call(steps.load_inputs, mid)
+    machine = db.call(machine_repo.get_machine, "m-01")
+    model = db.call(model_repo.get_model, mid)
+    current = db.call(map_repo.get_map_version, mid, with_payload=False)
+    assert inputs.machine is not None and inputs.model is not None and inputs.map is not None
+    assert (inputs.machine.id, inputs.machine.name, inputs.machine.controller,
+            inputs.machine.description, inputs.machine.updated_at) == (
+        machine.id, machine.name, machine.controller, machine.description,
+        machine.updated_at)
+    assert (inputs.model.id, inputs.model.version, inputs.model.body) == (
+        model.id, model.version, model.body)
+    assert (inputs.map.id, inputs.map.version, inputs.map.model_version, inputs.map.sha256,
+            inputs.map.size_bytes, inputs.map.temperatures, inputs.map.created_at) == (
+        current.id, 2, 1, current.sha256, 6, {"T_spindle_C": 21.5}, current.created_at)
+    assert inputs.machine.updated_at.tzinfo is not None
+    assert db.call(steps.load_inputs, 9999) == steps.Inputs(None, None, None)
+
+
+def test_load_inputs_reads_a_model_body_only_when_it_is_new(db: Any) -> None:
+    mid, _ = _machine_with_map(db)
+    first = db.call(steps.load_inputs, mid).model
+    held = {"held": "by the caller"}
+    again = db.call(steps.load_inputs, mid, (first.id, held)).model
+    assert again.id == first.id and again.body is held  # not read again
+    db.call(model_repo.add_model, mid, source="fit", body=model_body("m-01", slope=0.03))
+    newer = db.call(steps.load_inputs, mid, (first.id, held)).model
+    assert newer.id != first.id and newer.version == 2
+    assert newer.body == model_body("m-01", slope=0.03)

@@ -98,6 +98,9 @@ class _Target:
     resend: bool = False
     thermal_in_map: bool | None = None
     """Whether the current map carries the thermal terms (None: not known yet)."""
+    model: tuple[int, dict[str, Any]] | None = None
+    """The current model row's id and body (a row never changes: its body is read once,
+    :func:`~server.push.steps.load_inputs`); ``sensors`` are its thermal columns."""
     payload: tuple[tuple[int, int, str], bytes] | None = None
     """The last map's bytes read or built in this session, keyed by its row's id, version
     and SHA-256 (:meth:`PushScheduler._stored`)."""
@@ -267,7 +270,7 @@ class PushScheduler:
 
     async def _refresh(self, target: _Target, slot: _Slot, *, send_anyway: bool,
                        periodic: bool, why: str, first: bool = False) -> None:
-        inputs = await self.db.run(steps.load_inputs, target.machine_id)
+        inputs = await self.db.run(steps.load_inputs, target.machine_id, target.model)
         machine, model, current = inputs.machine, inputs.model, inputs.map
         if machine is None:
             target.session.abort(ErrorCode.SHUTDOWN, "the machine is no longer registered")
@@ -276,7 +279,9 @@ class PushScheduler:
             if send_anyway:
                 log.info("%s: no model yet, no map to push", target.name)
             return
-        target.sensors = thermal_sensors(model.body)
+        if target.model is None or target.model[0] != model.id:
+            target.model = (model.id, model.body)
+            target.sensors = thermal_sensors(model.body)
         temps = self.temperatures.columns(target.name, sorted(target.sensors))
         if current is not None and target.thermal_in_map is None:
             stored = await self._stored(target, current)
