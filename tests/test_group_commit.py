@@ -6,7 +6,6 @@ from __future__ import annotations
 
 import asyncio
 from collections.abc import AsyncIterator
-from pathlib import Path
 from typing import Any
 
 import pytest
@@ -22,8 +21,9 @@ from server.db.tables import EventRow
 
 
 @pytest.fixture
-async def db(tmp_path: Path) -> AsyncIterator[Database]:
-    database = Database(make_engine(f"sqlite:///{tmp_path / 'batch.db'}"))
+async def db(database_url: str) -> AsyncIterator[Database]:
+    """An empty database on SQLite and on PostgreSQL (tests/support/db.py)."""
+    database = Database(make_engine(database_url))
     database.create_schema()
     yield database
     database.engine.dispose()

@@ -176,10 +176,11 @@ def _machine_with_map(db: Any, name: str = "m-01") -> tuple[int, int]:
 
 
 @pytest.fixture
-def db(tmp_path: Path) -> Any:
+def db(database_url: str) -> Any:
+    """An empty database on SQLite and on PostgreSQL (tests/support/db.py)."""
     from server.db import Database
     from server.db.database import make_engine
-    database = Database(make_engine(f"sqlite:///{tmp_path / 'steps.db'}"))
+    database = Database(make_engine(database_url))
     database.create_schema()
     yield database
     database.engine.dispose()
