@@ -1,6 +1,7 @@
 """Group commit (server/db/batch.py): steps queued together share a commit, each caller
 gets its own result or its own error, a step's failure is that step's alone, a failing
-commit fails every step of its batch, and leaving writes what is queued."""
+commit fails every step of its batch, leaving writes what is queued, and a step
+outside the context runs alone."""
 
 from __future__ import annotations
 
@@ -116,7 +117,11 @@ async def test_a_cancelled_caller_still_has_its_step_written(db: Database) -> No
     assert sorted(_stored(db)) == sorted(f"m{i}" for i in range(20))
 
 
-async def test_used_outside_its_context_it_refuses(db: Database) -> None:
+async def test_outside_its_context_a_step_runs_alone(db: Database) -> None:
     writes = GroupCommit(db)
-    with pytest.raises(RuntimeError, match="outside its context"):
-        await writes.run(_note, "m")
+    assert await writes.run(_note, "before") == "before"
+    async with writes:
+        assert await writes.run(_note, "inside") == "inside"
+    assert await writes.run(_note, "after") == "after"  # an answer late at shutdown
+    assert writes.commits == 1  # only the one inside went through the batches
+    assert _stored(db) == ["before", "inside", "after"]

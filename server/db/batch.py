@@ -72,11 +72,12 @@ class GroupCommit:
         return self
 
     async def __aexit__(self, *_: object) -> None:
-        drainer = self._drainer
-        if drainer is not None:
-            # the steps queued are answers the center received: written, not dropped
+        # the steps queued are answers the center received: written, not dropped (a step
+        # queued while this waits makes a drainer of its own: waited for too)
+        while self._drainer is not None and not self._drainer.done():
             with contextlib.suppress(Exception):
-                await asyncio.shield(drainer)
+                await asyncio.shield(self._drainer)
+        # no await from here: a step from now on runs alone (run)
         pool, self._pool = self._pool, None
         if pool is not None:
             pool.shutdown(wait=True)
@@ -85,9 +86,11 @@ class GroupCommit:
                   **kwargs: P.kwargs) -> T:
         """Run ``fn(session, *args, **kwargs)`` in the next shared transaction; its result
         once that transaction is committed. A caller cancelled meanwhile does not take
-        its step back: it is written all the same."""
+        its step back: it is written all the same. Outside the context (a shielded
+        answer of a session ended at shutdown may come after leaving) the step runs
+        alone, as :meth:`~server.db.Database.run` runs it: written, not refused."""
         if self._pool is None:
-            raise RuntimeError("GroupCommit used outside its context")
+            return await self.db.run(fn, *args, **kwargs)
         future: asyncio.Future[T] = asyncio.get_running_loop().create_future()
         future.add_done_callback(_retrieved)
         self._queue.append(_Step(fn, args, kwargs, future))
