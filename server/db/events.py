@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import datetime as dt
 
-from sqlalchemy import delete, select
+from sqlalchemy import delete, insert, select
 from sqlalchemy.orm import Session
 
-from server.db.tables import EventRow, utcnow
+from server.db.tables import Base, EventRow, utcnow
 
 MAX_MACHINE_CHARS = 128  # the column's width
 MAX_DETAIL_CHARS = 2000
@@ -34,6 +34,18 @@ def add_event(
     session.add(row)
     session.flush()
     return row
+
+
+_INSERT = insert(Base.metadata.tables[EventRow.__tablename__])
+
+
+def note_event(session: Session, *, kind: str, machine: str, detail: str = "") -> None:
+    """:func:`add_event` without its row object: one Core INSERT in this transaction, for
+    the push's steps (a thousand machines a round; the ORM's flush costs several times
+    the statement)."""
+    session.connection().execute(_INSERT, {
+        "kind": kind, "machine": _storable(machine, MAX_MACHINE_CHARS),
+        "detail": _storable(detail, MAX_DETAIL_CHARS), "time": utcnow()})
 
 
 def add_events(session: Session, kind: str, rows: list[tuple[str, str]]) -> int:

@@ -7,12 +7,20 @@ import hashlib
 from dataclasses import dataclass
 from typing import Any, Literal
 
-from sqlalchemy import and_, func, or_, select, update
+from sqlalchemy import and_, bindparam, func, insert, literal, or_, select, update
 from sqlalchemy.exc import IntegrityError
 from sqlalchemy.orm import Session, defer
 
 from server.db.errors import DuplicateError
-from server.db.tables import AppliedRow, MachineRow, MapVersionMarkRow, MapVersionRow, utcnow
+from server.db.tables import (
+    AppliedRow,
+    Base,
+    MachineRow,
+    MapVersionMarkRow,
+    MapVersionRow,
+    UTCDateTime,
+    utcnow,
+)
 
 
 def _name(session: Session, machine_id: int) -> str | None:
@@ -86,6 +94,82 @@ def get_map_version(
     return session.scalar(query.order_by(MapVersionRow.version.desc()).limit(1))
 
 
+_APPLIED = Base.metadata.tables[AppliedRow.__tablename__]
+"""The deliveries' table for the push's own statements: Core, not the ORM's unit of work
+(a flush costs about a millisecond of CPU per statement at a thousand pushes a round;
+nothing listens to these rows' ORM events, :mod:`server.push.watcher` follows models and
+machines)."""
+
+_SUPERSEDE = (update(_APPLIED).where(
+    _APPLIED.c.machine_id == bindparam("m_id"),
+    _APPLIED.c.id != bindparam("new_id"),
+    or_(_APPLIED.c.state == "pending",
+        and_(_APPLIED.c.state.is_(None), _APPLIED.c.reject_reason.is_(None),
+             _APPLIED.c.acked.is_(False))))
+    .values(state="superseded", answered_at=bindparam("at")))
+"""A delivery still without an answer when the next goes out never gets one here."""
+
+_MAPS = Base.metadata.tables[MapVersionRow.__tablename__]
+
+_NOTE_SENT = insert(_APPLIED).from_select(
+    ["machine_id", "map_id", "map_version", "applied_at", "acked", "state"],
+    select(_MAPS.c.machine_id, _MAPS.c.id, _MAPS.c.version, bindparam("at", type_=UTCDateTime),
+           literal(False), literal("pending"))
+    .where(_MAPS.c.id == bindparam("map_id"), _MAPS.c.machine_id == bindparam("m_id"),
+           _MAPS.c.version == bindparam("version"))).returning(_APPLIED.c.id)
+"""The delivery row of a map row, only if that row is the machine's ``version``."""
+
+_ANSWER = (update(_APPLIED).where(_APPLIED.c.id == bindparam("a_id"))
+           .values(acked=bindparam("acked"), reject_reason=bindparam("reason"),
+                   state=bindparam("state"), failure=bindparam("failure"),
+                   answered_at=bindparam("at")))
+
+
+def note_sent(session: Session, machine_id: int, map_id: int, version: int,
+              at: dt.datetime | None = None) -> int | None:
+    """Note that map ``version`` (the machine's ``map_versions`` row ``map_id``, read by
+    the caller) was sent to the machine, superseding its deliveries still pending; the
+    delivery row's id, None (and nothing written) when ``map_id`` is not that machine's
+    ``version`` (gone meanwhile)."""
+    when = at or utcnow()
+    conn = session.connection()
+    applied_id = conn.execute(_NOTE_SENT, {"m_id": machine_id, "map_id": map_id,
+                                           "version": version, "at": when}).scalar()
+    if applied_id is None:
+        return None
+    conn.execute(_SUPERSEDE, {"m_id": machine_id, "at": when, "new_id": applied_id})
+    return int(applied_id)
+
+
+def note_answer(session: Session, applied_id: int, *, acked: bool,
+                reject_reason: str | None = None) -> bool:
+    """Store the machine's answer to a delivery (applied, or rejected with its verdict in
+    ``reject_reason``); False when there is no such delivery."""
+    return _set_outcome(session, applied_id, acked=acked,
+                        reason=None if acked else (reject_reason or "rejected"),
+                        state="applied" if acked else "rejected", failure=None)
+
+
+def note_failure(session: Session, applied_id: int, failure: str) -> bool:
+    """A delivery that got no answer (:func:`record_failure`); False when there is no
+    such delivery."""
+    return _set_outcome(session, applied_id, acked=False, reason=None, state="failed",
+                        failure=failure)
+
+
+def _set_outcome(session: Session, applied_id: int, *, acked: bool, reason: str | None,
+                 state: str, failure: str | None) -> bool:
+    result = session.connection().execute(_ANSWER, {
+        "a_id": applied_id, "acked": acked, "reason": reason, "state": state,
+        "failure": failure, "at": utcnow()})
+    return bool(getattr(result, "rowcount", 0))
+
+
+def _reloaded(session: Session, applied_id: int) -> AppliedRow | None:
+    # the row as the Core statement left it, also when this session holds it already
+    return session.get(AppliedRow, applied_id, populate_existing=True)
+
+
 def record_sent(
     session: Session, machine_id: int, version: int, at: dt.datetime | None = None
 ) -> AppliedRow | None:
@@ -96,18 +180,8 @@ def record_sent(
     map_row = get_map_version(session, machine_id, version, with_payload=False)
     if map_row is None:
         return None
-    # a delivery still without an answer when the next goes out never gets one here
-    session.execute(update(AppliedRow).where(
-        AppliedRow.machine_id == machine_id,
-        or_(AppliedRow.state == "pending",
-            and_(AppliedRow.state.is_(None), AppliedRow.reject_reason.is_(None),
-                 AppliedRow.acked.is_(False))))
-        .values(state="superseded", answered_at=at or utcnow()))
-    row = AppliedRow(machine_id=machine_id, map_id=map_row.id, map_version=version,
-                     applied_at=at or utcnow(), state="pending")
-    session.add(row)
-    session.flush()
-    return row
+    applied_id = note_sent(session, machine_id, map_row.id, version, at)
+    return None if applied_id is None else _reloaded(session, applied_id)
 
 
 def record_answer(
@@ -115,31 +189,17 @@ def record_answer(
 ) -> AppliedRow | None:
     """Record the machine's answer to a delivery: applied (``acked``) or rejected (its
     verdict in ``reject_reason``)."""
-    row = session.get(AppliedRow, applied_id)
-    if row is None:
+    if not note_answer(session, applied_id, acked=acked, reject_reason=reject_reason):
         return None
-    row.acked = acked
-    row.reject_reason = None if acked else (reject_reason or "rejected")
-    row.state = "applied" if acked else "rejected"
-    row.failure = None
-    row.answered_at = utcnow()
-    session.flush()
-    return row
+    return _reloaded(session, applied_id)
 
 
 def record_failure(session: Session, applied_id: int, failure: str) -> AppliedRow | None:
     """A delivery that got no answer: the transport failed (a write refused, the link
     lost, no verdict in time). Not the machine's verdict: the map is sent again."""
-    row = session.get(AppliedRow, applied_id)
-    if row is None:
+    if not note_failure(session, applied_id, failure):
         return None
-    row.acked = False
-    row.reject_reason = None
-    row.state = "failed"
-    row.failure = failure
-    row.answered_at = utcnow()
-    session.flush()
-    return row
+    return _reloaded(session, applied_id)
 
 
 DeliveryState = Literal["pending", "applied", "rejected", "failed", "superseded"]

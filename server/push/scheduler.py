@@ -46,6 +46,7 @@ from protocol import ErrorCode, MapEncoding
 from protocol.limits import MAP_VERDICT_TIMEOUT_MS
 from server import mapcodec
 from server.center import Center
+from server.db.batch import GroupCommit
 from server.db.tables import MachineRow, MapVersionRow, ModelRow
 from server.events import EventKind
 from server.feed import Feed, Notice
@@ -73,6 +74,10 @@ steps but the last were done, and a controller link's wait for its PLC (a cycle 
 status poll, 1-2 s) came after all of them instead of beside them. Bounded, machines go
 through their steps a few at a time and the first maps leave at once."""
 
+KEPT_PAYLOAD_BYTES: Final = 256 * 1024
+"""Largest map whose bytes a session keeps between pushes (:meth:`PushScheduler._stored`):
+a thousand sessions keep at most 256 MB; a larger map is read again for each push."""
+
 # -- the scheduler
 
 @dataclass
@@ -93,6 +98,12 @@ class _Target:
     resend: bool = False
     thermal_in_map: bool | None = None
     """Whether the current map carries the thermal terms (None: not known yet)."""
+    model: tuple[int, dict[str, Any]] | None = None
+    """The current model row's id and body (a row never changes: its body is read once,
+    :func:`~server.push.steps.load_inputs`); ``sensors`` are its thermal columns."""
+    payload: tuple[tuple[int, int, str], bytes] | None = None
+    """The last map's bytes read or built in this session, keyed by its row's id, version
+    and SHA-256 (:meth:`PushScheduler._stored`)."""
 
     @property
     def formats(self) -> MapEncoding | None:
@@ -174,9 +185,13 @@ class PushScheduler:
         self._preparing = asyncio.Semaphore(PREPARING)
         self._pool: ThreadPoolExecutor | None = None
         self._stack = contextlib.ExitStack()
+        self.writes = GroupCommit(self.db)
+        """The deliveries and answers written (:mod:`server.db.batch`): a thousand pushes
+        at once share their commits instead of waiting for one fsync each."""
 
     async def __aenter__(self) -> PushScheduler:
         self._pool = ThreadPoolExecutor(self.build_workers, thread_name_prefix="mapbuild")
+        await self.writes.__aenter__()
         self._stack.enter_context(
             CommitWatcher(self.db, asyncio.get_running_loop(), self._on_commit))
         self._stack.callback(self.temperatures.subscribe(self._on_temperature))
@@ -185,6 +200,7 @@ class PushScheduler:
     async def __aexit__(self, exc_type: type[BaseException] | None,
                         exc: BaseException | None, tb: TracebackType | None) -> None:
         self._stack.close()
+        await self.writes.__aexit__(exc_type, exc, tb)
         pool, self._pool = self._pool, None
         if pool is not None:
             pool.shutdown(wait=False, cancel_futures=True)
@@ -254,7 +270,7 @@ class PushScheduler:
 
     async def _refresh(self, target: _Target, slot: _Slot, *, send_anyway: bool,
                        periodic: bool, why: str, first: bool = False) -> None:
-        inputs = await self.db.run(steps.load_inputs, target.machine_id)
+        inputs = await self.db.run(steps.load_inputs, target.machine_id, target.model)
         machine, model, current = inputs.machine, inputs.model, inputs.map
         if machine is None:
             target.session.abort(ErrorCode.SHUTDOWN, "the machine is no longer registered")
@@ -263,10 +279,12 @@ class PushScheduler:
             if send_anyway:
                 log.info("%s: no model yet, no map to push", target.name)
             return
-        target.sensors = thermal_sensors(model.body)
+        if target.model is None or target.model[0] != model.id:
+            target.model = (model.id, model.body)
+            target.sensors = thermal_sensors(model.body)
         temps = self.temperatures.columns(target.name, sorted(target.sensors))
         if current is not None and target.thermal_in_map is None:
-            stored = await self.db.run(steps.stored_payload, target.machine_id, current.version)
+            stored = await self._stored(target, current)
             target.thermal_in_map = carries_thermal(stored) if stored else None
         rebuild = self._rebuild_reason(machine, model, current,
                                        {} if target.thermal_in_map else temps)
@@ -287,6 +305,9 @@ class PushScheduler:
                 built = await self._build(target, machine, model, temps, f"{why}: {rebuild}")
                 if built is not None:
                     (current, applied_id), payload = built, built[0].payload
+                    if len(payload) <= KEPT_PAYLOAD_BYTES:
+                        target.payload = ((current.id, current.version, current.sha256),
+                                          payload)
         if current is None:
             return
         target.built_temps = {k: float(v) for k, v in current.temperatures.items()
@@ -297,8 +318,7 @@ class PushScheduler:
             # sending it again at every session start would only load the PLC
             target.acked = current.version
             send_anyway = False
-            stored = await self.db.run(steps.stored_payload, target.machine_id,
-                                       current.version)
+            stored = await self._stored(target, current)
             if stored is not None:  # its temperature slots follow that map all the same
                 target.session.adopt(current.version, stored)
         # what the machine has: its own Telemetry when it sent one, else its last answer
@@ -309,11 +329,24 @@ class PushScheduler:
         if not (send_anyway or fresh or resend):
             return
         if payload is None:
-            payload = await self.db.run(steps.stored_payload, target.machine_id, current.version)
+            payload = await self._stored(target, current)
             if payload is None:
                 return
-        await self._deliver(target, slot, current.version, payload,
+        await self._deliver(target, slot, current, payload,
                             f"{why}: {rebuild}" if fresh else f"{why}: re-send", applied_id)
+
+    async def _stored(self, target: _Target, current: MapVersionRow) -> bytes | None:
+        """The bytes of the machine's map ``current``: read once per session and map
+        version, then kept (a re-push to a thousand machines read each one's map again,
+        one transaction per push). The key has the row's id and SHA-256, so bytes kept
+        are only ever sent for the row they were read from."""
+        key = (current.id, current.version, current.sha256)
+        if target.payload is not None and target.payload[0] == key:
+            return target.payload[1]
+        stored = await self.db.run(steps.stored_payload, target.machine_id, current.version)
+        if stored is not None and len(stored) <= KEPT_PAYLOAD_BYTES:
+            target.payload = (key, stored)
+        return stored
 
     def _rebuild_reason(self, machine: MachineRow, model: ModelRow,
                         current: MapVersionRow | None, temps: Mapping[str, float]) -> str:
@@ -353,16 +386,16 @@ class PushScheduler:
                  row.version, " with thermal terms" if target.thermal_in_map else "", why)
         return row, applied_id
 
-    async def _deliver(self, target: _Target, slot: _Slot, version: int, payload: bytes,
-                       why: str, applied_id: int | None = None) -> None:
-        """Send a map and record the answer; ``applied_id``: its delivery row, if the
-        build already wrote it. ``slot`` is given back once the delivery is noted: the
-        wait for the machine's answer takes no place among the refreshes preparing."""
-        name = target.name
+    async def _deliver(self, target: _Target, slot: _Slot, current: MapVersionRow,
+                       payload: bytes, why: str, applied_id: int | None = None) -> None:
+        """Send map ``current`` and record the answer; ``applied_id``: its delivery row,
+        if the build already wrote it. ``slot`` is given back once the delivery is noted:
+        the wait for the machine's answer takes no place among the refreshes preparing."""
+        name, version = target.name, current.version
         detail = steps.detail_of(version, len(payload), why)
         if applied_id is None:
-            applied_id = await self.db.run(steps.record_sent, target.machine_id, name, version,
-                                           detail)
+            applied_id = await self.writes.run(steps.record_sent, target.machine_id, name,
+                                               version, current.id, detail)
         self.center.metrics.events.labels(kind=EventKind.PUSHED.value).inc()
         self.feed.publish(Notice(EventKind.PUSHED, name, detail, version))
         slot.release()
@@ -411,8 +444,8 @@ class PushScheduler:
         self.center.metrics.pushes.labels(outcome="failed").inc()
         self.center.metrics.events.labels(kind=EventKind.ERROR.value).inc()
         try:
-            await asyncio.shield(self.db.run(steps.record_failure, applied_id, target.name,
-                                             failure=failure))
+            await asyncio.shield(self.writes.run(steps.record_failure, applied_id,
+                                                 target.name, failure=failure))
         except SQLAlchemyError as exc:
             log.warning("%s: failure of delivery %d not stored: %s", target.name, applied_id,
                         str(exc).splitlines()[0])
@@ -428,8 +461,8 @@ class PushScheduler:
         cancels this task; a write still queued behind busy worker threads would be
         cancelled with it, and an answer the center received lost."""
         try:
-            await asyncio.shield(self.db.run(steps.record_answer, applied_id, name, kind,
-                                             acked=acked, reason=reason, detail=detail))
+            await asyncio.shield(self.writes.run(steps.record_answer, applied_id, name, kind,
+                                                 acked=acked, reason=reason, detail=detail))
         except SQLAlchemyError as exc:
             log.warning("%s: answer to delivery %d not stored: %s", name, applied_id,
                         str(exc).splitlines()[0])
