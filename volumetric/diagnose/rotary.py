@@ -8,7 +8,8 @@ turn, fewer over less, :func:`~volumetric.identify.design.fourier_order`: the er
 motions of the bearing and the axis's own smooth errors). A gear, a worm or a bearing of
 many teeth or balls adds a cyclic error of N per turn beyond those: the candidate is the
 harmonic of order N on each of the axis's six components (radial, axial, two tilts,
-indexing), the order taken from a least-squares periodogram of the base residual over
+indexing), the order taken from a least-squares periodogram of the base residual (every
+training reading the components touch, angles too, weighted as the fit weighs them) over
 the orders the readings resolve: from ``MAX_ORDER_FOURIER + 1`` (on every axis: on a
 part turn the orders up to 4 are the smooth errors the rigid model describes) up to the
 Nyquist limit of the finest angular step at which one test reads the axis
