@@ -114,6 +114,28 @@ def test_a_cyclic_error_on_a_part_turn_leaves_no_spurious_harmonics_beyond_the_r
     before, after = (worst_um(machine, truth, g, q) for g in (None, d.model.geometry))
     assert after <= 0.03 * before, (before, after)
 
+
+def test_a_cyclic_error_of_a_tool_side_a_read_by_r_tests_over_60_degrees_gets_its_order(
+        ) -> None:
+    # a tool-side A (±110°) whose R-tests read ±60° only: over those 120° orders 6 and 7
+    # per turn differ by a third of a cycle, and the base's harmonics 1-4 take most of
+    # either, so the displacement readings alone all but tie them (gains 48.3 for 6,
+    # 47.9 for 7 on this campaign); A's positioning test reads its indexing over ±99°.
+    # The order judged on displacements alone was 6, estimated at 35 µrad (true 16)
+    machine = five_axis_machine(4, 2)  # w Y b X Z C A t: C and A both tool-side
+    rng = np.random.default_rng(3)
+    truth = random_geometry(machine, rng)
+    order = int(rng.integers(6, 10))
+    assert order == 7
+    angular = 16.0
+    truth = cyclic_error(machine, truth, "a", order, 2.5, angular, rng)
+    sim = SimulatedMachine(machine, truth, Effects(noise=NOISE), seed=3)
+    d = diagnose(machine, five_axis_campaign(sim, rng, step_deg=5.0, runs=1))
+    assert (d.effect, d.axis) == ("rotary_periodic", "a"), (d.effect, d.axis)
+    assert d.estimate["order"] == order
+    assert abs(d.estimate["components"]["EAA"][str(order)] - angular) <= 0.1 * angular
+
+
 def test_r_tests_too_coarse_for_any_order_beyond_the_base_say_so() -> None:
     machine = five_axis_machine(2, 1)
     rng = np.random.default_rng(5)

@@ -124,7 +124,7 @@ def along_axes(machine: Machine, m: Measurements) -> F64:
 
 def candidates(
     machine: Machine, m: Measurements, base_residual: F64, train: NDArray[np.bool_],
-    a0: F64 | None = None,
+    a0: F64 | None = None, w: F64 | None = None,
 ) -> tuple[list[Candidate], dict[str, str]]:
     """The library of extensions for these readings, and what cannot be assessed.
 
@@ -132,7 +132,8 @@ def candidates(
     error beyond the base's harmonics (``rotary_periodic``, on an axis of at least half a
     turn read at angles fine enough) and a reversal error (``rotary_backlash``, when the
     readings say the axis's approach direction); ``a0``, the base design (N, P), is
-    what a cyclic error's order is judged beside.
+    what a cyclic error's order is judged beside, and ``w`` (N,), the base fit's weight
+    of each reading, how the readings count in that judgement.
     """
     q = axis_positions(machine, m)
     temps = temperature_columns(m)
@@ -183,7 +184,7 @@ def candidates(
             out.append(Candidate("time_drift", key, None,
                                  (uk * (m.time_s - t_mean) / 3600.0)[:, None]))
     for effect, key, cols, extra in rotary_candidates(machine, m, base_residual, train,
-                                                      missing, a0):
+                                                      missing, a0, w):
         out.append(Candidate(effect, key, None, cols, extra))
     return out, missing
 

@@ -137,7 +137,7 @@ def _diagnose(machine: Machine, m: Measurements, holdout_after: float | None,
     full_base_resid = y - a0 @ solve_normal(a0[train].T @ (a0[train] * w[train, None]),
                                             (a0[train] * w[train, None]).T @ y[train])
     # step 3: the candidates, each scored on the split
-    cands, missing = candidates(machine, m, full_base_resid, train, a0)
+    cands, missing = candidates(machine, m, full_base_resid, train, a0, w)
     scored = [score(c, judge.of([c]), base_heldout, rms_before, judged, sp.order_judge)
               for c in cands]
     # a dynamic (lagged) refinement of the best thermal drift

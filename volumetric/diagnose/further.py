@@ -153,7 +153,7 @@ def next_effect(
         elif c.effect == "rotary_periodic":
             # a cyclic error's order, too, from the residual of the model with the effects
             # found so far (a 4 µm pitch error distorts the periodogram of a 1 µm one)
-            c = rotary_again(machine, m, c, resid_now, train, base) or c
+            c = rotary_again(machine, m, c, resid_now, train, base, w) or c
         r = heldout_of([*chosen, c])
         rms = rms_of(r[judge])
         tried.append(Scored(c, r, rms, 0.0, (rms0 - rms) / rms0))

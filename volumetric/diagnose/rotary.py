@@ -8,7 +8,8 @@ turn, fewer over less, :func:`~volumetric.identify.design.fourier_order`: the er
 motions of the bearing and the axis's own smooth errors). A gear, a worm or a bearing of
 many teeth or balls adds a cyclic error of N per turn beyond those: the candidate is the
 harmonic of order N on each of the axis's six components (radial, axial, two tilts,
-indexing), the order taken from a least-squares periodogram of the base residual over
+indexing), the order taken from a least-squares periodogram of the base residual (every
+training reading the components touch, angles too, weighted as the fit weighs them) over
 the orders the readings resolve: from ``MAX_ORDER_FOURIER + 1`` (on every axis: on a
 part turn the orders up to 4 are the smooth errors the rigid model describes) up to the
 Nyquist limit of the finest angular step at which one test reads the axis
@@ -131,18 +132,54 @@ def _basis_of(a: F64) -> F64:
 
 
 def best_order(sens: F64, theta: F64, resid: F64, rows: NDArray[np.bool_], lo: int,
-               hi: int, nuisance: F64 | None = None) -> int:
+               hi: int, nuisance: F64 | None = None, w: F64 | None = None) -> int:
     """The order N in ``lo .. hi`` whose harmonics on the sensed components explain most of
     ``resid`` on ``rows`` beside ``nuisance`` (N, j), the base design and what else the
-    candidate is taken clear of: the squared norm of the residual's projection on each
-    order's 2k columns made orthogonal to ``nuisance`` (the gain of adding that order to
-    the base, not of fitting the residual alone: over part of a turn the base takes a
-    share of a 6-per-turn error, and what it leaves can look more like 7)."""
-    s, t, r = sens[rows], theta[rows], resid[rows]
-    q = None if nuisance is None or nuisance.shape[1] == 0 else _basis_of(nuisance[rows])
+    candidate is taken clear of: the weighted squared norm of the residual's projection on
+    each order's 2k columns made orthogonal to ``nuisance`` (the gain of adding that order
+    to the base, not of fitting the residual alone: over part of a turn the base takes a
+    share of a 6-per-turn error, and what it leaves can look more like 7).
+
+    Parameters
+    ----------
+    sens : ndarray, shape (N, k)
+        What each reading senses of each of the axis's k sensed components (µm per µm or
+        µrad, µrad per µrad on an angle reading).
+    theta : ndarray, shape (N,)
+        The axis's angle at each reading, rad.
+    resid : ndarray, shape (N,)
+        The residual of the model the order is judged beside, µm or µrad.
+    rows : ndarray of bool, shape (N,)
+        The readings judged (training readings the components touch, either kind).
+    lo, hi : int
+        The orders searched, per turn.
+    nuisance : ndarray, shape (N, j), optional
+    w : ndarray, shape (N,), optional
+        The fit's weight of each reading (1/µm² or 1/µrad²); 1 when not given.
+
+    Returns
+    -------
+    int
+        The order of largest gain, ties to the lower.
+
+    Notes
+    -----
+    The gain is the drop of the weighted residual sum of squares that the order's
+    columns make beside the base, so the order is the one whose joint fit with the base
+    fits best, the same least squares the effect is then estimated by
+    (:func:`~volumetric.diagnose.estimate.estimate_effect`): every reading it weighs
+    counts here with its weight. On a part-turn axis this is what separates orders: the
+    R-tests of a tool-side A read ±60°, over which 6 and 7 per turn differ by a third of
+    a cycle and the base's harmonics 1-4 take most of either, while A's positioning test
+    reads its indexing over ±99°.
+    """
+    sw = np.ones(int(rows.sum())) if w is None else np.sqrt(w[rows])
+    s, t, r = sens[rows], theta[rows], resid[rows] * sw
+    q = (None if nuisance is None or nuisance.shape[1] == 0
+         else _basis_of(nuisance[rows] * sw[:, None]))
     best, best_pw = lo, -1.0
     for n in range(lo, hi + 1):
-        a = _harmonic_columns(s, t, n)
+        a = _harmonic_columns(s, t, n) * sw[:, None]
         if q is not None:
             a = a - q @ (q.T @ a)
         g = a.T @ a
@@ -157,7 +194,7 @@ def best_order(sens: F64, theta: F64, resid: F64, rows: NDArray[np.bool_], lo: i
 
 
 def rotary_candidates(machine: Machine, m: Measurements, resid: F64, train: NDArray[np.bool_],
-                      missing: dict[str, str], a0: F64 | None = None,
+                      missing: dict[str, str], a0: F64 | None = None, w: F64 | None = None,
                       ) -> list[tuple[str, str, F64, dict[str, Any]]]:
     """The rotary candidates for these readings as (effect, axis key, columns, extra), and
     what cannot be assessed in ``missing``.
@@ -173,6 +210,11 @@ def rotary_candidates(machine: Machine, m: Measurements, resid: F64, train: NDAr
         Filled with ``rotary_periodic <axis>`` / ``rotary_backlash <axis>`` reasons.
     a0 : ndarray, shape (N, P), optional
         The base design: each order's gain is judged beside it (:func:`best_order`).
+    w : ndarray, shape (N,), optional
+        The base fit's weight of each reading (1/µm², 1/µrad²): given, the order is judged
+        on every training reading the axis's components touch, angles too, each with its
+        weight (the least squares the effect is estimated by); not given, on the
+        displacement readings alone, unweighted.
     """
     out: list[tuple[str, str, F64, dict[str, Any]]] = []
     q = axis_positions(machine, m)
@@ -221,7 +263,13 @@ def rotary_candidates(machine: Machine, m: Measurements, resid: F64, train: NDAr
                 nuisance = np.column_stack(low) if low else np.zeros((len(m), 0))
                 clean = _without(resid[:, None], nuisance, sel)[:, 0]
                 beside = nuisance if a0 is None else np.column_stack((a0, nuisance))
-                n = best_order(sens, theta, clean, sel, lo, hi, beside)
+                # the order judged as it is then estimated: on an axis of part of a turn
+                # the R-tests may read less of it (a tool-side A: ±60°) than the
+                # positioning test reads its indexing (±99°), and only the wider reach
+                # tells orders a third of a cycle apart over the narrower one
+                judged = (sel if w is None else
+                          train & np.any(np.abs(sens) > 1e-9, axis=1))
+                n = best_order(sens, theta, clean, judged, lo, hi, beside, w)
                 params = [Param(f"{c}[{2 * n - 1}]", c, 2 * n - 1, _unit(c), "fourier")
                           for c in comps]
                 params += [Param(f"{c}[{2 * n}]", c, 2 * n, _unit(c), "fourier")
@@ -269,11 +317,12 @@ def with_harmonics(geometry: GeometricErrors, order: int,
 
 
 def rotary_again(machine: Machine, m: Measurements, c: Any, resid: F64,
-                 train: NDArray[np.bool_], a0: F64) -> Any:
+                 train: NDArray[np.bool_], a0: F64, w: F64 | None = None) -> Any:
     """The ``rotary_periodic`` candidate of ``c``'s axis with its order found again from
     ``resid`` (the residual of the model with the effects found so far) beside ``a0``
-    (that model's design), or None when there is none."""
-    for effect, key, cols, extra in rotary_candidates(machine, m, resid, train, {}, a0):
+    (that model's design) with the readings' weights ``w``, or None when there is
+    none."""
+    for effect, key, cols, extra in rotary_candidates(machine, m, resid, train, {}, a0, w):
         if effect == "rotary_periodic" and key == c.axis:
             return type(c)(effect, key, None, cols, extra)
     return None
