@@ -56,7 +56,7 @@ class Future:
         return float(self.rms_um.mean())
 
 
-def _future_masks(judge: Judge) -> list[tuple[NDArray[np.bool_], NDArray[np.bool_]]]:
+def future_masks(judge: Judge) -> list[tuple[NDArray[np.bool_], NDArray[np.bool_]]]:
     """(fitted, judged) readings of every future split: the fold's training readings, and
     every judged reading from the fold's block on."""
     sp = judge.split
@@ -72,7 +72,7 @@ def future_rms(c: Candidate, judge: Judge) -> F64:
     future split of ``judge``'s forward split, shape (B,)."""
     sp = judge.split
     out = []
-    for f, (tr, later) in enumerate(_future_masks(judge)):
+    for f, (tr, later) in enumerate(future_masks(judge)):
         grams = BaseGrams(judge.a0, judge.y, judge.w, [(tr, later)], sp.folds)
         r = grams.heldout([c.in_fold(f)])
         out.append(rms_of(r[later]))
@@ -86,7 +86,7 @@ def static_future(drifts: list[Candidate], judge: Judge) -> F64:
     shape (B,)."""
     a0, y, w = judge.a0, judge.y, judge.w
     out = []
-    for tr, later in _future_masks(judge):
+    for tr, later in future_masks(judge):
         best: tuple[float, float] | None = None
         for c in drifts:
             a = np.column_stack((a0, c.columns))

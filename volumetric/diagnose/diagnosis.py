@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from volumetric.diagnose.base import REFITS, base_design, base_without
 from volumetric.diagnose.candidates import Candidate, candidates
+from volumetric.diagnose.combination import component_name
 from volumetric.diagnose.estimate import estimate_effect, offsets_of
 from volumetric.diagnose.further import Named, add_further, list_alternatives
 from volumetric.diagnose.gates import (
@@ -244,14 +245,27 @@ def first_named(machine: Machine, m: Measurements, judge: Judge, scored: list[Sc
     drift's dynamic term, or the effect's term with the rigid part of their joint fit,
     ``joint``); the top level's ``alternatives`` into ``details``."""
     c = best.candidate
+    # the combination of the thermal models saved in place of the one chosen
+    # (volumetric.diagnose.lagged.saved_instead): everything here is judged by the chosen
+    # one's figures, and only the saved model (and its description) is the combination's
+    comb: Scored | None = c.extra.get("saved")
+    kept = comb.candidate if comb is not None else c
     if "lagged" in c.extra:
         # the static family names the effect; the dynamic model is its refinement
-        estimate["dynamic"] = c.extra.get("description", {})
+        estimate["dynamic"] = dict(kept.extra.get("description", {}))
+        if comb is not None:
+            # both figures, each named, so that the entry's rms_after_um (the chosen
+            # model's, which the gates used) is not read as the saved model's
+            estimate["dynamic"]["combination"] = {
+                **estimate["dynamic"].get("combination", {}),
+                "saved_rms_after_um": round(comb.rms_after_um, 4),
+                "chosen": component_name(c),
+                "chosen_rms_after_um": round(best.rms_after_um, 4)}
     effect, axis, sensor = static.effect, static.axis, static.sensor
     if "lagged" in c.extra:
         # the dynamic model behind the figure is what is saved: its lags with their time
         # constants and end states, and the offsets of the same joint fit
-        model = lagged_model(machine, m, judge, c, base_fit, estimate)
+        model = lagged_model(machine, m, judge, kept, base_fit, estimate)
     else:
         # the rigid part refitted together with the effect, so it no longer carries a
         # share of it (a drift seen as straightness, a backlash as positioning error)

@@ -265,7 +265,10 @@ def add_further(machine: Machine, m: Measurements, judge: Judge, scored: list[Sc
             current = Scored(chosen[-1], r_i, rms_of(r_i[jm]), current.z, current.gain)
             # the rigid part and offsets of the fit with every effect in: the first
             # effect's own fit (a lagged drift's offsets with its level) no longer holds
-            joint = joint_fit(a0, w, y, train, chosen).x
+            # (a thermal model saved as the combination of its models is fitted as saved)
+            joint = joint_fit(a0, w, y, train,
+                              [c.extra["saved"].candidate if "saved" in c.extra else c
+                               for c in chosen]).x
     if len(chosen) > 1:
         # each estimate again with every other effect in the model: effects on one axis
         # (a drift and an expansion) share variance that the first fit gave to one alone

@@ -102,6 +102,14 @@ def _dynamic_text(dyn: Mapping[str, Any]) -> str:
                 + (f" and their lags of {tau / 60:.0f} min (their rates)" if tau else "")
                 + (f", ridge λ {every['shrinkage']:.0e}" if every.get("shrinkage")
                    else ", least squares"))
+    comb = dyn.get("combination")
+    if comb and "saved_rms_after_um" in comb:
+        # the combination saved in place of the chosen model: both held-out figures named,
+        # since the effect's own (below) is the chosen model's
+        line = (f"saved: the combination of {len(comb.get('weights', {}))} thermal models "
+                f"({len(terms)} terms) in place of the chosen one ({comb['chosen']}); "
+                f"held-out RMS {comb['saved_rms_after_um']:.3f} µm saved, "
+                f"{comb['chosen_rms_after_um']:.3f} µm chosen")
     taus = dyn.get("all_sensor_taus_s")
     if taus:
         line += (f"; averaged with every sensor's level and lags of {min(taus) / 60:.0f} min"
