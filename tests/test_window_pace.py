@@ -110,6 +110,32 @@ async def test_the_status_is_read_fast_only_while_a_push_waits_for_its_verdict()
             await runner
 
 
+async def test_a_push_s_own_status_read_counts_as_the_idle_read() -> None:
+    # in a re-push to every machine, each push reads the status before writing: the idle
+    # read is due idle_poll_s after that read, not beside it
+    async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc:
+        s = session(cnc.server.port)  # type: ignore[attr-defined]
+        s.poll_s, s.idle_poll_s, s.telemetry_s = 0.02, 0.5, 30.0
+        await s.open()
+        runner = asyncio.create_task(s.run())
+        try:
+            await asyncio.sleep(0.1)
+            reads0, own = s.status_reads, 0
+            for _ in range(8):  # a read like a push's every 0.3 s, for 2.4 s
+                await s._read_status()
+                own += 1
+                await asyncio.sleep(0.3)
+            idle = s.status_reads - reads0 - own
+            assert idle <= 1, idle  # without the rule: one every 0.5 s, 4-5
+            assert s.plc_running
+            reads1 = s.status_reads
+            await asyncio.sleep(1.6)
+            assert 2 <= s.status_reads - reads1 <= 4  # idle reads again once alone
+        finally:
+            s.abort(None, "test over")
+            await runner
+
+
 async def test_a_status_becomes_telemetry_at_the_centers_period_not_at_each_read() -> None:
     told: list[dict[str, Any]] = []
     async with asyncio.timeout(60), pmc(GANTRY, cycle_s=0.005) as cnc:

@@ -289,6 +289,7 @@ class ControllerSession:
         """Pushes written again after code 100 (a torn header)."""
         self.status_reads = 0
         """Status reads in this session (the polls and the read before each push)."""
+        self._read_at = float("-inf")  # loop time of the last status read, anyone's
         self.address = memory.address
         self.hello: Hello | None = None
         self.identity: Identity | None = None
@@ -376,6 +377,7 @@ class ControllerSession:
                             reason="status") from None
         self.status_reads += 1
         now = asyncio.get_running_loop().time()
+        self._read_at = now
         if self._beat is None or st.heartbeat != self._beat[0]:
             self._beat = (st.heartbeat, now)
             self.last_heard = now
@@ -413,13 +415,15 @@ class ControllerSession:
         ``poll_s`` after it, or after the switch word, while a push waits for its
         verdict; ``idle_poll_s`` after it otherwise. A push writing its switch word wakes
         the wait, so its verdict is read ``poll_s`` after the switch whatever the idle
-        pace was."""
+        pace was. An idle read is due ``idle_poll_s`` after the last status read of any
+        kind: the read a push makes before writing serves as one (a re-push to every
+        machine need not cost each an idle read beside its own)."""
         loop = asyncio.get_running_loop()
         idle_s = self.idle_poll_s if self.pace is None else self.pace.idle_s(self.idle_poll_s)
         while self.closed_because is None:
             self._wake.clear()
             switched = self._switched_at
-            due = (polled + idle_s if switched is None
+            due = (max(polled, self._read_at) + idle_s if switched is None
                    else max(polled, switched) + self.poll_s)
             left = due - loop.time()
             if left <= 0:
