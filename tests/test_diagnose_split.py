@@ -9,6 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from tests.support.data import FL_MACHINE
 from tests.support.thermal_sim import lagged_spindle
 from volumetric.diagnose.candidates import Candidate
 from volumetric.diagnose.diagnosis import (
@@ -63,8 +64,7 @@ def test_forward_residuals_use_only_the_past() -> None:
 def test_a_held_out_run_does_not_shape_the_lagged_model_that_judges_it() -> None:
     # the simulated spindle as two tests one after the other: not a time series, so the
     # runs split (contiguous stretches of each test), and a lagged drift is what it finds
-    machine = parse_machine({"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
-                             "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}})
+    machine = parse_machine(FL_MACHINE)
     m = lagged_spindle(0)
     m = replace(m, test=np.where(m.time_s >= np.median(m.time_s), "second", "first"))
     d = diagnose(machine, m)

@@ -28,6 +28,7 @@ from machine_sim.instruments import SimulatedMachine
 from machine_sim.truth import random_geometry
 from protocol.mapformat import MAX_THERMAL
 from server import mapcodec
+from tests.support.data import FL_MACHINE
 from tests.support.thermal_sim import NOISE_UM, lagged_spindle
 from volumetric.diagnose.diagnosis import diagnose
 from volumetric.diagnose.predict import PredictionError, predict
@@ -39,8 +40,7 @@ from volumetric.model.machine import parse_machine
 from volumetric.model.model import DynamicThermalTerm, LagColumn, MachineModel, ThermalTerm
 
 EDNC = str(Path(sys.executable).parent / "ednc")
-FL = {"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
-      "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}}
+FL = FL_MACHINE
 VMC = {"name": "vmc", "chain": "w X Y b Z t", "tool_length_mm": 100.0,
        "travel_mm": {"x": [0, 500], "y": [0, 400], "z": [-400, 0]}}
 

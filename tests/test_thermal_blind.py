@@ -17,6 +17,7 @@ import pytest
 
 from protocol.mapformat import MAX_THERMAL
 from server import mapcodec
+from tests.support.data import FL_MACHINE
 from volumetric.diagnose.diagnosis import (
     FIRST_JUDGED,
     MAP_THERMAL_RECORDS,
@@ -30,8 +31,7 @@ from volumetric.model.live import live_lags, live_model
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import DynamicThermalTerm
 
-FL = {"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
-      "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}}
+FL = FL_MACHINE
 
 
 def _rms(r: np.ndarray) -> float:

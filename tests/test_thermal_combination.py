@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.support.data import FL_MACHINE
 from volumetric.diagnose.candidates import Candidate
 from volumetric.diagnose.choice import Future
 from volumetric.diagnose.combination import (
@@ -34,8 +35,7 @@ from volumetric.measure.measurement import Measurements, read_measurements
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import DynamicThermalTerm, MachineModel
 
-FL = {"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
-      "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}}
+FL = FL_MACHINE
 
 
 def test_weights_are_inverse_mean_squared_errors() -> None:

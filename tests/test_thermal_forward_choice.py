@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.support.data import FL_MACHINE
 from volumetric.diagnose.candidates import Candidate
 from volumetric.diagnose.choice import RICHER_MARGIN, Future, forward_choice
 from volumetric.diagnose.diagnosis import diagnose
@@ -28,8 +29,7 @@ from volumetric.measure.measurement import Measurements, read_measurements
 from volumetric.model.machine import parse_machine
 from volumetric.model.model import DynamicThermalTerm, MachineModel
 
-FL = {"name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
-      "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}}
+FL = FL_MACHINE
 
 
 def future(name: str, *rms: float) -> Future:

@@ -46,3 +46,10 @@ def unpack_real_data(into: Path) -> Path:
         if got != want:
             raise DataFileError(f"{name}: SHA-256 {got}, tests/data/README.md says {want}")
     return into
+
+
+FL_MACHINE: dict[str, object] = {
+    "name": "fl", "chain": "w X Y b Z t", "tool_length_mm": 0.0,
+    "travel_mm": {"x": [0, 1], "y": [0, 1], "z": [-1, 0]}}
+"""The machine of the real 46 h spindle thermal test (a test at one fixed point: only the
+offset along z is identifiable); ``benchmarks/thermal_fl_study.py`` uses the same."""
