@@ -70,7 +70,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
 from machine_sim.faultrelay import FaultRelay, Faults  # noqa: E402
-from machine_sim.mbap import Request  # noqa: E402
+from protocol.mbap import Request  # noqa: E402
 
 API_KEY = "link-faults-key-0123456789"
 SECRET = "link-faults-secret-0123456789"

@@ -1,7 +1,7 @@
 """A Modbus/TCP relay that injects the faults a plant network and a busy PMC produce.
 
 It stands between the center (the Modbus client) and a controller's Modbus/TCP server,
-reads whole request frames (:mod:`machine_sim.mbap`), and for each one either forwards
+reads whole request frames (:mod:`protocol.mbap`), and for each one either forwards
 it and passes the server's answer back byte for byte, or does what :class:`Faults` asks:
 answer it itself with an exception (a fraction of all requests, e.g. 06 "server device
 busy"; every write that touches given registers, e.g. 02), delay the answer, swallow it
@@ -23,7 +23,7 @@ from collections import deque
 from dataclasses import dataclass
 from types import TracebackType
 
-from .mbap import HEADER, MbapError, Request, exception_answer, frame_size, parse_request
+from protocol.mbap import HEADER, MbapError, Request, exception_answer, frame_size, parse_request
 
 __all__ = ["FaultRelay", "Faults", "Seen"]
 

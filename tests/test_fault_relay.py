@@ -15,7 +15,7 @@ from collections.abc import AsyncIterator
 import pytest
 
 from machine_sim.faultrelay import FaultRelay, Faults
-from machine_sim.mbap import HEADER, frame_size
+from protocol.mbap import HEADER, frame_size
 
 pytestmark = pytest.mark.timeout(60)
 
