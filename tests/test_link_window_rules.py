@@ -13,6 +13,7 @@ from __future__ import annotations
 import asyncio
 import functools
 import struct
+from collections.abc import Sequence
 from dataclasses import replace
 from typing import Any
 
@@ -86,6 +87,10 @@ class FakePLC:
             self.status = replace(self.status, heartbeat=self.status.heartbeat + 1)
         self.window[STATUS_AT:STATUS_AT + STATUS_SIZE] = encode_status(self.status)
         return bytes(self.window[offset:offset + size])
+
+    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
+        for offset, data in writes:
+            await self.write(offset, data)
 
     async def write(self, offset: int, data: bytes) -> None:
         self.window[offset:offset + len(data)] = data

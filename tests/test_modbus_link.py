@@ -1,4 +1,4 @@
-"""The Modbus/TCP link over real loopback sockets, pymodbus on both sides.
+"""The Modbus/TCP link over real loopback sockets.
 
 A Fanuc-style simulated machine serves its memory window through the Modbus/TCP Server
 function's subset (machine_sim/modbus_server.py); the center's

@@ -298,6 +298,12 @@ class OpcuaMemory(OpcuaClient):
         for (at, width, count), code in zip(pieces, codes, strict=True):
             self._good(code, "write", at, width * count)
 
+    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
+        """Each write in turn (one Write service call each: the PLC's class limits what
+        one call carries)."""
+        for offset, data in writes:
+            await self.write(offset, data)
+
     async def _call(self, request: Callable[[], Awaitable[Any]], what: str, offset: int,
                     size: int, codes: Callable[[Any], list[ua.StatusCode | None]]) -> Any:
         """``request()``'s answer, asked again while the controller answers busy (the

@@ -61,6 +61,11 @@ class ModbusLink(BaseModel):
         "PMC memory: little = low byte at the even address (a PMC word)")
     poll_ms: int = Field(default=100, ge=10, le=10_000,
                          description="how often the center reads the PLC's status, ms")
+    pipeline: bool = Field(
+        default=True, description="send a push's payload blocks without waiting for each "
+        "answer (Modbus/TCP matches answers by transaction id); false: one request at a "
+        "time, for a server or gateway that answers only the first of several (the center "
+        "also falls back by itself when it sees that)")
 
 
 class OpcuaLogin(BaseModel):

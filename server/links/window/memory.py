@@ -8,6 +8,7 @@ session (:mod:`server.links.window.session`) does the rest the same way for ever
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Protocol
 
 from server.links.state import LinkCondition, LinkStateName
@@ -57,6 +58,14 @@ class MemoryClient(Protocol):
 
     async def write(self, offset: int, data: bytes) -> None:
         """Write ``data`` (at most :attr:`block` bytes) at ``offset``; raises
+        :class:`LinkError`."""
+        ...
+
+    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
+        """Write each ``(offset, data)`` (each at most :attr:`block` bytes); returns when
+        every one is done. The link may send them without waiting for each answer and the
+        controller may take them in any order, so only writes whose order changes nothing
+        belong in one call (a map's payload blocks, §13.2 step 3); raises
         :class:`LinkError`."""
         ...
 

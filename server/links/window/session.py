@@ -273,6 +273,9 @@ class ControllerSession:
         self.healthy_after_s = healthy_after_s
         self.plc_running = True
         """False while the PLC's heartbeat stands still (the session waits for it)."""
+        self._stopped_total = 0.0
+        self._stopped_since: float | None = None
+        """Loop time the heartbeat last moved before the stop in force (None: it runs)."""
         self.healthy = False
         """The link proved itself in this session: a map applied, or a healthy poll cycle
         (up ``healthy_after_s`` with the heartbeat moving and no push in flight)."""
@@ -442,6 +445,12 @@ class ControllerSession:
         running = silent <= self.dead_after_s
         if running != self.plc_running:
             self.plc_running = running
+            # the stop started when the heartbeat last moved; it ends now
+            if running and self._stopped_since is not None:
+                self._stopped_total += now - self._stopped_since
+                self._stopped_since = None
+            elif not running:
+                self._stopped_since = self._beat[1]
             if running:
                 log.info("%s: the PLC program runs again", self._name)
                 self._condition(LinkCondition("connected"))
@@ -581,8 +590,13 @@ class ControllerSession:
                 writes = map_writes(self.layout, target, payload, version, seq,
                                     block=self.memory.block)
                 self._pending = (seq, version, loop.time(), future)
-                for w in writes:
-                    await self.memory.write(w.offset, w.data)
+                # the cleared header and the payload blocks (steps 2-3) at once: their
+                # order changes nothing; the header (4) once they are all written, the
+                # switch word (5) once the header is, each alone
+                *blocks, header, switch = writes
+                await self.memory.write_many([(w.offset, w.data) for w in blocks])
+                await self.memory.write(header.offset, header.data)
+                await self.memory.write(switch.offset, switch.data)
                 self._seq = seq
                 self._switched_at = loop.time()
                 self._wake.set()  # the verdict is polled at the push's pace from now
@@ -605,15 +619,23 @@ class ControllerSession:
         loop = asyncio.get_running_loop()
         left = timeout_s
         while True:
-            t0 = loop.time()
+            t0, stopped0 = loop.time(), self._stopped_s(loop.time())
             try:
-                async with asyncio.timeout(max(0.0, min(left, 0.25))):
+                # one wait for the whole time left (a wake-up every quarter second cost
+                # each push of a fleet re-push four turns of the event loop)
+                async with asyncio.timeout(max(0.0, left)):
                     return await asyncio.shield(future)
             except TimeoutError:
-                if self.plc_running:
-                    left -= loop.time() - t0
+                now = loop.time()
+                left -= max(0.0, (now - t0) - (self._stopped_s(now) - stopped0))
                 if left <= 0:
                     raise
+
+    def _stopped_s(self, now: float) -> float:
+        """How long the PLC program has stood still in this session so far, s (the
+        verdict's clock does not run meanwhile)."""
+        since = self._stopped_since
+        return self._stopped_total + (now - since if since is not None else 0.0)
 
     # -- temperatures
     def send(self, msg: Message) -> None:
