@@ -157,9 +157,12 @@ async def test_a_wrong_byte_order_is_visible_within_seconds_and_reported_once(
         # it keeps trying (with backoff) and says it once
         links = plant.services.controllers
         assert links is not None
+        reads = links.registration_reads  # the registration is known
         await until(lambda: links.failures >= 3)
         events = [e for e in await plant.events(machine=M.name) if e["kind"] == "link"]
         assert len(events) == 1 and "byte_order" in events[0]["detail"], events
+        # the registrations were looked at every 2 s meanwhile, not read whole again
+        assert links.registration_reads == reads
         # corrected, it connects and the reason goes
         r = await plant.client.patch(f"/api/machines/{M.name}", json={
             "link": linked(GANTRY, port).description["link"]})
@@ -171,6 +174,7 @@ async def test_a_wrong_byte_order_is_visible_within_seconds_and_reported_once(
 
         await until(connected)
         assert (await plant.status(M.name))["link_reason"] == ""
+        assert links.registration_reads == reads + 1  # read again for the change
 
 
 def test_the_registry_shows_a_stopped_plc_during_its_session() -> None:
