@@ -88,9 +88,12 @@ class FakePLC:
         self.window[STATUS_AT:STATUS_AT + STATUS_SIZE] = encode_status(self.status)
         return bytes(self.window[offset:offset + size])
 
-    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
+    async def write_many(self, writes: Sequence[tuple[int, bytes]], *,
+                         read: tuple[int, int] | None = None) -> bytes:
+        got = await self.read(*read) if read is not None else b""
         for offset, data in writes:
             await self.write(offset, data)
+        return got
 
     async def write(self, offset: int, data: bytes) -> None:
         self.window[offset:offset + len(data)] = data

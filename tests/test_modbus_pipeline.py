@@ -15,15 +15,14 @@ import asyncio
 import contextlib
 import socket
 import struct
-from collections.abc import AsyncIterator, Callable
+from collections.abc import AsyncIterator, Callable, Sequence
 
 import pytest
 from pymodbus.datastore import ModbusDeviceContext, ModbusSequentialDataBlock, ModbusServerContext
 from pymodbus.server import ModbusTcpServer
 
-from machine_sim.modbus_server import PmcModbusServer
 from protocol import Controller
-from protocol.ctrlmem import SWITCH_AT, Layout
+from protocol.ctrlmem import STATUS_AT, STATUS_SIZE, SWITCH_AT, Layout
 from protocol.mbap import HEADER, frame, take_frame
 from server.links.modbus import ModbusMemory
 from server.links.window.memory import LinkError
@@ -248,21 +247,18 @@ async def test_pymodbus_own_server_takes_a_whole_map() -> None:
             await task
 
 
-async def test_a_push_writes_its_header_after_every_block_and_the_switch_last() -> None:
-    calls: list[tuple[str, list[int]]] = []
+async def test_a_push_reads_the_status_with_its_buffer_writes_and_switches_after_them(
+        ) -> None:
+    calls: list[tuple[list[int], tuple[int, int] | None]] = []
 
     class Recording(ModbusMemory):
-        async def write_many(self, writes):  # type: ignore[no-untyped-def]
-            calls.append(("together", [offset for offset, _ in writes]))
-            await super().write_many(writes)
+        async def write_many(self, writes: Sequence[tuple[int, bytes]], *,
+                             read: tuple[int, int] | None = None) -> bytes:
+            calls.append(([offset for offset, _ in writes], read))
+            return await super().write_many(writes, read=read)
 
-        async def write(self, offset: int, data: bytes) -> None:
-            calls.append(("alone", [offset]))
-            await ModbusMemory.write_many(self, [(offset, data)])
-
-    p1, _ = payloads()
+    p1, p2 = payloads()
     async with machine() as (_cnc, srv):
-        assert isinstance(srv, PmcModbusServer)
         m = spec(GANTRY).machine
         mem = Recording("127.0.0.1", srv.port, register=1000)
         s = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names, mem,
@@ -270,14 +266,46 @@ async def test_a_push_writes_its_header_after_every_block_and_the_switch_last() 
         await s.open()
         runner = asyncio.create_task(s.run())
         try:
-            calls.clear()
-            assert (await s.push_map(1, p1, 20.0)).applied
             assert s.layout is not None
-            target = s.layout.buffer_at(1)
-            calls = calls[:3]  # then the new map's temperature slots, maybe
-            assert [k for k, _ in calls] == ["together", "alone", "alone"], calls
-            assert len(calls[0][1]) == 5 and calls[0][1][0] == target  # cleared header first
-            assert calls[1][1] == [target] and calls[2][1] == [SWITCH_AT]
+            for version, payload, target in ((1, p1, 1), (2, p2, 2)):
+                calls.clear()
+                assert (await s.push_map(version, payload, 20.0)).applied
+                at = s.layout.buffer_at(target)
+                (offsets, read), (switch, none) = calls[:2]  # then the slots, maybe
+                # status, cleared header with the first block, the other four, the header
+                assert read == (STATUS_AT, STATUS_SIZE)
+                assert len(offsets) == 6 and offsets[0] == offsets[-1] == at, offsets
+                assert switch == [SWITCH_AT] and none is None
         finally:
             s.abort(None, "test over")
             await runner
+
+
+async def test_a_buffer_switched_by_someone_else_is_not_written_over() -> None:
+    """Another writer switched the PLC to the buffer this session would write: the fresh
+    status read with the writes says so, and the map goes into the other buffer."""
+    p1, p2 = payloads()
+    async with machine() as (cnc, srv):
+        m = spec(GANTRY).machine
+        s = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
+                              ModbusMemory("127.0.0.1", srv.port, register=1000),
+                              link="modbus", chain=m.chain, poll_s=0.01,
+                              idle_poll_s=60.0)  # no look at the status between pushes
+        await s.open()
+        runner = asyncio.create_task(s.run())
+        other = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
+                                  ModbusMemory("127.0.0.1", srv.port, register=1000),
+                                  link="modbus", chain=m.chain, poll_s=0.01)
+        await other.open()
+        other_runner = asyncio.create_task(other.run())
+        try:
+            assert (await s.push_map(1, p1, 20.0)).applied  # into buffer 1
+            assert (await other.push_map(2, p2, 20.0)).applied  # buffer 2, unseen by s
+            assert s.status is not None and s.status.active == 1  # s's last look
+            assert (await s.push_map(2, p2, 20.0)).applied
+            assert s.status is not None and s.status.active == 1  # not buffer 2 again
+            assert cnc.runtime.controller.store.version == 2
+        finally:
+            for session, task in ((s, runner), (other, other_runner)):
+                session.abort(None, "test over")
+                await task

@@ -352,22 +352,30 @@ class ModbusMemory:
         return again
 
     # -- the MemoryClient
-    async def read(self, offset: int, size: int) -> bytes:
+    def _reads(self, offset: int, size: int) -> list[_Ask]:
         first = self._register(offset, size)
         count = size // 2
-        asks = [_Ask("read", first + k, min(MAX_READ_REGISTERS, count - k),
+        return [_Ask("read", first + k, min(MAX_READ_REGISTERS, count - k),
                      read_request(first + k, min(MAX_READ_REGISTERS, count - k)))
                 for k in range(0, count, MAX_READ_REGISTERS)]
+
+    def _bytes_read(self, asks: Sequence[_Ask]) -> bytes:
+        return self._wire_bytes(b"".join(a.answer or b"" for a in asks if a.what == "read"))
+
+    async def read(self, offset: int, size: int) -> bytes:
+        asks = self._reads(offset, size)
         await self._exchange(asks)
-        return self._wire_bytes(b"".join(a.answer or b"" for a in asks))  # its own inverse
+        return self._bytes_read(asks)  # the swap is its own inverse
 
     async def write(self, offset: int, data: bytes) -> None:
         await self.write_many([(offset, data)])
 
-    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
-        """Write each ``(offset, data)``; pipelined, so the server may take them in any
-        order: only writes whose order changes nothing belong in one call."""
-        asks = []
+    async def write_many(self, writes: Sequence[tuple[int, bytes]], *,
+                         read: tuple[int, int] | None = None) -> bytes:
+        """Write each ``(offset, data)``, and read ``read`` = ``(offset, size)`` first in
+        the same exchange; pipelined, so the server may take them in any order: only
+        requests whose order changes nothing belong in one call."""
+        asks = self._reads(*read) if read is not None else []
         for offset, data in writes:
             first = self._register(offset, len(data))
             if len(data) > self.block:
@@ -376,6 +384,7 @@ class ModbusMemory:
             asks.append(_Ask("write", first, len(data) // 2,
                              write_request(first, self._wire_bytes(data))))
         await self._exchange(asks)
+        return self._bytes_read(asks)
 
     async def close(self) -> None:
         wire, self._wire = self._wire, None

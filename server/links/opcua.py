@@ -298,11 +298,14 @@ class OpcuaMemory(OpcuaClient):
         for (at, width, count), code in zip(pieces, codes, strict=True):
             self._good(code, "write", at, width * count)
 
-    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
-        """Each write in turn (one Write service call each: the PLC's class limits what
-        one call carries)."""
+    async def write_many(self, writes: Sequence[tuple[int, bytes]], *,
+                         read: tuple[int, int] | None = None) -> bytes:
+        """The read, then each write in turn (one Write service call each: the PLC's
+        class limits what one call carries)."""
+        got = await self.read(*read) if read is not None else b""
         for offset, data in writes:
             await self.write(offset, data)
+        return got
 
     async def _call(self, request: Callable[[], Awaitable[Any]], what: str, offset: int,
                     size: int, codes: Callable[[Any], list[ua.StatusCode | None]]) -> Any:

@@ -61,12 +61,14 @@ class MemoryClient(Protocol):
         :class:`LinkError`."""
         ...
 
-    async def write_many(self, writes: Sequence[tuple[int, bytes]]) -> None:
-        """Write each ``(offset, data)`` (each at most :attr:`block` bytes); returns when
-        every one is done. The link may send them without waiting for each answer and the
-        controller may take them in any order, so only writes whose order changes nothing
-        belong in one call (a map's payload blocks, §13.2 step 3); raises
-        :class:`LinkError`."""
+    async def write_many(self, writes: Sequence[tuple[int, bytes]], *,
+                         read: tuple[int, int] | None = None) -> bytes:
+        """Write each ``(offset, data)`` (each at most :attr:`block` bytes) and, with
+        ``read`` = ``(offset, size)``, read that span in the same exchange (asked before
+        the writes); returns the bytes read (empty without ``read``) when every request
+        is done. The link may send them all without waiting for each answer and the
+        controller may take them in any order, so only requests whose order changes
+        nothing belong in one call (§13.2 steps 0-4); raises :class:`LinkError`."""
         ...
 
     async def close(self) -> None:

@@ -53,6 +53,7 @@ from protocol.ctrlmem import (
     decode_identity,
     decode_status,
     next_switch_sequence,
+    pack_switch,
     plan_map_write,
     plan_temperatures,
     sensor_slots,
@@ -372,9 +373,12 @@ class ControllerSession:
         self._report(st)
 
     async def _read_status(self) -> Status:
+        return self._took_status(await self.memory.read(STATUS_AT, STATUS_SIZE))
+
+    def _took_status(self, raw: bytes) -> Status:
+        """The status read as ``raw``, noted (the heartbeat's last move, the read's time)."""
         try:
-            st = decode_status(await self.memory.read(STATUS_AT, STATUS_SIZE),
-                               len(self.axes) or 8)
+            st = decode_status(raw, len(self.axes) or 8)
         except ControllerMemoryError as exc:
             raise LinkError(f"{self.address}: {exc}", state="refused",
                             reason="status") from None
@@ -547,11 +551,14 @@ class ControllerSession:
             raise LinkClosed(f"map version {version} cannot be written: {exc}") from None
         verdict = await self._write_and_wait(version, payload, timeout_s)
         if not verdict.applied and not ack_is_verdict(self.last_code or 0):
-            # a torn header is no verdict on the map (§13.2): written again, once
+            # a torn header is no verdict on the map (§13.2): written again, once, the
+            # header alone after the blocks (a server that took the header before the
+            # cleared one in the same exchange tears it so)
             self.torn_rewrites += 1
             log.info("%s: map version %d: buffer header torn (code 100), written again",
                      self._name, version)
-            verdict = await self._write_and_wait(version, payload, timeout_s)
+            verdict = await self._write_and_wait(version, payload, timeout_s,
+                                                 header_alone=True)
             if not verdict.applied and not ack_is_verdict(self.last_code or 0):
                 # torn twice: still no verdict on the map, so none is stored (a failed
                 # delivery, the map goes again), never a rejection
@@ -575,8 +582,8 @@ class ControllerSession:
         self._slots, self._slots_version = slots, version
         self._temp_dirty.set()
 
-    async def _write_and_wait(self, version: int, payload: bytes,
-                              timeout_s: float) -> Verdict:
+    async def _write_and_wait(self, version: int, payload: bytes, timeout_s: float,
+                              *, header_alone: bool = False) -> Verdict:
         assert self.layout is not None
         loop = asyncio.get_running_loop()
         future: asyncio.Future[Verdict] = loop.create_future()
@@ -584,19 +591,31 @@ class ControllerSession:
         self.push_times.append(started)
         try:
             async with asyncio.timeout(timeout_s):
-                st = await self._read_status()
-                target = 2 if st.active == 1 else 1
+                # Steps 0-4 in one exchange: the status read and the writes into the
+                # buffer that was not active at the last read. Only this session writes
+                # switch words, so that buffer is still not active unless someone else
+                # switched meanwhile: the fresh status says so before the switch word
+                # goes, and then the map is written again into the other buffer (the
+                # PLC runs its own checked copy, never the window's: 13.3).
+                self._pending = (-1, version, loop.time(), future)  # no switch yet
+                known = self.status
+                target = 2 if known is not None and known.active == 1 else 1
+                writes = self._buffer_writes(target, payload, version)
+                st = self._took_status(await self.memory.write_many(
+                    writes[:-1] if header_alone else writes, read=(STATUS_AT, STATUS_SIZE)))
+                if st.active == target:
+                    log.warning("%s: buffer %d became active without this center's switch "
+                                "(another writer?): map version %d written into the other",
+                                self._name, target, version)
+                    target = 2 if st.active == 1 else 1
+                    writes = self._buffer_writes(target, payload, version)
+                    await self.memory.write_many(writes[:-1] if header_alone else writes)
+                if header_alone:
+                    await self.memory.write(*writes[-1])
                 seq = next_switch_sequence(self._seq, st.ack_seq)
-                writes = map_writes(self.layout, target, payload, version, seq,
-                                    block=self.memory.block)
                 self._pending = (seq, version, loop.time(), future)
-                # the cleared header and the payload blocks (steps 2-3) at once: their
-                # order changes nothing; the header (4) once they are all written, the
-                # switch word (5) once the header is, each alone
-                *blocks, header, switch = writes
-                await self.memory.write_many([(w.offset, w.data) for w in blocks])
-                await self.memory.write(header.offset, header.data)
-                await self.memory.write(switch.offset, switch.data)
+                # the switch word (step 5) alone, once everything before is answered
+                await self.memory.write(SWITCH_AT, struct.pack("<H", pack_switch(seq, target)))
                 self._seq = seq
                 self._switched_at = loop.time()
                 self._wake.set()  # the verdict is polled at the push's pace from now
@@ -611,6 +630,18 @@ class ControllerSession:
             self._switched_at = None
             if future.done() and not future.cancelled():
                 future.exception()  # retrieved: an abort during writing set it unread
+
+    def _buffer_writes(self, target: int, payload: bytes, version: int
+                       ) -> list[tuple[int, bytes]]:
+        """Steps 2-4 into buffer ``target``: the cleared header with the first payload
+        block, the other blocks, the header last (:func:`map_writes` without the switch
+        word). A server taking them out of order may land the header before a block; the
+        buffer is not active and the PLC checks the payload's CRC on the switch, which
+        comes only when all of them are answered."""
+        assert self.layout is not None
+        *writes, _switch = map_writes(self.layout, target, payload, version, 1,
+                                      block=self.memory.block)
+        return [(w.offset, w.data) for w in writes]
 
     async def _verdict(self, future: asyncio.Future[Verdict], timeout_s: float) -> Verdict:
         """The PLC's verdict within ``timeout_s`` of PLC running time: while its heartbeat
