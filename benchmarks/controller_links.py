@@ -68,6 +68,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 from center_connections import center, cpu_of, percentiles  # noqa: E402
 
 BASE_PORT = 21000
+POLL_MS = 1000
+"""The fleet links' status reads while a push waits for its verdict, ms (``--poll-ms``):
+the PLC cycle by default, so one read finds the verdict."""
 TEMPS: list[tuple[str, int, float]] = []
 """Child process: (machine, milli-°C taken, monotonic time) per slot value taken."""
 
@@ -77,7 +80,8 @@ def fleet_description(i: int, port: int) -> dict[str, Any]:
             "ip": f"127.3.{i // 250}.{i % 250 + 1}", "chain": "w b Y X Z t",
             "travel_mm": {"x": [0, 800], "y": [0, 600], "z": [-500, 0]},
             "tool_length_mm": 150.0,
-            "link": {"kind": "modbus", "host": "127.0.0.1", "port": port, "poll_ms": 1000}}
+            "link": {"kind": "modbus", "host": "127.0.0.1", "port": port,
+                     "poll_ms": POLL_MS}}
 
 
 # -- the child process: the simulated PMCs
@@ -443,7 +447,8 @@ async def fleet(count: int, cycle_s: float, load: int, failing: int, timeout_s: 
           f"(1 min) {load0[0]:.2f} at start, {load1[0]:.2f} after the EDNC link, "
           f"{load2[0]:.2f} at the end")
     print(f"Modbus: simulated Fanuc PMCs in {procs} child process(es) at nice {nice} "
-          f"(PLC cycle {cycle_s * 1000:.0f} ms; status read every 1 s while a push waits "
+          f"(PLC cycle {cycle_s * 1000:.0f} ms; status read every {POLL_MS / 1000:g} s "
+          f"while a push waits "
           f"for its verdict, every {IDLE_POLL_S:g} s otherwise), factored map {size} bytes, "
           f"{done.get('applied')} "
           f"switches applied by {done.get('machines_applied')} healthy PLCs; EDNC: "
@@ -607,6 +612,8 @@ if __name__ == "__main__":
     p.add_argument("--seconds", type=float, default=20.0)
     p.add_argument("--base-port", type=int, default=BASE_PORT)
     p.add_argument("--cycle-s", type=float, default=1.0)
+    p.add_argument("--poll-ms", type=int, default=POLL_MS,
+                   help="fleet: the links' status reads while a push waits, ms")
     p.add_argument("--five-axis", action="store_true")
     p.add_argument("--load", type=int, default=0,
                    help="fleet: busy-looping processes holding the machine meanwhile")
@@ -629,6 +636,7 @@ if __name__ == "__main__":
     a = p.parse_args()
     os.environ.setdefault("EDNC_NODE_ID", "bench")
     BASE_PORT = a.base_port  # the PMCs' first port (two runs at once need two ranges)
+    POLL_MS = a.poll_ms
     if a.what == "child":
         asyncio.run(fleet_main(a.machines, a.base_port, a.cycle_s, a.delay_ms / 1000,
                                a.five_axis, a.failing, a.first, a.total, a.pmc_profile))

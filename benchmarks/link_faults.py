@@ -352,15 +352,22 @@ def step_in_force(connects: Any, since: float, clear: float) -> float:
     return step
 
 
+def starts_push(w: Request, headers: tuple[int, ...]) -> bool:
+    """Whether write ``w`` begins a map push: it clears a buffer's header (32 zero bytes
+    at the header's register, alone or at the start of the first payload block's
+    request, as the center joins them)."""
+    return w.write and w.first in headers and not any(w.data[:32])
+
+
 def pushes(writes: list[Request], headers: tuple[int, ...]) -> int:
-    """Map pushes among the writes: each starts by clearing its buffer's header."""
-    return sum(1 for w in writes if w.first in headers and not any(w.data))
+    """Map pushes among the writes."""
+    return sum(1 for w in writes if starts_push(w, headers))
 
 
 def push_times(relay: Any, since: float, headers: tuple[int, ...]) -> list[float]:
     """When the map pushes the relay saw from ``since`` on began (loop time, s)."""
-    return [seen.t for seen in relay.seen if seen.t >= since and seen.request.write
-            and seen.request.first in headers and not any(seen.request.data)]
+    return [seen.t for seen in relay.seen if seen.t >= since
+            and starts_push(seen.request, headers)]
 
 
 def most_in_a_minute(times: Any, start: float, end: float) -> int:

@@ -597,7 +597,8 @@ class ControllerSession:
                 # switched meanwhile: the fresh status says so before the switch word
                 # goes, and then the map is written again into the other buffer (the
                 # PLC runs its own checked copy, never the window's: 13.3).
-                self._pending = (-1, version, loop.time(), future)  # no switch yet
+                t_write = loop.time()  # the verdict's latency counts from here
+                self._pending = (-1, version, t_write, future)  # no switch yet
                 known = self.status
                 target = 2 if known is not None and known.active == 1 else 1
                 writes = self._buffer_writes(target, payload, version)
@@ -613,7 +614,7 @@ class ControllerSession:
                 if header_alone:
                     await self.memory.write(*writes[-1])
                 seq = next_switch_sequence(self._seq, st.ack_seq)
-                self._pending = (seq, version, loop.time(), future)
+                self._pending = (seq, version, t_write, future)
                 # the switch word (step 5) alone, once everything before is answered
                 await self.memory.write(SWITCH_AT, struct.pack("<H", pack_switch(seq, target)))
                 self._seq = seq
