@@ -53,6 +53,7 @@ import logging
 import os
 import struct
 import zlib
+from collections.abc import Callable
 from pathlib import Path
 from typing import Final
 
@@ -205,6 +206,9 @@ class PmcModbusServer:
         self.port = port
         self.delay_s = float(delay_s)
         self.area = PmcArea(cnc.window, register, byte_order, unit_id)
+        # the controller behind takes a new switch word early if it can (WindowCNC's
+        # switch_scan_s); one running the ST program scans at its own pace
+        self._written: Callable[[], None] = getattr(cnc, "window_written", lambda: None)
         self.nonvolatile = nonvolatile
         self.flush_s = float(flush_s)
         self._saved_digest = -1
@@ -303,6 +307,7 @@ class PmcModbusServer:
                     writer.write(_MBAP.pack(tid, 0, len(answer) + 1, unit) + answer)
                     if fc in (0x10, 0x17) and not answer[0] & 0x80:
                         self.flush()  # the center's write is in the D area now
+                        self._written()  # a switch word is taken within a ladder scan
                 await writer.drain()
         except (ConnectionError, asyncio.IncompleteReadError):
             return

@@ -20,7 +20,7 @@ from typing import Protocol
 
 import numpy as np
 
-from protocol.ctrlmem import Layout
+from protocol.ctrlmem import SWITCH_AT, Layout
 from volumetric.model.machine import Machine
 
 from .plcmap import PlcMapProgram
@@ -64,13 +64,21 @@ class WindowCNC(ScannedController):
         step are scanned in one wake-up of the process. Each scan's deadline still
         advances by ``cycle_s``, so none is skipped and the period is kept. By default
         ``cycle_s / 20``; 0 wakes at each deadline exactly.
+    switch_scan_s : float, optional
+        A new switch word (the center's last write of a push, protocol/README.md §13.2)
+        is taken by an extra scan at most this long after it arrives, as a PMC whose
+        ladder scans every 8-64 ms takes it; its other scans stay ``cycle_s`` apart.
+        None (the default): at the next regular scan. A fleet of simulated PMCs scans
+        every second to fit on a few cores; without this each verdict waits up to that
+        second, which a real PMC does not make it wait.
     """
 
     def __init__(self, machine: Machine,
                  server_factory: Callable[[WindowCNC], ControllerServer], *,
                  runtime: MachineRuntime | None = None, capacity: int = DEFAULT_CAPACITY,
                  seed: int = 0, cycle_s: float | None = None,
-                 wake_grid_s: float | None = None) -> None:
+                 wake_grid_s: float | None = None,
+                 switch_scan_s: float | None = None) -> None:
         self.machine = machine
         self.runtime = runtime or MachineRuntime(machine, seed=seed)
         self.layout = Layout(capacity)
@@ -88,6 +96,11 @@ class WindowCNC(ScannedController):
         # CPU per PMC-second, the same scans woken together ~0.12 ms (issue 30)
         if not 0 <= self.wake_grid_s <= self.cycle_s:
             raise ValueError(f"wake_grid_s must be in 0..cycle_s, got {wake_grid_s!r}")
+        if switch_scan_s is not None and not 0 <= switch_scan_s <= self.cycle_s:
+            raise ValueError(f"switch_scan_s must be in 0..cycle_s, got {switch_scan_s!r}")
+        self.switch_scan_s = switch_scan_s
+        self._switch_seen = bytes(self.window[SWITCH_AT:SWITCH_AT + 2])
+        self._poke = asyncio.Event()
         self.server = server_factory(self)
         self.running = True
         """False while the PLC program is stopped (:meth:`stop_plc`)."""
@@ -100,12 +113,20 @@ class WindowCNC(ScannedController):
 
     def cycle(self) -> None:
         """One controller cycle and one PLC-program scan (what the loop runs)."""
+        self._switch_seen = bytes(self.window[SWITCH_AT:SWITCH_AT + 2])
         if not self.running:
             return
         now = self.now()
         applied = self.runtime.step(now)
         self.program.scan(now, np.asarray(self.runtime.positions, dtype=float),
                           np.asarray(applied, dtype=float))
+
+    def window_written(self) -> None:
+        """The server wrote into the window: a new switch word is taken within
+        ``switch_scan_s`` (when set)."""
+        if (self.switch_scan_s is not None
+                and self.window[SWITCH_AT:SWITCH_AT + 2] != self._switch_seen):
+            self._poke.set()
 
     def stop_plc(self) -> None:
         """The PLC program stops (its scans and status freeze; the window stays)."""
@@ -140,4 +161,22 @@ class WindowCNC(ScannedController):
             if grid > 0 and delay > 0:  # the grid point at or after the deadline
                 wake = math.ceil(next_t / grid) * grid
                 delay = (wake if wake >= next_t else wake + grid) - now
-            await asyncio.sleep(max(delay, 0.0))
+            if self.switch_scan_s is None:
+                await asyncio.sleep(max(delay, 0.0))
+            else:
+                await self._until(now + max(delay, 0.0), self.switch_scan_s)
+
+    async def _until(self, deadline: float, switch_scan_s: float) -> None:
+        """Wait for the loop time ``deadline`` (the next regular scan), taking each new
+        switch word meanwhile by an extra scan ``switch_scan_s`` after it arrives."""
+        loop = asyncio.get_running_loop()
+        while (left := deadline - loop.time()) > 0:
+            self._poke.clear()
+            if self.window[SWITCH_AT:SWITCH_AT + 2] == self._switch_seen:
+                try:
+                    async with asyncio.timeout(left):
+                        await self._poke.wait()
+                except TimeoutError:
+                    return
+            await asyncio.sleep(switch_scan_s)
+            self.cycle()

@@ -177,3 +177,36 @@ def test_a_fleet_gives_each_pmc_its_nonvolatile_file(tmp_path: Path) -> None:
     paths = [getattr(cnc.server, "nonvolatile", None) for cnc in served]
     assert paths == [tmp_path / f"{e.machine.name}.pmc" for e in entries]
     assert getattr(served_machine(entries[0]).server, "nonvolatile", 1) is None
+
+
+async def test_a_switch_word_is_taken_within_a_ladder_scan_when_the_pmc_says_so() -> None:
+    """A fleet's simulated PMCs scan once a second to fit on a few cores; with
+    ``switch_scan_s`` a new switch word is taken by an extra scan that long after it
+    arrives (a real PMC's ladder scans every 8-64 ms), and the regular scans keep their
+    period."""
+    from protocol import Controller
+    from server.links.modbus import ModbusMemory
+    from server.links.window.session import ControllerSession
+    from tests.test_modbus_link import GANTRY, payloads, runtime
+
+    m = spec(GANTRY).machine
+    versions = payloads()
+    async with WindowCNC(m, lambda c: PmcModbusServer(c, port=0, register=1000),
+                         runtime=runtime(), cycle_s=1.0, switch_scan_s=0.02) as cnc:
+        srv = cnc.server
+        assert isinstance(srv, PmcModbusServer)
+        s = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
+                              ModbusMemory("127.0.0.1", srv.port, register=1000),
+                              link="modbus", chain=m.chain, poll_s=0.01)
+        await s.open()
+        runner = asyncio.create_task(s.run())
+        try:
+            latencies = []
+            for version in (1, 2, 2, 2):  # without the extra scan: each U(0, 1 s)
+                verdict = await s.push_map(version, versions[version - 1], 20.0)
+                assert verdict.applied, verdict
+                latencies.append(verdict.latency_s)
+            assert max(latencies) < 0.3, latencies
+        finally:
+            s.abort(None, "test over")
+            await runner
