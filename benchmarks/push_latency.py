@@ -77,6 +77,8 @@ class Round:
     starts: list[float] = dataclasses.field(default_factory=list)
     """When each push's first send went out, s after the round's start (sorted; from
     the answer's time less the session's latency)."""
+    loop_cpu_s: float = 0.0
+    """Of ``cpu_s``, the event loop's thread (the rest: the database's threads), s."""
 
     @property
     def first_sends(self) -> str:
@@ -120,18 +122,20 @@ async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[i
             fleet = Fleet(services.server.port, count)
             pid = fleet.proc.pid
             t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
+            loop0 = time.thread_time()
             ready = await fleet.ready()
             while len(got) < ready:
                 await asyncio.sleep(0.01)
             results = [Round("round 1 (at Welcome, all connecting)", list(got),
                              time.perf_counter() - t0, time.process_time() - cpu0,
-                             cpu_of(pid) - fcpu0)]
+                             cpu_of(pid) - fcpu0, loop_cpu_s=time.thread_time() - loop0)]
             answered: list[float] = []
             services.push.observers.append(lambda _d: answered.append(time.perf_counter()))
             for r in range(2, rounds + 1):
                 got.clear()
                 answered.clear()
                 t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
+                loop0 = time.thread_time()
                 for name in list(services.push.connected()):
                     services.push.request(name, "benchmark", resend=True)
                 while len(got) < ready:
@@ -140,7 +144,8 @@ async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[i
                                      time.perf_counter() - t0, time.process_time() - cpu0,
                                      cpu_of(pid) - fcpu0, sorted(
                                          t - t0 - (d.latency_s or 0.0)
-                                         for t, d in zip(answered, got, strict=False))))
+                                         for t, d in zip(answered, got, strict=False)),
+                                     loop_cpu_s=time.thread_time() - loop0))
             await fleet.finish()
     return size, results
 
