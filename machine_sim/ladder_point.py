@@ -70,7 +70,7 @@ class FactoredPoint:
         Table = tuple[int, tuple[int, ...], int]
 
         def table(axis: int, start: int, shift: int, values: Sequence[int]) -> Table:
-            vals = tuple(int(v) for v in values)
+            vals = tuple(map(int, values))
             if len(vals) == 1:
                 return -1, vals, 0
             return grid_of(axis, int(start), int(shift), len(vals)), vals, int(shift) - 15

@@ -138,10 +138,17 @@ def _values(what: str, values: tuple[int, ...], bound: int, n: int | None = None
         raise ValueError(f"{what} has {len(values)} values, its axis grid has {n} nodes")
     if len(values) > MAX_NODES:
         raise ValueError(f"{what} has {len(values)} values, at most {MAX_NODES}")
+    # the common case checked in C loops (a decode makes thousands of these); a value
+    # that fails it is found and named below (bool is not taken for an int)
+    if _INT.issuperset(map(type, values)) and -bound <= min(values) and max(values) <= bound:
+        return
     for i, v in enumerate(values):
         if not isinstance(v, int) or isinstance(v, bool) or not -bound <= v <= bound:
             raise ValueError(f"{what} value {i} must be an int with |v| <= {bound}, "
                              f"got {v!r}")
+
+
+_INT: Final = frozenset({int})
 
 
 @dataclass(frozen=True, slots=True)

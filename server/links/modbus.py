@@ -291,6 +291,7 @@ class ModbusMemory:
         ends the exchange; every answer is read."""
         again: list[_Ask] = []
         late = [a for a in asks if a.future is None or a.future.cancelled()]
+        given_up = {id(a) for a in late}
         errors = [(a, a.future.exception()) for a in asks
                   if a.future is not None and not a.future.cancelled()]  # each retrieved
         lost = next(((a, e) for a, e in errors if e is not None), None)
@@ -308,7 +309,7 @@ class ModbusMemory:
                         len(asks) - len(late), len(asks))
         failure: LinkError | None = None
         for ask in asks:
-            if ask in late:
+            if id(ask) in given_up:
                 if self._answered and not ask.timed_out:
                     ask.timed_out = True
                     self.no_answer_retries += 1
