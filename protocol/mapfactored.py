@@ -127,7 +127,7 @@ def milli_celsius(celsius: float) -> int:
 
 
 def _int(what: str, v: object, lo: int, hi: int) -> None:
-    if not isinstance(v, int) or isinstance(v, bool) or not lo <= v <= hi:
+    if type(v) is not int or not lo <= v <= hi:  # an int, not a bool
         raise ValueError(f"{what} must be an int in {lo}..{hi}, got {v!r}")
 
 
