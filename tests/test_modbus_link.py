@@ -11,9 +11,6 @@ writing at the same time, and the PLC restarting.
 from __future__ import annotations
 
 import asyncio
-import contextlib
-import functools
-from collections.abc import AsyncIterator
 
 import numpy as np
 import pytest
@@ -33,46 +30,10 @@ from server.links.window.session import ControllerSession, map_writes
 from server.mapcodec import encode, with_version
 from server.push.adapter import build_for
 from server.temperatures import column_of
-from tests.support.integration import campaign, spec
-from volumetric.identify.fit import fit
+from tests.support.gantry import GANTRY, machine, payloads
+from tests.support.integration import spec
 
 pytestmark = pytest.mark.timeout(300)
-
-GANTRY = "gantry-02"  # Fanuc-style 3-axis machine of the test fleet
-
-
-@functools.cache
-def payloads(name: str = GANTRY) -> tuple[bytes, bytes]:
-    """Two map versions of the machine (v1 of its fitted model, v2 of that model with a
-    constant 5 µm added to x), as the center builds them for a factored-map ladder."""
-    sim, readings, _ = campaign(name)
-    model = fit(sim.machine, readings).model
-    body = model.to_json()
-    s = spec(name)
-    formats = MapEncoding.INT32_INCREMENTS | MapEncoding.THERMAL | MapEncoding.FACTORED
-    one = build_for(s.description, "fanuc", body, {}, 1.0, formats)
-    return encode(with_version(one, 1)), encode(with_version(one, 2))
-
-
-def runtime(name: str = GANTRY) -> MachineRuntime:
-    return MachineRuntime(spec(name).machine, seed=1,
-                          fanuc=FanucConfig(max_step_counts=100_000))
-
-
-@contextlib.asynccontextmanager
-async def machine(delay_s: float = 0.0, order: str = "little"
-                  ) -> AsyncIterator[tuple[WindowCNC, PmcModbusServer]]:
-    servers: list[PmcModbusServer] = []
-
-    def factory(cnc: WindowCNC) -> PmcModbusServer:
-        srv = PmcModbusServer(cnc, port=0, register=1000, byte_order=order,  # type: ignore[arg-type]
-                              delay_s=delay_s)
-        servers.append(srv)
-        return srv
-
-    async with WindowCNC(spec(GANTRY).machine, factory, runtime=runtime(),
-                         cycle_s=0.005) as cnc:
-        yield cnc, servers[0]
 
 
 def memory(srv: PmcModbusServer, order: str = "little") -> ModbusMemory:

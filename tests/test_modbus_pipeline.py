@@ -27,8 +27,8 @@ from protocol.mbap import HEADER, frame, take_frame
 from server.links.modbus import ModbusMemory
 from server.links.window.memory import LinkError
 from server.links.window.session import ControllerSession, map_writes
+from tests.support.gantry import GANTRY, machine, payloads
 from tests.support.integration import spec
-from tests.test_modbus_link import GANTRY, machine, payloads
 
 pytestmark = pytest.mark.timeout(120)
 

@@ -187,7 +187,7 @@ async def test_a_switch_word_is_taken_within_a_ladder_scan_when_the_pmc_says_so(
     from protocol import Controller
     from server.links.modbus import ModbusMemory
     from server.links.window.session import ControllerSession
-    from tests.test_modbus_link import GANTRY, payloads, runtime
+    from tests.support.gantry import GANTRY, payloads, runtime
 
     m = spec(GANTRY).machine
     versions = payloads()
