@@ -184,8 +184,9 @@ def map_writes(layout: Layout, buffer: int, payload: bytes, map_version: int, se
     and the payload behind it are one region, so the header's 32 zero bytes go in the
     first payload block's request (one request fewer per push: a 1,090-byte map in 7
     instead of 8). The order is kept: within that first request the header's registers
-    come first, and nothing later is written before it; the header and the switch word
-    are requests of their own, after the payload, as before.
+    come first; the header and the switch word stay writes of their own, after the
+    payload (a push sends all but the switch word in one exchange, the switch word after
+    their answers: :meth:`ControllerSession._write_and_wait`).
     """
     out: list[Write] = []
     run: list[Write] = []
