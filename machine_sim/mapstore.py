@@ -112,6 +112,7 @@ class MapStore:
         if isinstance(verdict, MapAccepted):
             p = verdict.payload
             built: ActiveMap
+            factored: FactoredLadder | None = None
             if isinstance(p, ErrorMapPayload):
                 problem = self.check(p)
                 if problem is None and self.integer_ladder:
@@ -121,7 +122,7 @@ class MapStore:
                         problem = f"map does not suit the integer ladder: {exc}"
             elif isinstance(p, FactoredPayload):
                 p = self._clamped_factored(p)
-                problem = self.check_factored(p)
+                problem, factored = self.check_factored(p)
             else:
                 problem = self.check_tables(p)
             if problem is None:
@@ -131,7 +132,8 @@ class MapStore:
                 elif isinstance(p, ErrorMapPayload):
                     built = GridMap.from_payload(p, self.temperatures)
                 elif isinstance(p, FactoredPayload):
-                    built = FactoredLadder(p, self.temperatures)
+                    assert factored is not None  # what the check probed, used as built
+                    built = factored
                 else:
                     built = TablesMap.from_payload(self._clamped(p), self.temperatures)
                 self.active = built  # the one-step swap, after everything is built
@@ -202,29 +204,33 @@ class MapStore:
         return dataclasses.replace(p, axes=tuple(
             dataclasses.replace(a, limit=min(a.limit, cap)) for a in p.axes))
 
-    def check_factored(self, p: FactoredPayload) -> str | None:
-        """Why this controller refuses an otherwise valid factored map, or None: an axis
-        that is not this machine's (axes are matched by name, never by place:
-        protocol/README.md §6.6), a reversal over the limit, or tables that do not
-        evaluate to finite corrections at the centre and corners of the tables' span."""
+    def check_factored(self, p: FactoredPayload) -> tuple[str | None, FactoredLadder | None]:
+        """Why this controller refuses an otherwise valid factored map (None if it does
+        not), and the ladder built to probe it (None if refused before), with the
+        current temperatures: the map goes into use as probed, not built a second time.
+        Refused: an axis that is not this machine's (axes are matched by name, never by
+        place: protocol/README.md §6.6), a reversal over the limit, or tables that do
+        not evaluate to finite corrections at the centre and corners of the tables'
+        span."""
         for a in p.axes:
             if a.name.upper() not in self.axes:
                 return (f"map axis {a.name!r} is not an axis of {self.machine} "
-                        f"({' '.join(self.axes)})")
+                        f"({' '.join(self.axes)})"), None
         for a in p.axes:
             if a.reversal is not None and abs(a.reversal * p.increment_mm) > self.limit_mm:
                 return (f"map reversal {a.reversal * p.increment_mm:.6g} for axis {a.name} "
-                        f"exceeds the controller's ±{self.limit_mm:g}")
+                        f"exceeds the controller's ±{self.limit_mm:g}"), None
         span = [(a.start / p.counts_per_unit,
                  (a.start + ((a.count - 1) << a.shift)) / p.counts_per_unit) for a in p.axes]
         probes = [[0.5 * (lo + hi) for lo, hi in span]]
         if len(span) <= 6:
             probes += [list(c) for c in itertools.product(*span)]
+        built = FactoredLadder(p, self.temperatures)
         with np.errstate(all="ignore"):
-            f = FactoredLadder(p).fields(np.array(probes))
+            f = built.fields(np.array(probes))  # the tables' fields: no temperature in them
         if not np.all(np.isfinite(f)):
-            return "map evaluates to non-finite corrections within the travel"
-        return None
+            return "map evaluates to non-finite corrections within the travel", built
+        return None, built
 
     def expired(self, now_s: float) -> bool:
         """The active map has a validity and it has run out."""
