@@ -30,20 +30,10 @@ from server.links.window.session import ControllerSession, map_writes
 from server.mapcodec import encode, with_version
 from server.push.adapter import build_for
 from server.temperatures import column_of
-from tests.support.gantry import GANTRY, machine, payloads
+from tests.support.gantry import GANTRY, machine, memory, payloads, session
 from tests.support.integration import spec
 
 pytestmark = pytest.mark.timeout(300)
-
-
-def memory(srv: PmcModbusServer, order: str = "little") -> ModbusMemory:
-    return ModbusMemory("127.0.0.1", srv.port, register=1000, byte_order=order)  # type: ignore[arg-type]
-
-
-def session(srv: PmcModbusServer, order: str = "little") -> ControllerSession:
-    m = spec(GANTRY).machine
-    return ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
-                             memory(srv, order), link="modbus", chain=m.chain, poll_s=0.01)
 
 
 async def until(check: object, timeout_s: float = 20.0) -> None:

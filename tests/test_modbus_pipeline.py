@@ -21,14 +21,12 @@ import pytest
 from pymodbus.datastore import ModbusDeviceContext, ModbusSequentialDataBlock, ModbusServerContext
 from pymodbus.server import ModbusTcpServer
 
-from protocol import Controller
 from protocol.ctrlmem import STATUS_AT, STATUS_SIZE, SWITCH_AT, Layout
 from protocol.mbap import HEADER, frame, take_frame
 from server.links.modbus import ModbusMemory
 from server.links.window.memory import LinkError
-from server.links.window.session import ControllerSession, map_writes
-from tests.support.gantry import GANTRY, machine, payloads
-from tests.support.integration import spec
+from server.links.window.session import map_writes
+from tests.support.gantry import machine, payloads, session
 
 pytestmark = pytest.mark.timeout(120)
 
@@ -259,10 +257,7 @@ async def test_a_push_reads_the_status_with_its_buffer_writes_and_switches_after
 
     p1, p2 = payloads()
     async with machine() as (_cnc, srv):
-        m = spec(GANTRY).machine
-        mem = Recording("127.0.0.1", srv.port, register=1000)
-        s = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names, mem,
-                              link="modbus", chain=m.chain, poll_s=0.01)
+        s = session(srv, client=Recording("127.0.0.1", srv.port, register=1000))
         await s.open()
         runner = asyncio.create_task(s.run())
         try:
@@ -286,16 +281,10 @@ async def test_a_buffer_switched_by_someone_else_is_not_written_over() -> None:
     status read with the writes says so, and the map goes into the other buffer."""
     p1, p2 = payloads()
     async with machine() as (cnc, srv):
-        m = spec(GANTRY).machine
-        s = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
-                              ModbusMemory("127.0.0.1", srv.port, register=1000),
-                              link="modbus", chain=m.chain, poll_s=0.01,
-                              idle_poll_s=60.0)  # no look at the status between pushes
+        s = session(srv, idle_poll_s=60.0)  # no look at the status between pushes
         await s.open()
         runner = asyncio.create_task(s.run())
-        other = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
-                                  ModbusMemory("127.0.0.1", srv.port, register=1000),
-                                  link="modbus", chain=m.chain, poll_s=0.01)
+        other = session(srv)
         await other.open()
         other_runner = asyncio.create_task(other.run())
         try:
@@ -306,6 +295,6 @@ async def test_a_buffer_switched_by_someone_else_is_not_written_over() -> None:
             assert s.status is not None and s.status.active == 1  # not buffer 2 again
             assert cnc.runtime.controller.store.version == 2
         finally:
-            for session, task in ((s, runner), (other, other_runner)):
-                session.abort(None, "test over")
+            for one, task in ((s, runner), (other, other_runner)):
+                one.abort(None, "test over")
                 await task

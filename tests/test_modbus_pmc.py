@@ -184,10 +184,7 @@ async def test_a_switch_word_is_taken_within_a_ladder_scan_when_the_pmc_says_so(
     ``switch_scan_s`` a new switch word is taken by an extra scan that long after it
     arrives (a real PMC's ladder scans every 8-64 ms), and the regular scans keep their
     period."""
-    from protocol import Controller
-    from server.links.modbus import ModbusMemory
-    from server.links.window.session import ControllerSession
-    from tests.support.gantry import GANTRY, payloads, runtime
+    from tests.support.gantry import GANTRY, payloads, runtime, session
 
     m = spec(GANTRY).machine
     versions = payloads()
@@ -195,9 +192,7 @@ async def test_a_switch_word_is_taken_within_a_ladder_scan_when_the_pmc_says_so(
                          runtime=runtime(), cycle_s=1.0, switch_scan_s=0.02) as cnc:
         srv = cnc.server
         assert isinstance(srv, PmcModbusServer)
-        s = ControllerSession(m.name, "127.0.0.1", Controller.FANUC, m.axis_names,
-                              ModbusMemory("127.0.0.1", srv.port, register=1000),
-                              link="modbus", chain=m.chain, poll_s=0.01)
+        s = session(srv)
         await s.open()
         runner = asyncio.create_task(s.run())
         try:
