@@ -127,7 +127,8 @@ def milli_celsius(celsius: float) -> int:
 
 
 def _int(what: str, v: object, lo: int, hi: int) -> None:
-    if type(v) is not int or not lo <= v <= hi:  # an int, not a bool
+    ok = type(v) is int or (isinstance(v, int) and not isinstance(v, bool))  # plain int first
+    if not ok or not lo <= v <= hi:  # type: ignore[operator]
         raise ValueError(f"{what} must be an int in {lo}..{hi}, got {v!r}")
 
 
