@@ -10,6 +10,7 @@ direction) improve by >= 97 %."""
 from __future__ import annotations
 
 import asyncio
+import struct
 from collections.abc import AsyncIterator
 from contextlib import AsyncExitStack, asynccontextmanager
 from pathlib import Path
@@ -49,6 +50,13 @@ async def st_pmc(s: Spec) -> AsyncIterator[StWindowCNC]:
     async with StWindowCNC(s.machine, factory, seed=s.seed, cycle_s=0.02,
                            max_step=1000) as cnc:
         yield cnc
+
+
+def taken(window: memoryview, slot_mC: int) -> bool:
+    """The temperature slots hold ``slot_mC`` and the program has taken their sequence."""
+    slots = struct.unpack_from("<32i", window, 256)
+    (seq,) = struct.unpack_from("<H", window, 384)
+    return slot_mC in slots and status(window).temp_ack == seq
 
 
 def st_compensation(plc: StPlc) -> Any:
@@ -128,13 +136,15 @@ async def test_the_st_programs_thermal_records_follow_temperatures_posted_to_the
         z = cnc.machine.axis_names.index("Z")
         seen: list[int] = []
         for celsius in (20.0, 25.0, 30.0):
-            ack = status(cnc.window).temp_ack
             r = await plant.client.post(f"/api/machines/{s.name}/temperatures",
                                         json={"readings": [{"sensor": sensor,
                                                             "celsius": celsius}]})
             assert r.status_code == 200, r.text
-            # the center writes the slots with a new sequence; the program takes them
-            await until(lambda a=ack: status(cnc.window).temp_ack != a)
+            # the center writes the slots with a new sequence; the program takes them.
+            # Wait for this reading in the slots and its sequence taken, not for any new
+            # sequence: a write of the center's own (the slots stamped for the map just
+            # applied) may land between the post and this one
+            await until(lambda c=celsius: taken(cnc.window, round(c * 1000)))
             # the thermal part of z's correction, counts: c0 / 2^16 at any position
             seen.append(round(cnc.plc.thermal_constants[0][z] / 65536))
         assert status(cnc.window).applied_version == 1   # one map version all along
