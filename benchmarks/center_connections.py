@@ -211,10 +211,11 @@ async def fleet_main(port: int, count: int, ramp_per_s: float) -> None:
 class Fleet:
     """The fake fleet as a child process."""
 
-    def __init__(self, port: int, count: int, ramp_per_s: float = 0.0) -> None:
+    def __init__(self, port: int, count: int, ramp_per_s: float = 0.0, nice: int = 0) -> None:
         self.proc = subprocess.Popen(
-            [sys.executable, __file__, "--fleet", "--port", str(port), "--machines",
-             str(count), "--ramp", str(ramp_per_s)],
+            [*(["nice", "-n", str(nice)] if nice else []), sys.executable, __file__,
+             "--fleet", "--port", str(port), "--machines", str(count),
+             "--ramp", str(ramp_per_s)],
             stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True)
 
     async def ready(self) -> int:

@@ -98,8 +98,10 @@ class Round:
         return self.cpu_s / max(self.applied, 1)
 
 
-async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[int, list[Round]]:
-    """Push a map to ``count`` EDNC machines ``rounds`` times (the first at Welcome).
+async def measure(count: int, rounds: int, tolerance_um: float = 0.5, nice: int = 0
+                  ) -> tuple[int, list[Round]]:
+    """Push a map to ``count`` EDNC machines ``rounds`` times (the first at Welcome), the
+    fleet's process at nice ``nice``.
 
     Returns
     -------
@@ -119,7 +121,7 @@ async def measure(count: int, rounds: int, tolerance_um: float = 0.5) -> tuple[i
             await c.db.run(register, count, MODEL, payload)
             got: list[Delivery] = []
             services.push.observers.append(got.append)
-            fleet = Fleet(services.server.port, count)
+            fleet = Fleet(services.server.port, count, nice=nice)
             pid = fleet.proc.pid
             t0, cpu0, fcpu0 = time.perf_counter(), time.process_time(), cpu_of(pid)
             loop0 = time.thread_time()
