@@ -286,11 +286,16 @@ class PmcModbusServer:
                 if not chunk:
                     return
                 buffer += chunk
-                # every complete frame in the buffer, in order (pipelined requests)
+                # every complete frame in the buffer, in order (pipelined requests); their
+                # answers go out in one send (one wake-up of the client, not one per
+                # answer) unless each waits for a simulated delay
+                out = bytearray()
                 while len(buffer) >= _MBAP.size:
                     tid, pid, length, unit = _MBAP.unpack_from(buffer, 0)
                     if not 2 <= length <= MAX_FRAME:
                         log.info("modbus: MBAP length %d: connection closed", length)
+                        if out:  # the frames before it are answered
+                            writer.write(bytes(out))
                         return
                     end = 6 + length
                     if len(buffer) < end:
@@ -304,10 +309,16 @@ class PmcModbusServer:
                     fc = pdu[0] if pdu else 0
                     answer = (self.area.answer(unit, pdu) if length <= 254  # PDU <= 253
                               else self.area.too_long(fc))
-                    writer.write(_MBAP.pack(tid, 0, len(answer) + 1, unit) + answer)
+                    out += _MBAP.pack(tid, 0, len(answer) + 1, unit)
+                    out += answer
+                    if self.delay_s:
+                        writer.write(bytes(out))
+                        out.clear()
                     if fc in (0x10, 0x17) and not answer[0] & 0x80:
                         self.flush()  # the center's write is in the D area now
                         self._written()  # a switch word is taken within a ladder scan
+                if out:
+                    writer.write(bytes(out))
                 await writer.drain()
         except (ConnectionError, asyncio.IncompleteReadError):
             return

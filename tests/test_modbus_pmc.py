@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import asyncio
 import contextlib
+import socket
 import struct
 from collections.abc import AsyncIterator
 from pathlib import Path
@@ -111,6 +112,22 @@ async def test_pipelined_requests_in_one_segment_are_all_answered_in_order() -> 
         assert answers[2][7:] == bytes([3, 4, 0, 7, 0, 8])  # the write came first
         assert answers[3][7:] == b"\x83\x03"  # a read of 0 registers: illegal data value
         assert bytes(cnc.window[400:404]) == b"\x07\x00\x08\x00"
+
+
+async def test_the_answers_to_one_segment_go_back_in_one() -> None:
+    """A client that sends several requests together gets their answers in one send (one
+    wake-up of the client, not one per answer): the first read returns all four."""
+    async with _pmc() as (_cnc, srv):
+        segment = b"".join(_adu(t, _read(0, 2)) for t in range(1, 5))
+
+        def ask() -> bytes:
+            with socket.create_connection(("127.0.0.1", srv.port), timeout=5.0) as sock:
+                sock.sendall(segment)
+                return sock.recv(65536)
+
+        got = await asyncio.to_thread(ask)
+        assert len(got) == 4 * (6 + 1 + 2 + 4), got
+        assert [struct.unpack_from(">H", got, 13 * k)[0] for k in range(4)] == [1, 2, 3, 4]
 
 
 async def test_a_restart_keeps_status_and_buffers(tmp_path: Path) -> None:
