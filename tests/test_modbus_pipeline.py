@@ -114,6 +114,24 @@ async def test_a_pushs_blocks_are_in_flight_together_and_land_in_order_of_regist
             await client.close()
 
 
+async def test_answers_coming_one_by_one_are_waited_for_from_the_last_one() -> None:
+    """The time-out runs from the last answer, not from the send: five answers 0.15 s
+    apart (0.75 s in all) with a time-out of 0.3 s are all taken, none asked again."""
+    memory: dict[int, bytes] = {}
+    async with RawServer(registers(memory), delay_s=0.15).running() as srv:
+        client = ModbusMemory("127.0.0.1", srv.port, byte_order="big", timeout_s=0.3)
+        await client.connect()
+        try:
+            await client.write_many(BLOCKS)
+            assert srv.most_waiting == 5
+            assert client.no_answer_retries == 0 and client.pipeline
+            assert len(srv.requests) == 5
+            for offset, data in BLOCKS:
+                assert await client.read(offset, len(data)) == data
+        finally:
+            await client.close()
+
+
 async def test_a_server_answering_only_the_first_request_is_asked_one_at_a_time() -> None:
     memory: dict[int, bytes] = {}
     async with RawServer(registers(memory), first_only=True).running() as srv:

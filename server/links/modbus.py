@@ -30,6 +30,7 @@ exception response, a second time-out, a garbled answer or a lost connection is 
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import logging
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -272,16 +273,35 @@ class ModbusMemory:
             ask.future = loop.create_future()
             wire.waiting[ask.tid] = ask.future
             frames.append(frame(ask.tid, self.unit_id, ask.pdu))
+        # one waiter for the whole round, woken once when its last answer is in (an
+        # asyncio.wait per answer re-armed every pending request: quadratic in the
+        # requests when a server answers each in its own segment)
+        left = len(asks)
+        last = [loop.time()]
+        """When the round last heard something (sent, or an answer), loop time, s."""
+        all_in: asyncio.Future[None] = loop.create_future()
+
+        def one_in(_f: object) -> None:
+            nonlocal left
+            left -= 1
+            last[0] = loop.time()
+            if left == 0 and not all_in.done():
+                all_in.set_result(None)
+
+        for ask in asks:
+            assert ask.future is not None
+            ask.future.add_done_callback(one_in)
         assert wire.transport is not None
         wire.transport.write(b"".join(frames))
-        pending = {a.future for a in asks if a.future is not None}
-        while pending:
-            done, pending = await asyncio.wait(pending, timeout=self.timeout_s,
-                                               return_when=asyncio.FIRST_COMPLETED)
-            if not done:
-                break  # nothing more within the time-out of the last answer
+        while not all_in.done():
+            # nothing more within the time-out of the last answer: given up
+            with contextlib.suppress(TimeoutError):
+                async with asyncio.timeout_at(last[0] + self.timeout_s):
+                    await asyncio.shield(all_in)
+            if not all_in.done() and loop.time() >= last[0] + self.timeout_s:
+                break
         for ask in asks:
-            if ask.future in pending:
+            if ask.future is not None and not ask.future.done():
                 ask.future.cancel()  # given up on: its answer, if it comes, is skipped
                 wire.waiting.pop(ask.tid, None)
 
