@@ -715,7 +715,8 @@ if __name__ == "__main__":
     p.add_argument("--failing", type=int, default=0,
                    help="fleet: machines behind fault relays, failing in mixed ways")
     p.add_argument("--profile", type=Path, default=None,
-                   help="fleet: cProfile of the center over the Modbus round 2, to this file")
+                   help="fleet: cProfile of the center over the Modbus re-push rounds, to this "
+                        "file")
     p.add_argument("--pmc-procs", type=int, default=1,
                    help="fleet: child processes the simulated PMCs are spread over")
     p.add_argument("--pmc-nice", type=int, default=19,

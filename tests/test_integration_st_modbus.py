@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 
 from machine_sim.modbus_server import PmcModbusServer
 from machine_sim.stplc import StPlc, StWindowCNC
+from protocol.ctrlmem import TEMP_SEQ_AT, TEMPERATURES_AT
 from tests.support.integration import (
     DEADLINE_S,
     DIAGONALS,
@@ -54,8 +55,8 @@ async def st_pmc(s: Spec) -> AsyncIterator[StWindowCNC]:
 
 def taken(window: memoryview, slot_mC: int) -> bool:
     """The temperature slots hold ``slot_mC`` and the program has taken their sequence."""
-    slots = struct.unpack_from("<32i", window, 256)
-    (seq,) = struct.unpack_from("<H", window, 384)
+    slots = struct.unpack_from("<32i", window, TEMPERATURES_AT)
+    (seq,) = struct.unpack_from("<H", window, TEMP_SEQ_AT)
     return slot_mC in slots and status(window).temp_ack == seq
 
 

@@ -277,14 +277,13 @@ class ModbusMemory:
         # asyncio.wait per answer re-armed every pending request: quadratic in the
         # requests when a server answers each in its own segment)
         left = len(asks)
-        last = [loop.time()]
-        """When the round last heard something (sent, or an answer), loop time, s."""
+        last = loop.time()  # when the round last heard something (sent, an answer), s
         all_in: asyncio.Future[None] = loop.create_future()
 
         def one_in(_f: object) -> None:
-            nonlocal left
+            nonlocal left, last
             left -= 1
-            last[0] = loop.time()
+            last = loop.time()
             if left == 0 and not all_in.done():
                 all_in.set_result(None)
 
@@ -296,9 +295,9 @@ class ModbusMemory:
         while not all_in.done():
             # nothing more within the time-out of the last answer: given up
             with contextlib.suppress(TimeoutError):
-                async with asyncio.timeout_at(last[0] + self.timeout_s):
+                async with asyncio.timeout_at(last + self.timeout_s):
                     await asyncio.shield(all_in)
-            if not all_in.done() and loop.time() >= last[0] + self.timeout_s:
+            if not all_in.done() and loop.time() >= last + self.timeout_s:
                 break
         for ask in asks:
             if ask.future is not None and not ask.future.done():

@@ -9,8 +9,11 @@ from collections.abc import MutableSequence, Sequence
 from machine_sim.stplc import StPlc
 from protocol import decode_payload
 from protocol.ctrlmem import (
+    SLOTS_VERSION_AT,
     STATUS_AT,
     STATUS_SIZE,
+    TEMP_SEQ_AT,
+    TEMPERATURES_AT,
     Layout,
     Status,
     Write,
@@ -41,9 +44,9 @@ def write_temperatures(window: memoryview | bytearray, slots_mC: Sequence[int], 
     """The temperature slots (m°C; -2^31 for nothing to say), the slots' map version
     and the sequence, in the order the center writes them (§13.1)."""
     values = list(slots_mC) + [-(1 << 31)] * (32 - len(slots_mC))
-    window[256:384] = struct.pack("<32i", *values)
-    window[388:392] = struct.pack("<I", map_version)
-    window[384:386] = struct.pack("<H", seq)
+    window[TEMPERATURES_AT:TEMP_SEQ_AT] = struct.pack("<32i", *values)
+    window[SLOTS_VERSION_AT:SLOTS_VERSION_AT + 4] = struct.pack("<I", map_version)
+    window[TEMP_SEQ_AT:TEMP_SEQ_AT + 2] = struct.pack("<H", seq)
 
 
 def status(window: memoryview | bytearray) -> Status:
