@@ -732,6 +732,10 @@ if __name__ == "__main__":
     p.add_argument("--round-timeout", type=float, default=300.0,
                    help="fleet: longest wait for a round's maps, s")
     a = p.parse_args()
+    if a.repushes < 1:
+        p.error(f"--repushes must be at least 1 (the targets take their median), got {a.repushes}")
+    if not -20 <= a.pmc_nice <= 19:
+        p.error(f"--pmc-nice must be a nice value, -20..19, got {a.pmc_nice}")
     os.environ.setdefault("EDNC_NODE_ID", "bench")
     BASE_PORT = a.base_port  # the PMCs' first port (two runs at once need two ranges)
     POLL_MS = a.poll_ms
