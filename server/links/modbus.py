@@ -30,7 +30,6 @@ exception response, a second time-out, a garbled answer or a lost connection is 
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import logging
 from collections.abc import Sequence
 from dataclasses import dataclass, field
@@ -95,11 +94,56 @@ class _Ask:
     tid: int = 0
     busy: int = 0
     timed_out: bool = False
-    future: asyncio.Future[tuple[int, bytes]] | None = field(default=None, repr=False)
+    reply: tuple[int, bytes] | None = field(default=None, repr=False)
+    """The answer's unit id and PDU, as the last round heard it (None: none came)."""
+    lost: str | None = field(default=None, repr=False)
+    """Why the connection went before the answer came (None: it did not)."""
 
     @property
     def span(self) -> str:
         return f"{self.what} of registers {self.first}..{self.first + self.count - 1}"
+
+
+class _Round:
+    """The requests sent together in one round, awaited as one: ``done`` is set by the
+    last answer (or the lost connection), or by the time-out, which runs from the last
+    answer heard. One future and one timer a round, whatever its requests: a future per
+    request, each woken by its answer, cost the event loop a callback per request, and
+    a fleet's re-push is mostly such rounds (issue 30)."""
+
+    __slots__ = ("_loop", "_timer", "done", "last", "left", "timeout_s")
+
+    def __init__(self, loop: asyncio.AbstractEventLoop, count: int, timeout_s: float) -> None:
+        self._loop = loop
+        self.left = count
+        self.timeout_s = timeout_s
+        self.last = loop.time()
+        """When the round last heard something (sent, an answer), loop time, s."""
+        self.done: asyncio.Future[None] = loop.create_future()
+        self._timer = loop.call_at(self.last + timeout_s, self._check)
+
+    def heard(self, ask: _Ask, reply: tuple[int, bytes]) -> None:
+        ask.reply = reply
+        self.left -= 1
+        self.last = self._loop.time()
+        if self.left == 0:
+            self.end()
+
+    def lost(self, ask: _Ask, why: str) -> None:
+        ask.lost = why
+        self.end()
+
+    def _check(self) -> None:
+        due = self.last + self.timeout_s
+        if self._loop.time() >= due:
+            self.end()  # nothing within the time-out of the last answer: given up
+        else:
+            self._timer = self._loop.call_at(due, self._check)
+
+    def end(self) -> None:
+        self._timer.cancel()
+        if not self.done.done():
+            self.done.set_result(None)
 
 
 class _Wire(asyncio.Protocol):
@@ -109,7 +153,7 @@ class _Wire(asyncio.Protocol):
     def __init__(self) -> None:
         self.transport: asyncio.Transport | None = None
         self.buffer = bytearray()
-        self.waiting: dict[int, asyncio.Future[tuple[int, bytes]]] = {}
+        self.waiting: dict[int, tuple[_Ask, _Round]] = {}
         self.lost: str | None = None
         """Why the connection is gone (None while it is up)."""
 
@@ -122,9 +166,9 @@ class _Wire(asyncio.Protocol):
         try:
             while (got := take_frame(self.buffer)) is not None:
                 tid, unit, pdu = got
-                future = self.waiting.pop(tid, None)
-                if future is not None and not future.done():
-                    future.set_result((unit, pdu))
+                waiting = self.waiting.pop(tid, None)
+                if waiting is not None:
+                    waiting[1].heard(waiting[0], (unit, pdu))
         except MbapError as exc:
             self._lose(f"garbled answer ({exc})")
             if self.transport is not None:
@@ -136,9 +180,8 @@ class _Wire(asyncio.Protocol):
     def _lose(self, why: str) -> None:
         if self.lost is None:
             self.lost = why
-        for future in self.waiting.values():
-            if not future.done():
-                future.set_exception(ConnectionError(self.lost))
+        for ask, round_ in self.waiting.values():
+            round_.lost(ask, self.lost)
         self.waiting.clear()
 
 
@@ -266,56 +309,34 @@ class ModbusMemory:
                     await asyncio.sleep(min(BUSY_PAUSE_CAP_S, BUSY_PAUSE_S * 1.5 ** (pause - 1)))
 
     async def _round(self, wire: _Wire, asks: Sequence[_Ask]) -> None:
-        loop = asyncio.get_running_loop()
+        """Send ``asks`` together and wait for their answers (:class:`_Round`)."""
+        round_ = _Round(asyncio.get_running_loop(), len(asks), self.timeout_s)
         frames = []
         for ask in asks:
+            ask.reply = ask.lost = None
             self._tid = ask.tid = self._tid % 0xFFFF + 1
-            ask.future = loop.create_future()
-            wire.waiting[ask.tid] = ask.future
+            wire.waiting[ask.tid] = (ask, round_)
             frames.append(frame(ask.tid, self.unit_id, ask.pdu))
-        # one waiter for the whole round, woken once when its last answer is in (an
-        # asyncio.wait per answer re-armed every pending request: quadratic in the
-        # requests when a server answers each in its own segment)
-        left = len(asks)
-        last = loop.time()  # when the round last heard something (sent, an answer), s
-        all_in: asyncio.Future[None] = loop.create_future()
-
-        def one_in(_f: object) -> None:
-            nonlocal left, last
-            left -= 1
-            last = loop.time()
-            if left == 0 and not all_in.done():
-                all_in.set_result(None)
-
-        for ask in asks:
-            assert ask.future is not None
-            ask.future.add_done_callback(one_in)
         assert wire.transport is not None
-        wire.transport.write(b"".join(frames))
-        while not all_in.done():
-            # nothing more within the time-out of the last answer: given up
-            with contextlib.suppress(TimeoutError):
-                async with asyncio.timeout_at(last + self.timeout_s):
-                    await asyncio.shield(all_in)
-            if not all_in.done() and loop.time() >= last + self.timeout_s:
-                break
-        for ask in asks:
-            if ask.future is not None and not ask.future.done():
-                ask.future.cancel()  # given up on: its answer, if it comes, is skipped
-                wire.waiting.pop(ask.tid, None)
+        try:
+            wire.transport.write(b"".join(frames))
+            await round_.done
+        finally:
+            round_.end()
+            for ask in asks:  # given up on: its answer, if it comes, is skipped
+                if ask.reply is None:
+                    wire.waiting.pop(ask.tid, None)
 
     def _judge(self, asks: Sequence[_Ask]) -> list[_Ask]:
         """The requests of a round still to ask (busy or late), or the LinkError that
         ends the exchange; every answer is read."""
         again: list[_Ask] = []
-        late = [a for a in asks if a.future is None or a.future.cancelled()]
-        given_up = {id(a) for a in late}
-        errors = [(a, a.future.exception()) for a in asks
-                  if a.future is not None and not a.future.cancelled()]  # each retrieved
-        lost = next(((a, e) for a, e in errors if e is not None), None)
+        lost = next((a for a in asks if a.lost is not None), None)
         if lost is not None:
-            raise LinkError(f"Modbus/TCP {self.address}: {lost[0].span} failed: {lost[1]}",
+            raise LinkError(f"Modbus/TCP {self.address}: {lost.span} failed: {lost.lost}",
                             state="unreachable", reason="connection_lost")
+        late = [a for a in asks if a.reply is None]
+        given_up = {id(a) for a in late}
         if late and self.pipeline and len(asks) > 1 and (len(late) < len(asks)
                                                          or self._answered):
             # some of a round answered and not the rest, or none of it on a connection
@@ -337,8 +358,8 @@ class ModbusMemory:
                     f"Modbus/TCP {self.address}: {ask.span}: no answer within "
                     f"{self.timeout_s:g} s", state="unreachable", reason="no_answer")
                 continue
-            assert ask.future is not None
-            unit, pdu = ask.future.result()
+            assert ask.reply is not None
+            unit, pdu = ask.reply
             self.requests += 1
             try:
                 if unit != self.unit_id:
