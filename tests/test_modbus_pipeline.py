@@ -132,6 +132,48 @@ async def test_answers_coming_one_by_one_are_waited_for_from_the_last_one() -> N
             await client.close()
 
 
+async def test_a_connection_lost_mid_round_ends_the_exchange_when_it_goes() -> None:
+    """Three of five answers, then the server closes the connection: the exchange ends
+    then, with the lost connection as its reason, not after the 10 s time-out."""
+    answer = registers({})
+
+    async def three_then_close(r: asyncio.StreamReader, w: asyncio.StreamWriter) -> None:
+        buffer = bytearray()
+        while len(frames := _frames(buffer)) < 5:
+            buffer += await r.read(65536)
+        for tid, unit, pdu in frames[:3]:
+            out = answer(tid, unit, pdu)
+            assert out is not None
+            w.write(frame(tid, unit, out))
+        await w.drain()
+        await asyncio.sleep(0.2)  # the three answers are in before the close
+        w.close()
+
+    server = await asyncio.start_server(three_then_close, "127.0.0.1", 0)
+    async with server:
+        client = ModbusMemory("127.0.0.1", server.sockets[0].getsockname()[1],
+                              byte_order="big", timeout_s=10.0)
+        await client.connect()
+        loop = asyncio.get_running_loop()
+        t0 = loop.time()
+        try:
+            with pytest.raises(LinkError) as lost:
+                await client.write_many(BLOCKS)
+            assert loop.time() - t0 < 5.0
+            assert lost.value.reason == "connection_lost", lost.value
+            assert "write of registers 469..591 failed" in str(lost.value), lost.value
+        finally:
+            await client.close()
+
+
+def _frames(buffer: bytearray) -> list[tuple[int, int, bytes]]:
+    """The whole frames in ``buffer`` (all of them parsed again at each call)."""
+    copy, out = bytearray(buffer), []
+    while (got := take_frame(copy)) is not None:
+        out.append(got)
+    return out
+
+
 async def test_a_server_answering_only_the_first_request_is_asked_one_at_a_time() -> None:
     memory: dict[int, bytes] = {}
     async with RawServer(registers(memory), first_only=True).running() as srv:
